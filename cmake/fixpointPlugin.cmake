@@ -1,0 +1,25 @@
+# fixpoint_add_plugin(<name> <source>...)
+#
+# Builds a fixpoint plugin: a MODULE library named exactly <name>.so (no "lib" prefix),
+# with hidden visibility and no GNU-unique symbols (each plugin keeps its own copies of
+# inline statics when loaded with RTLD_LOCAL), linked against the SDK library only.
+function(fixpoint_add_plugin name)
+  if(NOT ARGN)
+    message(FATAL_ERROR "fixpoint_add_plugin(${name}): no source files")
+  endif()
+  add_library(${name} MODULE ${ARGN})
+  target_link_libraries(${name} PRIVATE fixpoint::sdk)
+  set_target_properties(${name} PROPERTIES
+    PREFIX ""
+    CXX_VISIBILITY_PRESET hidden
+    VISIBILITY_INLINES_HIDDEN ON)
+  target_compile_options(${name} PRIVATE -fno-gnu-unique)
+  target_link_options(${name} PRIVATE -Wl,--no-undefined)
+  if(DEFINED FIXPOINT_PLUGIN_OUTPUT_DIR)
+    set_target_properties(${name} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${FIXPOINT_PLUGIN_OUTPUT_DIR})
+  endif()
+  if(DEFINED FIXPOINT_PLUGIN_INSTALL_DIR)
+    set_target_properties(${name} PROPERTIES INSTALL_RPATH "$ORIGIN/../..")
+    install(TARGETS ${name} LIBRARY DESTINATION ${FIXPOINT_PLUGIN_INSTALL_DIR})
+  endif()
+endfunction()

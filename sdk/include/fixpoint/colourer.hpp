@@ -1,0 +1,39 @@
+// Colourer: how a point-plotting renderer colours what it draws.
+//
+// Each chain carries a colour (paper 01: the colour of the map that produced the point;
+// paper 02 Sec. 5: the running colour c = (c + c_j)/2). The renderer deposits it into a
+// Histogram; the colourer then turns the histogram into an image (tone mapping).
+#pragma once
+
+#include <fixpoint/histogram.hpp>
+#include <fixpoint/object.hpp>
+#include <fixpoint/types.hpp>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace fp {
+
+/// Per-chain colours, structure of arrays.
+struct ColourState {
+    float* r = nullptr;
+    float* g = nullptr;
+    float* b = nullptr;
+    std::size_t n = 0;
+};
+
+class Colourer : public Object {
+public:
+    ~Colourer() override;
+
+    /// After a step in which chain i moved by map `map[i]` (colour map_colours[map[i]]),
+    /// update its colour. Masked-out chains keep theirs.
+    virtual void update(const std::uint32_t* map, ColourState s, const Rgb* map_colours,
+                        const unsigned char* mask) const = 0;
+
+    /// Turn the histogram into RGB pixels (3 floats per pixel, row-major, top row first,
+    /// display values in [0, 1]). Empty bins take `background`.
+    virtual void resolve(const Histogram& h, Rgb background, float* rgb) const = 0;
+};
+
+} // namespace fp

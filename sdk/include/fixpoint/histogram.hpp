@@ -1,0 +1,38 @@
+// The accumulation buffer of point-plotting renderers.
+//
+// Integer sums: merging per-worker buffers is exact and independent of the order chains or
+// workers are merged in, so the same recipe gives the same bytes on any number of threads.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace fp {
+
+/// Colour sums are in units of 1/colour_scale.
+constexpr std::uint64_t colour_scale = 65535;
+
+struct HistBin {
+    std::uint64_t hits = 0, r = 0, g = 0, b = 0;
+};
+
+struct Histogram {
+    int width = 0, height = 0;
+    std::vector<HistBin> bins; ///< row-major, top row first
+
+    void resize(int w, int h) {
+        width = w;
+        height = h;
+        bins.assign(std::size_t(w) * std::size_t(h), HistBin{});
+    }
+    void add(const Histogram& o) {
+        for (std::size_t i = 0; i < bins.size(); ++i) {
+            bins[i].hits += o.bins[i].hits;
+            bins[i].r += o.bins[i].r;
+            bins[i].g += o.bins[i].g;
+            bins[i].b += o.bins[i].b;
+        }
+    }
+};
+
+} // namespace fp

@@ -1,0 +1,26 @@
+// IterationScheme: one step of a fixed-point iteration process that replaces the Picard
+// step p <- T(p) (paper 02). Every application of T inside one step uses the same map.
+#pragma once
+
+#include <fixpoint/batch.hpp>
+#include <fixpoint/object.hpp>
+#include <fixpoint/transform.hpp>
+
+#include <cstdint>
+
+namespace fp {
+
+class IterationScheme : public Object {
+public:
+    ~IterationScheme() override;
+
+    /// One step of the process at step index `n` (counted from 0; parameter sequences are
+    /// indexed by it) for every active point of the batch, in place.
+    virtual void step(const Transform& t, Points<float> p, Mask mask, std::uint64_t n) const = 0;
+    virtual void step(const Transform& t, Points<double> p, Mask mask, std::uint64_t n) const = 0;
+
+    /// Applications of T per step (the cost relative to Picard).
+    virtual unsigned applications() const;
+};
+
+} // namespace fp

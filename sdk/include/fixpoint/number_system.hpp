@@ -1,0 +1,21 @@
+// NumberSystem: the arithmetic iterations compute in (real, complex, q-system; paper 02).
+#pragma once
+
+#include <fixpoint/batch.hpp>
+#include <fixpoint/object.hpp>
+#include <fixpoint/types.hpp>
+
+namespace fp {
+
+class NumberSystem : public Object {
+public:
+    ~NumberSystem() override;
+
+    /// Multiplication by the fixed number `a` (as a point of the plane) is a linear map of the
+    /// plane; schemes turn each parameter into this matrix once per step.
+    virtual Mat2 multiplier(Vec2 a) const = 0;
+    /// out[i] = u[i] * v[i] in this number system.
+    virtual void multiply(Points<const double> u, Points<const double> v, Points<double> out) const = 0;
+};
+
+} // namespace fp

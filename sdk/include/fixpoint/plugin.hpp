@@ -1,0 +1,88 @@
+// What every plugin binary exports: an ABI integer and a descriptor.
+//
+// A plugin is one .cpp that defines its class, its parameter schema and ends with
+//
+//   FIXPOINT_PLUGIN(fp::describe<Circle>(fp::Kind::Shape, "circle", "summary", params))
+//
+// The descriptor is constant-initialised plain data: loading a plugin runs no code of it
+// before the host has checked the ABI integer.
+#pragma once
+
+#include <fixpoint/object.hpp>
+#include <fixpoint/params.hpp>
+#include <fixpoint/types.hpp>
+#include <fixpoint/version.hpp>
+
+#include <boost/dll/alias.hpp>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace fp {
+
+/// Raised whenever the layout of the interfaces, the descriptor or the parameter bag changes.
+constexpr std::uint32_t abi_version = 1;
+
+struct PluginDescriptor {
+    std::uint32_t abi = abi_version;
+    const char* name = nullptr; ///< kebab-case, unique
+    Kind kind = Kind::Shape;
+    const char* version = "1.0.0";
+    const char* summary = nullptr; ///< one line
+    const ParamSpec* params = nullptr;
+    std::uint32_t n_params = 0;
+    /// A YAML flow mapping of parameters that builds a valid instance; the conformance suite
+    /// builds from it (defaults fill the rest). "{}" when the defaults suffice.
+    const char* example = "{}";
+    Object* (*create)(const ParamBag&) = nullptr;
+
+    constexpr PluginDescriptor with_version(const char* v) const {
+        auto d = *this;
+        d.version = v;
+        return d;
+    }
+    constexpr PluginDescriptor with_example(const char* e) const {
+        auto d = *this;
+        d.example = e;
+        return d;
+    }
+};
+
+template <class C>
+Object* create_plugin(const ParamBag& p) {
+    return new C(p);
+}
+
+template <class C, std::size_t N>
+constexpr PluginDescriptor describe(Kind kind, const char* name, const char* summary,
+                                    const ParamSpec (&params)[N]) {
+    PluginDescriptor d;
+    d.name = name;
+    d.kind = kind;
+    d.summary = summary;
+    d.params = params;
+    d.n_params = std::uint32_t(N);
+    d.create = &create_plugin<C>;
+    return d;
+}
+
+/// For plugins without parameters.
+template <class C>
+constexpr PluginDescriptor describe(Kind kind, const char* name, const char* summary) {
+    PluginDescriptor d;
+    d.name = name;
+    d.kind = kind;
+    d.summary = summary;
+    d.create = &create_plugin<C>;
+    return d;
+}
+
+} // namespace fp
+
+#define FIXPOINT_PLUGIN(...)                                                                                 \
+    namespace {                                                                                              \
+    constexpr ::fp::PluginDescriptor fixpoint_plugin_descriptor_ = __VA_ARGS__;                              \
+    constexpr std::uint32_t fixpoint_plugin_abi_ = ::fp::abi_version;                                        \
+    }                                                                                                        \
+    BOOST_DLL_ALIAS(fixpoint_plugin_abi_, fixpoint_abi)                                                      \
+    BOOST_DLL_ALIAS(fixpoint_plugin_descriptor_, fixpoint_descriptor)

@@ -1,0 +1,57 @@
+// Renderer: turns a recipe into an image, on the host's thread pool.
+#pragma once
+
+#include <fixpoint/object.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace fp {
+
+/// A float image, `channels` floats per pixel, row-major, top row first.
+struct Image {
+    int width = 0, height = 0, channels = 3;
+    std::vector<float> pixels;
+};
+
+/// What a render did, for the CLI's summary line.
+struct RenderStats {
+    std::uint64_t samples = 0;    ///< points plotted or pixel samples taken
+    std::uint64_t restarts = 0;   ///< chains restarted (no allowed map, bad values)
+    std::uint64_t bad_values = 0; ///< NaN or infinite points met
+    std::string unit = "points";
+};
+
+/// The host's side of a render. Called per task, never per point.
+class RenderContext {
+public:
+    virtual ~RenderContext();
+    /// Number of workers; a worker index passed to tasks is below it.
+    virtual unsigned workers() const = 0;
+    /// Run task(i, worker) for every i in [0, n) on the host's threads and wait. Results
+    /// must not depend on which worker runs which task.
+    virtual void parallel_for(std::size_t n, const std::function<void(std::size_t, unsigned)>& task) = 0;
+    /// Report `units` more units of work done (of Renderer::work_units()); thread-safe.
+    virtual void progress(std::uint64_t units) = 0;
+    /// True once the user asked to stop (Ctrl-C); renderers poll it and throw fp::Cancelled
+    /// within a fraction of a second.
+    virtual bool cancelled() const = 0;
+};
+
+class Renderer : public Object {
+public:
+    ~Renderer() override;
+
+    virtual int width() const = 0;
+    virtual int height() const = 0;
+    /// Memory the render will need with `workers` workers, for the check before it starts.
+    virtual std::uint64_t memory_bytes(unsigned workers) const = 0;
+    /// Units of work reported through RenderContext::progress over a whole render.
+    virtual std::uint64_t work_units() const = 0;
+    virtual Image render(RenderContext& ctx, RenderStats& stats) const = 0;
+};
+
+} // namespace fp

@@ -1,0 +1,37 @@
+// Key functions of the SDK's classes: their vtables and type information live in this one
+// shared library, so dynamic_cast and exceptions work across plugins loaded with RTLD_LOCAL.
+#include <fixpoint/fixpoint.hpp>
+
+namespace fp {
+
+Error::~Error() = default;
+InputError::~InputError() = default;
+ParamError::~ParamError() = default;
+InternalError::~InternalError() = default;
+Cancelled::~Cancelled() = default;
+
+Object::~Object() = default;
+Shape::~Shape() = default;
+Transform::~Transform() = default;
+IterationScheme::~IterationScheme() = default;
+NumberSystem::~NumberSystem() = default;
+Metric::~Metric() = default;
+Trap::~Trap() = default;
+Colourer::~Colourer() = default;
+Renderer::~Renderer() = default;
+RenderContext::~RenderContext() = default;
+
+bool Transform::has_region() const { return false; }
+void Transform::contains(Points<const float> p, unsigned char* out) const {
+    for (std::size_t i = 0; i < p.n; ++i) out[i] = 0;
+}
+void Transform::contains(Points<const double> p, unsigned char* out) const {
+    for (std::size_t i = 0; i < p.n; ++i) out[i] = 0;
+}
+std::vector<Vec2> Transform::region_outline(std::size_t) const { return {}; }
+bool Transform::is_involution() const { return false; }
+Box Transform::sample_domain() const { return {-2, 2, -2, 2}; }
+
+unsigned IterationScheme::applications() const { return 1; }
+
+} // namespace fp
