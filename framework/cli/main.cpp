@@ -1,0 +1,341 @@
+// The `fixpoint` command line.
+//
+// Exit codes: 0 success, 2 bad input (config, parameters, command line), 1 internal
+// failure, 130 interrupted. Every error is one line on stderr.
+#include <fixpoint/fixpoint.hpp>
+#include <fixpoint/host/build.hpp>
+#include <fixpoint/host/conformance.hpp>
+#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/pipeline.hpp>
+#include <fixpoint/host/progress.hpp>
+#include <fixpoint/host/registry.hpp>
+#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/version.hpp>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/sinks/stdout_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+using namespace fp;
+using namespace fp::host;
+
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void on_sigint(int) { g_interrupted.store(true); }
+
+void install_sigint() {
+    struct sigaction sa {};
+    sa.sa_handler = on_sigint;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+}
+
+struct Options {
+    std::vector<std::string> plugin_dirs;
+    std::string config, out, image, name, transform, scheme = "{type: picard}", kind;
+    std::vector<std::string> sets, files;
+    unsigned threads = 0;
+    bool quiet = false;
+    long long steps = 1;
+};
+
+Registry make_registry(const Options& o) {
+    Registry reg;
+    for (const auto& d : Registry::default_dirs()) reg.load_dir(d);
+    for (const auto& d : o.plugin_dirs) {
+        std::error_code ec;
+        if (!fs::is_directory(d, ec)) throw InputError("--plugin-dir: '" + d + "' is not a folder");
+        reg.load_dir(d);
+    }
+    return reg;
+}
+
+std::string default_output(const std::string& config) { return fs::path(config).stem().string() + ".png"; }
+
+void check_memory(const Pipeline& p, unsigned threads) {
+    const std::uint64_t need = p.renderer->memory_bytes(threads), have = available_memory();
+    if (need > have)
+        throw InputError(p.renderer_mark.str() + ": renderer: a " + std::to_string(p.renderer->width()) +
+                         "x" + std::to_string(p.renderer->height()) + " render needs " + format_bytes(need) +
+                         " of memory with " + std::to_string(threads) + " thread(s); this machine has " +
+                         format_bytes(have) + " available");
+}
+
+int cmd_render(const Options& o, bool validate_only) {
+    const Registry reg = make_registry(o);
+    const Pipeline p = load_pipeline(reg, o.config, o.sets);
+    const unsigned threads = o.threads ? o.threads : hardware_threads();
+    check_memory(p, threads);
+    const std::string out = !o.out.empty()           ? o.out
+                            : !p.output_path.empty() ? p.output_path
+                                                     : default_output(o.config);
+    check_output(out);
+    if (validate_only) {
+        if (!o.quiet)
+            spdlog::info("{}: valid ({}x{} {} -> {})", o.config, p.renderer->width(), p.renderer->height(),
+                         p.recipe.size() ? "render" : "", out);
+        return 0;
+    }
+
+    install_sigint();
+    Runtime rt(threads, &g_interrupted);
+    RenderStats stats;
+    Image img;
+    const auto t0 = std::chrono::steady_clock::now();
+    {
+        ProgressBar bar(
+            p.renderer->work_units(), [&rt] { return rt.done(); }, !o.quiet && ::isatty(2));
+        img = p.renderer->render(rt, stats);
+    }
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (g_interrupted.load()) throw Cancelled();
+    write_image(img, out, p.bit_depth, p.recipe);
+    if (!o.quiet)
+        spdlog::info("{}: {} {} in {:.2f} s ({:.3g} {}/s, {} thread{}), {} restarted chain{}, {} bad value{}",
+                     out, stats.samples, stats.unit, secs, double(stats.samples) / std::max(secs, 1e-9),
+                     stats.unit, threads, threads == 1 ? "" : "s", stats.restarts,
+                     stats.restarts == 1 ? "" : "s", stats.bad_values, stats.bad_values == 1 ? "" : "s");
+    return 0;
+}
+
+std::string range_of(const ParamSpec& s) {
+    const bool lo = std::isfinite(s.lo), hi = std::isfinite(s.hi);
+    if (!lo && !hi) return "";
+    std::string r = s.lo_open ? "(" : "[";
+    r += lo ? format_real(s.lo) : "-inf";
+    r += ", ";
+    r += hi ? format_real(s.hi) : "inf";
+    r += s.hi_open ? ")" : "]";
+    return r;
+}
+
+void print_params(const ParamSpec* ps, std::size_t n, const std::string& indent) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const ParamSpec& s = ps[i];
+        std::string type(param_type_name(s.type));
+        if (s.type == ParamType::Object || s.type == ParamType::Objects)
+            type += " (" + std::string(kind_name(s.kind)) + ")";
+        if (s.choices) type += " {" + std::string(s.choices) + "}";
+        if (s.count) type += " x" + std::to_string(s.count);
+        std::string def = s.default_yaml ? std::string("default ") + s.default_yaml
+                          : s.optional   ? "optional"
+                                         : "required";
+        const std::string range = range_of(s);
+        std::printf("%s%-16s %s; %s%s%s\n", indent.c_str(), s.name, type.c_str(), def.c_str(),
+                    range.empty() ? "" : "; range ", range.c_str());
+        std::printf("%s%-16s %s\n", indent.c_str(), "", s.doc ? s.doc : "");
+        if (s.type == ParamType::Objects && s.n_item_params) {
+            std::printf("%s%-16s each item also takes:\n", indent.c_str(), "");
+            print_params(s.item_params, s.n_item_params, indent + "    ");
+        }
+    }
+}
+
+int cmd_plugins(const Options& o) {
+    const Registry reg = make_registry(o);
+    std::optional<Kind> kind;
+    if (!o.kind.empty()) {
+        std::vector<std::string> names;
+        for (int k = 0; k < kind_count; ++k) {
+            names.emplace_back(kind_name(Kind(k)));
+            if (o.kind == kind_name(Kind(k))) kind = Kind(k);
+        }
+        if (!kind) {
+            const auto near = suggest(o.kind, names);
+            throw InputError("--kind: unknown kind '" + o.kind + "'" +
+                             (near.empty() ? "" : " (did you mean '" + near[0] + "'?)"));
+        }
+    }
+    for (const auto* e : reg.all(kind))
+        std::printf("%-17s %-20s %-7s %s\n", std::string(kind_name(e->desc->kind)).c_str(), e->desc->name,
+                    e->desc->version, e->desc->summary);
+    return 0;
+}
+
+int cmd_describe(const Options& o) {
+    const Registry reg = make_registry(o);
+    const PluginEntry* e = reg.find(o.name);
+    if (!e) {
+        const auto near = reg.closest(o.name, std::nullopt);
+        throw InputError("unknown plugin '" + o.name + "'" +
+                         (near.empty() ? "" : " (did you mean '" + near[0] + "'?)"));
+    }
+    const auto& d = *e->desc;
+    std::printf("%s (%s, version %s)\n  %s\n  file: %s\n", d.name, std::string(kind_name(d.kind)).c_str(),
+                d.version, d.summary, e->file.c_str());
+    if (d.n_params) {
+        std::printf("parameters:\n");
+        print_params(d.params, d.n_params, "  ");
+    } else {
+        std::printf("no parameters\n");
+    }
+    return 0;
+}
+
+int cmd_eval(const Options& o) {
+    const Registry reg = make_registry(o);
+    auto tt = validate(reg, Kind::Transform, parse_yaml(o.transform, "<transform>"), "transform");
+    auto st = validate(reg, Kind::IterationScheme, parse_yaml(o.scheme, "<scheme>"), "scheme");
+    auto t = std::dynamic_pointer_cast<const Transform>(build(reg, *tt));
+    auto s = std::dynamic_pointer_cast<const IterationScheme>(build(reg, *st));
+    if (o.steps < 0) throw InputError("--steps: must be >= 0");
+    std::vector<double> xs, ys;
+    std::string line;
+    for (long lineno = 1; std::getline(std::cin, line); ++lineno) {
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        CNode a, b;
+        std::istringstream in(line);
+        std::string sx, sy, extra;
+        in >> sx >> sy;
+        const bool bad = !in || (in >> extra, !extra.empty());
+        double x = 0, y = 0;
+        char* end1 = nullptr;
+        char* end2 = nullptr;
+        if (!bad) {
+            x = std::strtod(sx.c_str(), &end1);
+            y = std::strtod(sy.c_str(), &end2);
+        }
+        if (bad || *end1 || *end2 || !std::isfinite(x) || !std::isfinite(y))
+            throw InputError("<stdin>:" + std::to_string(lineno) +
+                             ": expected two finite numbers 'x y', got '" + line + "'");
+        xs.push_back(x);
+        ys.push_back(y);
+    }
+    Points<double> pts{xs.data(), ys.data(), xs.size()};
+    for (long long n = 0; n < o.steps; ++n) s->step(*t, pts, nullptr, std::uint64_t(n));
+    for (std::size_t i = 0; i < xs.size(); ++i) std::printf("%.17g %.17g\n", xs[i], ys[i]);
+    return 0;
+}
+
+int cmd_recipe(const Options& o) {
+    std::fputs(read_recipe(o.image).c_str(), stdout);
+    return 0;
+}
+
+int cmd_conformance(const Options& o) {
+    Registry reg = make_registry(o);
+    std::vector<const PluginEntry*> targets;
+    for (const auto& f : o.files) targets.push_back(&reg.load_file(f));
+    if (o.files.empty()) targets = reg.all();
+    int failed = 0, passed = 0;
+    for (const auto* e : targets) {
+        const auto findings = run_conformance(reg, *e);
+        if (findings.empty()) {
+            ++passed;
+            std::printf("PASS %s (%s)\n", e->desc->name, e->file.c_str());
+        } else {
+            ++failed;
+            std::printf("FAIL %s (%s)\n", e->desc->name, e->file.c_str());
+            for (const auto& f : findings) std::printf("  - %s\n", f.c_str());
+        }
+    }
+    std::printf("%d passed, %d failed\n", passed, failed);
+    return failed ? 1 : 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    auto logger = spdlog::stderr_logger_st("fixpoint");
+    logger->set_pattern("%v");
+    spdlog::set_default_logger(logger);
+
+    CLI::App app{"fixpoint " FIXPOINT_VERSION
+                 " - renders fractal and symmetric patterns from YAML pipelines"};
+    app.set_version_flag("--version", FIXPOINT_VERSION);
+    app.require_subcommand(1);
+    Options o;
+    app.add_option("--plugin-dir", o.plugin_dirs, "Also load plugins from this folder (repeatable)");
+
+    auto* render = app.add_subcommand("render", "Render a pipeline to an image");
+    render->add_option("config", o.config, "Pipeline file (YAML)")->required();
+    render->add_option("-o,--output", o.out,
+                       "Output image (.png, .exr, .tif); default: the config's output.path or <config>.png");
+    render->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
+    render
+        ->add_option("--threads", o.threads,
+                     "Worker threads (default: all cores); the image does not depend on it")
+        ->check(CLI::Range(1u, 4096u));
+    render->add_flag("-q,--quiet", o.quiet, "No progress bar, no summary");
+
+    auto* validate_cmd =
+        app.add_subcommand("validate", "Check everything a render would check; render nothing");
+    validate_cmd->add_option("config", o.config, "Pipeline file (YAML)")->required();
+    validate_cmd->add_option("-o,--output", o.out, "Output image to check");
+    validate_cmd->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
+    validate_cmd->add_option("--threads", o.threads, "Threads to check memory for")
+        ->check(CLI::Range(1u, 4096u));
+    validate_cmd->add_flag("-q,--quiet", o.quiet, "Print nothing when valid");
+
+    auto* plugins = app.add_subcommand("plugins", "List the plugins found");
+    plugins->add_option("--kind", o.kind, "Only this kind (shape, transform, iteration-scheme, ...)");
+
+    auto* describe = app.add_subcommand("describe", "Show a plugin's parameters");
+    describe->add_option("name", o.name, "Plugin name")->required();
+
+    auto* eval = app.add_subcommand("eval", "Apply a transform to points read from stdin ('x y' per line)");
+    eval->add_option("transform", o.transform,
+                     "Transform as a YAML flow mapping, e.g. '{type: inversion, shape: {type: circle}}'")
+        ->required();
+    eval->add_option("--scheme", o.scheme,
+                     "Iteration scheme as a YAML flow mapping (default {type: picard})");
+    eval->add_option("--steps", o.steps, "Steps per point (default 1); step index n counts from 0");
+
+    auto* recipe = app.add_subcommand("recipe", "Print the recipe embedded in an image");
+    recipe->add_option("image", o.image, "Image written by fixpoint")->required();
+
+    auto* conformance = app.add_subcommand("conformance", "Run the plugin conformance suite");
+    conformance->add_option("files", o.files, "Plugin files (default: every plugin found)");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "fixpoint: %s (see fixpoint --help)\n", e.what());
+        return 2;
+    }
+
+    try {
+        if (*render) return cmd_render(o, false);
+        if (*validate_cmd) return cmd_render(o, true);
+        if (*plugins) return cmd_plugins(o);
+        if (*describe) return cmd_describe(o);
+        if (*eval) return cmd_eval(o);
+        if (*recipe) return cmd_recipe(o);
+        if (*conformance) return cmd_conformance(o);
+    } catch (const Cancelled&) {
+        std::fprintf(stderr, "fixpoint: interrupted; no image written\n");
+        return 130;
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "%s\n", e.what());
+        return 2;
+    } catch (const InternalError& e) {
+        std::fprintf(stderr, "fixpoint: internal error: %s\n", e.what());
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "fixpoint: out of memory\n");
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "fixpoint: internal error: %s\n", e.what());
+        return 1;
+    }
+    return 1;
+}

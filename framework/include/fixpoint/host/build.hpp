@@ -1,0 +1,55 @@
+// Stages 2 and 3 of loading a pipeline: validate a CNode tree against the plugins' schemas
+// (types, ranges, finiteness, unknown and missing keys, kinds of slots), giving a typed tree
+// with every default filled in; then build the objects bottom-up.
+#pragma once
+
+#include <fixpoint/host/config.hpp>
+#include <fixpoint/host/registry.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fp::host {
+
+struct TObject;
+
+/// A validated parameter.
+struct TParam {
+    const ParamSpec* spec = nullptr;
+    Mark mark;                       ///< where its value stands (or the owning mapping, for defaults)
+    std::string path;                ///< e.g. renderer.maps[2].shape.radius
+    ParamValue value;                ///< plain values
+    std::unique_ptr<TObject> object; ///< Object
+    struct Item {
+        std::unique_ptr<TObject> object;
+        std::vector<TParam> extras;
+    };
+    std::vector<Item> items; ///< Objects
+};
+
+/// A validated plugin instance.
+struct TObject {
+    const PluginEntry* plugin = nullptr;
+    Mark mark;
+    std::string path;
+    std::vector<TParam> params;
+};
+
+/// Validate `node` as an instance of `kind` at `path`. Throws fp::InputError
+/// "file:line:col: path: message".
+std::unique_ptr<TObject> validate(const Registry& reg, Kind kind, const CNode& node, const std::string& path);
+
+/// Build the objects of a validated tree. Plugin errors are given the position of the
+/// parameter they name.
+std::shared_ptr<const Object> build(const Registry& reg, const TObject& t);
+
+/// The tree with every default filled in, as YAML nodes (canonical numbers: shortest text
+/// that reads back to the same double).
+CNode resolved(const TObject& t);
+
+/// Shortest decimal text that reads back as exactly `v`.
+std::string format_real(double v);
+std::string format_float(float v);
+
+} // namespace fp::host

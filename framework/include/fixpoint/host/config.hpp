@@ -1,0 +1,64 @@
+// Stage 1 of loading a pipeline: YAML text -> a tree of nodes that remember their position.
+//
+// yaml-cpp 0.7 accepts duplicate keys (first wins), aliases and many documents, and loops
+// forever on some inputs through LoadAll; so every text first goes through a guard over the
+// event stream (size, depth, aliases/anchors, a second document, duplicate keys), then
+// through YAML::Load, and is copied into CNode, which later stages read (never yaml-cpp's
+// nodes, whose non-const operator[] mutates them).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fp::host {
+
+/// A position in a source text, 1-based.
+struct Mark {
+    std::shared_ptr<const std::string> source;
+    int line = 0, col = 0;
+    std::string str() const; ///< "file:line:col"
+};
+
+struct CNode {
+    enum class Type { Null, Scalar, Sequence, Map };
+    Type type = Type::Null;
+    std::string scalar;       ///< Scalar: the text
+    bool quoted = false;      ///< Scalar: written in quotes (never a number, bool or null)
+    std::vector<CNode> items; ///< Sequence
+    std::vector<std::pair<std::string, CNode>> keys; ///< Map, in file order
+    std::vector<Mark> key_marks;                     ///< Map: where each key stands
+    Mark mark;
+
+    bool is_map() const { return type == Type::Map; }
+    bool is_seq() const { return type == Type::Sequence; }
+    bool is_scalar() const { return type == Type::Scalar; }
+    const CNode* find(const std::string& key) const;
+    CNode* find(const std::string& key);
+    const Mark* key_mark(const std::string& key) const;
+    /// Short description for messages: "a mapping", "a list", "'abc'".
+    std::string describe() const;
+};
+
+/// Largest YAML text accepted, and deepest nesting.
+constexpr std::size_t max_yaml_bytes = 4u << 20;
+constexpr int max_yaml_depth = 64;
+
+/// Parse YAML text named `source` (used in marks). Throws fp::InputError "source:l:c: msg".
+CNode parse_yaml(const std::string& text, const std::string& source);
+/// Read and parse a file (size checked first).
+CNode load_yaml_file(const std::string& path);
+
+/// Apply `path.to.param=value` (value is YAML) to `root`. Throws fp::InputError.
+void apply_override(CNode& root, const std::string& assignment);
+
+/// Emit as block YAML (keys in stored order).
+std::string emit_yaml(const CNode& n);
+
+/// Build nodes programmatically (for resolved recipes).
+CNode scalar_node(std::string text, bool quoted = false);
+CNode map_node();
+CNode seq_node();
+
+} // namespace fp::host

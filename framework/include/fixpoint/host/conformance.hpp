@@ -1,0 +1,26 @@
+// The plugin conformance suite: properties every plugin must have, run by
+// `fixpoint conformance` and by CTest on every plugin of plugins/.
+//
+// For every plugin: metadata complete; builds from its example (defaults fill the rest);
+// wrong type, out-of-range, NaN and unknown parameters refused with a parameter error;
+// batch evaluation equals point-by-point evaluation; const evaluation from two threads at
+// once gives the same result. Per kind: a Shape's inside test agrees with its boundary; a
+// Metric obeys the metric axioms; a Transform gives finite output for finite input in its
+// sample domain and an involution is one; a Renderer gives the same image on 1 and 2 threads.
+#pragma once
+
+#include <fixpoint/host/registry.hpp>
+
+#include <string>
+#include <vector>
+
+namespace fp::host {
+
+/// Run every check on one plugin; returns the failures (empty: conformant).
+std::vector<std::string> run_conformance(const Registry& reg, const PluginEntry& plugin);
+
+/// The kind-specific checks on an object already built (also usable on objects made in
+/// tests without a plugin file).
+std::vector<std::string> check_object(const Object& obj, Kind kind);
+
+} // namespace fp::host

@@ -1,0 +1,40 @@
+// Image output through OpenImageIO, in its own translation unit: OIIO's headers bundle
+// their own fmt with exceptions turned off, which must not meet spdlog's fmt.
+#pragma once
+
+#include <fixpoint/render.hpp>
+
+#include <string>
+
+namespace fp::host {
+
+enum class Format { Png, Exr, Tiff };
+
+/// The format for an output path's extension (.png, .exr, .tif, .tiff; any case).
+/// Throws fp::InputError for anything else.
+Format format_for(const std::string& path);
+
+/// Check, before rendering, that `path` has a known format and that its folder takes a new
+/// file. Throws fp::InputError.
+void check_output(const std::string& path);
+
+/// Write atomically (a temporary file beside the target, then rename): a failed write never
+/// leaves a partial file at `path`. PNG and TIFF take `bit_depth` 8 or 16; EXR is float.
+/// `recipe` goes into the ImageDescription metadata.
+void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe);
+
+/// The recipe embedded in an image written by fixpoint. Throws fp::InputError.
+std::string read_recipe(const std::string& path);
+
+/// Read an image as float RGB(A) pixels. Throws fp::InputError.
+Image read_image(const std::string& path);
+
+struct Comparison {
+    double max_error = 0, mean_error = 0;
+    std::size_t n_fail = 0; ///< pixels whose error exceeds the threshold
+    bool size_mismatch = false;
+};
+/// Compare two image files with ImageBufAlgo::compare; `threshold` is per channel in [0, 1].
+Comparison compare_images(const std::string& a, const std::string& b, double threshold);
+
+} // namespace fp::host

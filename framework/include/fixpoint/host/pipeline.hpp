@@ -1,0 +1,33 @@
+// A pipeline file: the top level of a config.
+//
+//   renderer: {type: chaos-game, ...}   # required: the Renderer and everything in it
+//   output:                             # optional
+//     path: fig4a.png                   #   default output path (-o overrides)
+//     bit_depth: 8                      #   8 or 16 for PNG and TIFF; EXR is always float
+//   fixpoint_version: 0.1.0             # written into recipes; informational
+#pragma once
+
+#include <fixpoint/host/build.hpp>
+#include <fixpoint/render.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fp::host {
+
+struct Pipeline {
+    std::shared_ptr<const Renderer> renderer;
+    Mark renderer_mark;
+    std::string output_path; ///< from the config; empty when not given
+    int bit_depth = 8;
+    /// The resolved recipe: every default filled in, the version; no output path (so that
+    /// rendering a recipe gives the same bytes whatever it is written to).
+    std::string recipe;
+};
+
+/// Parse, apply the overrides, validate, build.
+Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets);
+Pipeline load_pipeline(const Registry& reg, CNode root);
+
+} // namespace fp::host

@@ -1,0 +1,60 @@
+// Plugin discovery and loading (Boost.DLL).
+#pragma once
+
+#include <fixpoint/plugin.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace boost::dll {
+class shared_library;
+}
+
+namespace fp::host {
+
+struct PluginEntry {
+    const PluginDescriptor* desc = nullptr;
+    std::filesystem::path file;
+    std::shared_ptr<boost::dll::shared_library> lib;
+};
+
+class Registry {
+public:
+    Registry() = default;
+    ~Registry();
+    Registry(Registry&&) noexcept;
+    Registry& operator=(Registry&&) noexcept;
+
+    /// The default folders: the build's or install's plugin folder (found from the running
+    /// executable), then every folder of FIXPOINT_PLUGIN_PATH.
+    static std::vector<std::filesystem::path> default_dirs();
+
+    /// Load every `*.so` in `dir` (a missing folder is skipped).
+    void load_dir(const std::filesystem::path& dir);
+    /// Load one plugin file. Throws fp::InputError naming the file for a file that is not a
+    /// plugin, a mismatched ABI, or a name taken by another file.
+    const PluginEntry& load_file(const std::filesystem::path& file);
+
+    const PluginEntry* find(std::string_view name) const;
+    /// All plugins, sorted by kind then name; only those of `kind` when given.
+    std::vector<const PluginEntry*> all(std::optional<Kind> kind = std::nullopt) const;
+    /// Closest names to `name` (for "did you mean").
+    std::vector<std::string> closest(std::string_view name, std::optional<Kind> kind) const;
+
+    /// Construct an instance; the returned handle keeps the plugin's library loaded.
+    std::shared_ptr<const Object> create(const PluginEntry& e, const ParamBag& bag) const;
+
+private:
+    std::vector<std::unique_ptr<PluginEntry>> entries_;
+};
+
+/// Edit distance, for suggestions.
+std::size_t edit_distance(std::string_view a, std::string_view b);
+/// The candidates closest to `word` (at most 3, only plausible ones).
+std::vector<std::string> suggest(std::string_view word, const std::vector<std::string>& candidates);
+
+} // namespace fp::host

@@ -1,0 +1,423 @@
+// Schema validation and object construction.
+#include <fixpoint/host/build.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+
+namespace fp::host {
+
+namespace {
+
+[[noreturn]] void fail(const Mark& m, const std::string& path, const std::string& msg) {
+    throw InputError(m.str() + ": " + (path.empty() ? "" : path + ": ") + msg);
+}
+
+std::string join(const std::vector<std::string>& v, const char* sep) {
+    std::string s;
+    for (std::size_t i = 0; i < v.size(); ++i) s += (i ? sep : "") + v[i];
+    return s;
+}
+
+std::string quoted_list(const std::vector<std::string>& v) {
+    std::vector<std::string> q;
+    for (const auto& s : v) q.push_back("'" + s + "'");
+    return q.size() <= 1 ? join(q, "") : join({q.begin(), q.end() - 1}, ", ") + " or " + q.back();
+}
+
+std::string article(std::string_view kind) {
+    return (kind[0] == 'a' || kind[0] == 'e' || kind[0] == 'i' || kind[0] == 'o' || kind[0] == 'u' ? "an "
+                                                                                                   : "a ") +
+           std::string(kind);
+}
+
+// ------------------------------------------------------------------ scalars
+bool parse_real(const CNode& n, double& out) {
+    if (!n.is_scalar() || n.quoted) return false;
+    const std::string& s = n.scalar;
+    if (s == ".nan" || s == ".NaN" || s == ".NAN" || s == "nan" || s == "NaN") {
+        out = std::numeric_limits<double>::quiet_NaN();
+        return true;
+    }
+    if (s == ".inf" || s == ".Inf" || s == "+.inf" || s == "inf" || s == "+inf") {
+        out = std::numeric_limits<double>::infinity();
+        return true;
+    }
+    if (s == "-.inf" || s == "-.Inf" || s == "-inf") {
+        out = -std::numeric_limits<double>::infinity();
+        return true;
+    }
+    const char* b = s.data();
+    const char* e = s.data() + s.size();
+    if (b != e && *b == '+') ++b;
+    auto [p, ec] = std::from_chars(b, e, out);
+    return ec == std::errc() && p == e && b != e;
+}
+
+bool parse_int(const CNode& n, std::int64_t& out) {
+    if (!n.is_scalar() || n.quoted) return false;
+    const char* b = n.scalar.data();
+    const char* e = b + n.scalar.size();
+    if (b != e && *b == '+') ++b;
+    auto [p, ec] = std::from_chars(b, e, out);
+    if (ec == std::errc() && p == e && b != e) return true;
+    // 1e6 and 1000000.0 are integers too, when exact.
+    double d;
+    if (parse_real(n, d) && std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 9.0e15) {
+        out = std::int64_t(d);
+        return true;
+    }
+    return false;
+}
+
+std::string range_text(const ParamSpec& s) {
+    const bool has_lo = std::isfinite(s.lo), has_hi = std::isfinite(s.hi);
+    if (has_lo && has_hi)
+        return std::string("in ") + (s.lo_open ? "(" : "[") + format_real(s.lo) + ", " + format_real(s.hi) +
+               (s.hi_open ? ")" : "]");
+    if (has_lo) return std::string(s.lo_open ? "> " : ">= ") + format_real(s.lo);
+    if (has_hi) return std::string(s.hi_open ? "< " : "<= ") + format_real(s.hi);
+    return "";
+}
+
+void check_number(const ParamSpec& s, double v, const CNode& n, const std::string& path) {
+    if (!std::isfinite(v) && !s.allow_nonfinite)
+        fail(n.mark, path, "must be a finite number, got " + n.scalar);
+    const bool below = s.lo_open ? !(v > s.lo) : !(v >= s.lo);
+    const bool above = s.hi_open ? !(v < s.hi) : !(v <= s.hi);
+    if ((std::isfinite(s.lo) && below) || (std::isfinite(s.hi) && above))
+        fail(n.mark, path, "must be " + range_text(s) + ", got " + n.scalar);
+}
+
+double real_value(const ParamSpec& s, const CNode& n, const std::string& path,
+                  const char* what = "a real number") {
+    double v;
+    if (!parse_real(n, v)) fail(n.mark, path, std::string("expected ") + what + ", got " + n.describe());
+    check_number(s, v, n, path);
+    return v;
+}
+
+Vec2 vec2_value(const ParamSpec& s, const CNode& n, const std::string& path) {
+    if (!n.is_seq() || n.items.size() != 2)
+        fail(n.mark, path, "expected a point [x, y], got " + n.describe());
+    return {real_value(s, n.items[0], path), real_value(s, n.items[1], path)};
+}
+
+Rgb colour_value(const CNode& n, const std::string& path) {
+    if (n.is_scalar() && n.scalar.size() == 7 && n.scalar[0] == '#') {
+        unsigned v = 0;
+        auto [p, ec] = std::from_chars(n.scalar.data() + 1, n.scalar.data() + 7, v, 16);
+        if (ec == std::errc() && p == n.scalar.data() + 7)
+            return {float((v >> 16) & 255) / 255.f, float((v >> 8) & 255) / 255.f, float(v & 255) / 255.f};
+    }
+    if (!n.is_seq() || n.items.size() != 3)
+        fail(n.mark, path,
+             "expected a colour [r, g, b] with components in [0, 1] or \"#rrggbb\", got " + n.describe());
+    ParamSpec unit = param::real("", "").min(0).max(1);
+    return {float(real_value(unit, n.items[0], path)), float(real_value(unit, n.items[1], path)),
+            float(real_value(unit, n.items[2], path))};
+}
+
+void check_count(const ParamSpec& s, const CNode& n, const std::string& path, const char* what) {
+    if (!n.is_seq()) fail(n.mark, path, std::string("expected a list of ") + what + ", got " + n.describe());
+    if (s.count && n.items.size() != s.count)
+        fail(n.mark, path,
+             "expected " + std::to_string(s.count) + " " + what + ", got " + std::to_string(n.items.size()));
+    if (n.items.size() < s.min_count)
+        fail(n.mark, path,
+             "expected at least " + std::to_string(s.min_count) + " " + what + ", got " +
+                 std::to_string(n.items.size()));
+}
+
+TParam validate_param(const Registry& reg, const ParamSpec& s, const CNode& n, const std::string& path);
+
+std::vector<TParam> validate_params(const Registry& reg, const ParamSpec* specs, std::size_t n_specs,
+                                    const CNode& node, const std::string& path, const std::string& owner,
+                                    const std::vector<std::string>& ignore) {
+    // Unknown keys first: a typo is the likeliest mistake.
+    for (std::size_t i = 0; i < node.keys.size(); ++i) {
+        const std::string& k = node.keys[i].first;
+        bool known = std::find(ignore.begin(), ignore.end(), k) != ignore.end();
+        for (std::size_t j = 0; j < n_specs && !known; ++j) known = k == specs[j].name;
+        if (known) continue;
+        std::vector<std::string> names;
+        for (std::size_t j = 0; j < n_specs; ++j) names.emplace_back(specs[j].name);
+        const auto near = suggest(k, names);
+        fail(node.key_marks[i], path,
+             "unknown parameter '" + k + "' for " + owner +
+                 (near.empty() ? "" : " (did you mean " + quoted_list(near) + "?)"));
+    }
+    std::vector<TParam> out;
+    for (std::size_t j = 0; j < n_specs; ++j) {
+        const ParamSpec& s = specs[j];
+        const std::string p = path.empty() ? s.name : path + "." + s.name;
+        if (const CNode* v = node.find(s.name)) {
+            out.push_back(validate_param(reg, s, *v, p));
+        } else if (s.default_yaml) {
+            CNode d = parse_yaml(s.default_yaml, std::string("<default of ") + owner + "." + s.name + ">");
+            TParam t = validate_param(reg, s, d, p);
+            t.mark = node.mark; // a bad default is reported where the owner stands
+            out.push_back(std::move(t));
+        } else if (!s.optional) {
+            fail(node.mark, path, "missing required parameter '" + std::string(s.name) + "' for " + owner);
+        }
+    }
+    return out;
+}
+
+TParam validate_param(const Registry& reg, const ParamSpec& s, const CNode& n, const std::string& path) {
+    TParam t;
+    t.spec = &s;
+    t.mark = n.mark;
+    t.path = path;
+    switch (s.type) {
+    case ParamType::Bool:
+        if (!n.is_scalar() || n.quoted || (n.scalar != "true" && n.scalar != "false"))
+            fail(n.mark, path, "expected true or false, got " + n.describe());
+        t.value = n.scalar == "true";
+        break;
+    case ParamType::Int: {
+        std::int64_t v;
+        if (!parse_int(n, v)) {
+            double d;
+            if (parse_real(n, d) && !std::isfinite(d))
+                fail(n.mark, path, "must be a finite number, got " + n.scalar);
+            fail(n.mark, path, "expected an integer, got " + n.describe());
+        }
+        check_number(s, double(v), n, path);
+        t.value = v;
+        break;
+    }
+    case ParamType::Real: t.value = real_value(s, n, path); break;
+    case ParamType::String: {
+        if (!n.is_scalar()) fail(n.mark, path, "expected a string, got " + n.describe());
+        if (s.choices) {
+            std::vector<std::string> options;
+            std::string all = s.choices;
+            for (std::size_t a = 0;;) {
+                const auto b = all.find('|', a);
+                options.push_back(all.substr(a, b == std::string::npos ? b : b - a));
+                if (b == std::string::npos) break;
+                a = b + 1;
+            }
+            if (std::find(options.begin(), options.end(), n.scalar) == options.end())
+                fail(n.mark, path, "must be one of " + quoted_list(options) + ", got '" + n.scalar + "'");
+        }
+        t.value = n.scalar;
+        break;
+    }
+    case ParamType::Vec2: t.value = vec2_value(s, n, path); break;
+    case ParamType::Colour: t.value = colour_value(n, path); break;
+    case ParamType::Reals: {
+        check_count(s, n, path, "numbers");
+        std::vector<double> v;
+        for (std::size_t i = 0; i < n.items.size(); ++i)
+            v.push_back(real_value(s, n.items[i], path + "[" + std::to_string(i) + "]"));
+        t.value = std::move(v);
+        break;
+    }
+    case ParamType::Vec2s: {
+        check_count(s, n, path, "points");
+        std::vector<Vec2> v;
+        for (std::size_t i = 0; i < n.items.size(); ++i)
+            v.push_back(vec2_value(s, n.items[i], path + "[" + std::to_string(i) + "]"));
+        t.value = std::move(v);
+        break;
+    }
+    case ParamType::Object: t.object = validate(reg, s.kind, n, path); break;
+    case ParamType::Objects: {
+        check_count(s, n, path, (std::string(kind_name(s.kind)) + "s").c_str());
+        for (std::size_t i = 0; i < n.items.size(); ++i) {
+            const std::string ip = path + "[" + std::to_string(i) + "]";
+            TParam::Item item;
+            item.object = validate(reg, s.kind, n.items[i], ip);
+            std::vector<std::string> own = {"type"};
+            for (std::uint32_t j = 0; j < item.object->plugin->desc->n_params; ++j)
+                own.emplace_back(item.object->plugin->desc->params[j].name);
+            // Extras (weight, colour, ...) stand beside the object's own keys.
+            item.extras = validate_params(reg, s.item_params, s.n_item_params, n.items[i], ip,
+                                          std::string("an item of ") + s.name, own);
+            t.items.push_back(std::move(item));
+        }
+        break;
+    }
+    }
+    return t;
+}
+
+} // namespace
+
+std::string format_real(double v) {
+    if (std::isnan(v)) return ".nan";
+    if (std::isinf(v)) return v > 0 ? ".inf" : "-.inf";
+    char buf[64];
+    auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, p);
+}
+
+std::string format_float(float v) {
+    char buf[64];
+    auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, p);
+}
+
+std::unique_ptr<TObject> validate(const Registry& reg, Kind kind, const CNode& node,
+                                  const std::string& path) {
+    const std::string kn(kind_name(kind));
+    if (!node.is_map())
+        fail(node.mark, path,
+             "expected " + article(kn) + " (a mapping with a 'type:' key), got " + node.describe());
+    const CNode* type = node.find("type");
+    if (!type) {
+        std::vector<std::string> names;
+        for (const auto* e : reg.all(kind)) names.emplace_back(e->desc->name);
+        fail(node.mark, path,
+             "missing 'type:' for " + article(kn) +
+                 (names.empty() ? "" : " (one of " + join(names, ", ") + ")"));
+    }
+    if (!type->is_scalar())
+        fail(type->mark, path + ".type", "expected a plugin name, got " + type->describe());
+    const PluginEntry* e = reg.find(type->scalar);
+    if (!e) {
+        const auto near = reg.closest(type->scalar, kind);
+        fail(type->mark, path + ".type",
+             "unknown " + kn + " '" + type->scalar + "'" +
+                 (near.empty() ? "" : " (did you mean " + quoted_list(near) + "?)"));
+    }
+    if (e->desc->kind != kind)
+        fail(type->mark, path + ".type",
+             "'" + type->scalar + "' is " + article(kind_name(e->desc->kind)) + ", but this slot expects " +
+                 article(kn));
+    auto t = std::make_unique<TObject>();
+    t->plugin = e;
+    t->mark = node.mark;
+    t->path = path;
+    t->params = validate_params(reg, e->desc->params, e->desc->n_params, node, path, e->desc->name, {"type"});
+    return t;
+}
+
+namespace {
+
+ParamBag bag_of(const Registry& reg, const ParamSpec* specs, std::size_t n, const std::string& owner,
+                const std::vector<TParam>& params);
+
+void fill(const Registry& reg, ParamBag& bag, const TParam& p) {
+    switch (p.spec->type) {
+    case ParamType::Object: bag.set(p.spec->name, build(reg, *p.object)); break;
+    case ParamType::Objects: {
+        std::vector<ObjectItem> items;
+        for (const auto& it : p.items) {
+            auto extras =
+                std::make_shared<ParamBag>(bag_of(reg, p.spec->item_params, p.spec->n_item_params,
+                                                  std::string("an item of ") + p.spec->name, it.extras));
+            items.push_back({build(reg, *it.object), extras});
+        }
+        bag.set(p.spec->name, std::move(items));
+        break;
+    }
+    default: bag.set(p.spec->name, p.value);
+    }
+}
+
+ParamBag bag_of(const Registry& reg, const ParamSpec* specs, std::size_t n, const std::string& owner,
+                const std::vector<TParam>& params) {
+    ParamBag bag(specs, n, owner);
+    for (const auto& p : params) fill(reg, bag, p);
+    return bag;
+}
+
+const TParam* param_named(const std::vector<TParam>& ps, const std::string& name) {
+    for (const auto& p : ps)
+        if (name == p.spec->name) return &p;
+    return nullptr;
+}
+
+} // namespace
+
+std::shared_ptr<const Object> build(const Registry& reg, const TObject& t) {
+    const PluginDescriptor& d = *t.plugin->desc;
+    ParamBag bag = bag_of(reg, d.params, d.n_params, d.name, t.params);
+    std::shared_ptr<const Object> obj;
+    try {
+        obj = reg.create(*t.plugin, bag);
+    } catch (const ParamError& e) {
+        // Item extras are read through their own bags: search those too.
+        if (const TParam* p = param_named(t.params, e.param())) fail(p->mark, p->path, e.what());
+        fail(t.mark, t.path, e.what());
+    } catch (const InternalError&) {
+        throw;
+    } catch (const Cancelled&) {
+        throw;
+    } catch (const InputError& e) {
+        fail(t.mark, t.path, e.what());
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw InternalError(t.path + ": plugin '" + d.name + "' failed: " + e.what());
+    }
+    const auto unread = bag.unread();
+    if (!unread.empty())
+        throw InternalError("plugin '" + std::string(d.name) + "' (" + t.plugin->file.string() +
+                            ") declares parameter '" + unread.front() + "' but never reads it");
+    return obj;
+}
+
+namespace {
+
+CNode value_node(const TParam& p);
+
+CNode object_node(const TObject& t, const std::vector<TParam>* extras = nullptr) {
+    CNode m = map_node();
+    m.keys.emplace_back("type", scalar_node(t.plugin->desc->name));
+    for (const auto& p : t.params) m.keys.emplace_back(p.spec->name, value_node(p));
+    if (extras)
+        for (const auto& p : *extras) m.keys.emplace_back(p.spec->name, value_node(p));
+    m.key_marks.resize(m.keys.size());
+    return m;
+}
+
+CNode value_node(const TParam& p) {
+    struct V {
+        CNode operator()(bool b) const { return scalar_node(b ? "true" : "false"); }
+        CNode operator()(std::int64_t i) const { return scalar_node(std::to_string(i)); }
+        CNode operator()(double d) const { return scalar_node(format_real(d)); }
+        CNode operator()(const std::string& s) const { return scalar_node(s, true); }
+        CNode operator()(Vec2 v) const {
+            CNode s = seq_node();
+            s.items = {scalar_node(format_real(v.x)), scalar_node(format_real(v.y))};
+            return s;
+        }
+        CNode operator()(Rgb c) const {
+            CNode s = seq_node();
+            s.items = {scalar_node(format_float(c.r)), scalar_node(format_float(c.g)),
+                       scalar_node(format_float(c.b))};
+            return s;
+        }
+        CNode operator()(const std::vector<double>& v) const {
+            CNode s = seq_node();
+            for (double d : v) s.items.push_back(scalar_node(format_real(d)));
+            return s;
+        }
+        CNode operator()(const std::vector<Vec2>& v) const {
+            CNode s = seq_node();
+            for (Vec2 q : v) s.items.push_back((*this)(q));
+            return s;
+        }
+        CNode operator()(const std::shared_ptr<const Object>&) const { return {}; }
+        CNode operator()(const std::vector<ObjectItem>&) const { return {}; }
+    };
+    if (p.spec->type == ParamType::Object) return object_node(*p.object);
+    if (p.spec->type == ParamType::Objects) {
+        CNode s = seq_node();
+        for (const auto& it : p.items) s.items.push_back(object_node(*it.object, &it.extras));
+        return s;
+    }
+    return std::visit(V{}, p.value);
+}
+
+} // namespace
+
+CNode resolved(const TObject& t) { return object_node(t); }
+
+} // namespace fp::host

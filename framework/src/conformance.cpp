@@ -1,0 +1,521 @@
+// The conformance suite.
+#include <fixpoint/fixpoint.hpp>
+#include <fixpoint/host/build.hpp>
+#include <fixpoint/host/conformance.hpp>
+#include <fixpoint/host/runtime.hpp>
+
+#include <cmath>
+#include <functional>
+#include <thread>
+
+namespace fp::host {
+
+namespace {
+
+using Findings = std::vector<std::string>;
+
+// Deterministic sample points.
+struct Sampler {
+    Rng rng = chain_stream(20261121, 7);
+    double in(double a, double b) { return a + (b - a) * uniform_double(rng); }
+};
+
+// Run `f` twice at once on two threads and once alone; all three must agree.
+template <class F>
+bool same_on_two_threads(F f) {
+    auto a = f();
+    decltype(a) b, c;
+    std::thread t1([&] { b = f(); });
+    std::thread t2([&] { c = f(); });
+    t1.join();
+    t2.join();
+    return a == b && a == c;
+}
+
+// A contraction used to drive iteration schemes without depending on other plugins.
+class TestAffine final : public TransformBase<TestAffine> {
+public:
+    template <class T>
+    void map_pt(T& x, T& y) const {
+        const T nx = T(0.5) * x - T(0.3) * y + T(0.1);
+        const T ny = T(0.3) * x + T(0.5) * y - T(0.2);
+        x = nx;
+        y = ny;
+    }
+};
+
+template <class T>
+bool bit_equal(const std::vector<T>& a, const std::vector<T>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (!(a[i] == b[i] || (std::isnan(double(a[i])) && std::isnan(double(b[i]))))) return false;
+    return true;
+}
+
+// ------------------------------------------------------------------ Shape
+void check_shape(const Shape& s, Findings& f) {
+    const Box b = s.bounds();
+    const double w = b.xmax - b.xmin, h = b.ymax - b.ymin;
+    if (!(w > 0 && h > 0)) {
+        f.push_back("shape: bounds() is empty");
+        return;
+    }
+    Sampler smp;
+    constexpr std::size_t n = 1000;
+    std::vector<double> x(n), y(n), dx(n), dy(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        x[i] = smp.in(b.xmin - 0.2 * w, b.xmax + 0.2 * w);
+        y[i] = smp.in(b.ymin - 0.2 * h, b.ymax + 0.2 * h);
+        const double a = smp.in(0, 2 * M_PI);
+        dx[i] = std::cos(a);
+        dy[i] = std::sin(a);
+    }
+    const Vec2 o = s.centre();
+    if (!s.in_kernel(o)) f.push_back("shape: centre() is not in the kernel");
+    auto inside_batch = [&] {
+        std::vector<unsigned char> out(n);
+        s.inside(Points<const double>{x.data(), y.data(), n}, out.data());
+        return out;
+    };
+    auto ray_batch = [&] {
+        std::vector<double> t(n);
+        s.ray_exit(o, Points<const double>{dx.data(), dy.data(), n}, t.data());
+        return t;
+    };
+    const auto ins = inside_batch();
+    const auto ts = ray_batch();
+    std::vector<unsigned char> ins1(n);
+    std::vector<double> ts1(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        s.inside(Points<const double>{&x[i], &y[i], 1}, &ins1[i]);
+        s.ray_exit(o, Points<const double>{&dx[i], &dy[i], 1}, &ts1[i]);
+    }
+    if (ins != ins1) f.push_back("shape: inside() on a batch differs from point-by-point");
+    if (!bit_equal(ts, ts1)) f.push_back("shape: ray_exit() on a batch differs from point-by-point");
+    if (!same_on_two_threads(inside_batch) || !same_on_two_threads(ray_batch))
+        f.push_back("shape: results differ when evaluated from two threads at once");
+    // The inside test agrees with the boundary: just inside and just outside the ray's hit.
+    std::size_t disagree = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!(ts[i] > 0) || !std::isfinite(ts[i])) {
+            ++disagree;
+            continue;
+        }
+        double px[2] = {o.x + 0.98 * ts[i] * dx[i], o.x + 1.02 * ts[i] * dx[i]};
+        double py[2] = {o.y + 0.98 * ts[i] * dy[i], o.y + 1.02 * ts[i] * dy[i]};
+        unsigned char in2[2];
+        s.inside(Points<const double>{px, py, 2}, in2);
+        if (in2[0] != 1 || in2[1] != 0) ++disagree;
+    }
+    if (disagree)
+        f.push_back("shape: inside() disagrees with ray_exit() along " + std::to_string(disagree) +
+                    " of 1000 rays");
+    // Float path close to the double path.
+    std::vector<float> fx(dx.begin(), dx.end()), fy(dy.begin(), dy.end()), ft(n);
+    s.ray_exit(o, Points<const float>{fx.data(), fy.data(), n}, ft.data());
+    std::size_t off = 0;
+    for (std::size_t i = 0; i < n; ++i)
+        if (!(std::fabs(ft[i] - ts[i]) <= 1e-3 * std::fabs(ts[i]) + 1e-6)) ++off;
+    if (off)
+        f.push_back("shape: float ray_exit() differs from double in " + std::to_string(off) +
+                    " of 1000 rays");
+}
+
+// ------------------------------------------------------------------ Transform
+void check_transform(const Transform& t, Findings& f) {
+    const Box b = t.sample_domain();
+    Sampler smp;
+    constexpr std::size_t n = 1000;
+    std::vector<double> x0(n), y0(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        x0[i] = smp.in(b.xmin, b.xmax);
+        y0[i] = smp.in(b.ymin, b.ymax);
+    }
+    auto batch = [&] {
+        std::vector<double> x = x0, y = y0;
+        t.apply(Points<double>{x.data(), y.data(), n}, nullptr);
+        x.insert(x.end(), y.begin(), y.end());
+        return x;
+    };
+    const auto r = batch();
+    std::vector<double> r1(2 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+        double x = x0[i], y = y0[i];
+        t.apply(Points<double>{&x, &y, 1}, nullptr);
+        r1[i] = x;
+        r1[n + i] = y;
+    }
+    if (!bit_equal(r, r1)) f.push_back("transform: apply() on a batch differs from point-by-point");
+    if (!same_on_two_threads(batch))
+        f.push_back("transform: results differ when evaluated from two threads at once");
+    std::size_t nonfinite = 0;
+    for (double v : r) nonfinite += !std::isfinite(v);
+    if (nonfinite)
+        f.push_back("transform: " + std::to_string(nonfinite) +
+                    " non-finite outputs for finite inputs in the sample domain");
+    // Mask: inactive points stay.
+    {
+        std::vector<double> x = x0, y = y0;
+        std::vector<unsigned char> m(n);
+        for (std::size_t i = 0; i < n; ++i) m[i] = i % 3 == 0;
+        t.apply(Points<double>{x.data(), y.data(), n}, m.data());
+        std::size_t bad = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool moved_right =
+                m[i] ? (x[i] == r[i] && y[i] == r[n + i]) : (x[i] == x0[i] && y[i] == y0[i]);
+            bad += !moved_right;
+        }
+        if (bad) f.push_back("transform: the mask is not honoured for " + std::to_string(bad) + " points");
+    }
+    // Float path.
+    {
+        std::vector<float> x(x0.begin(), x0.end()), y(y0.begin(), y0.end());
+        t.apply(Points<float>{x.data(), y.data(), n}, nullptr);
+        std::size_t off = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double sc = 1 + std::fabs(r[i]) + std::fabs(r[n + i]);
+            if (!(std::fabs(x[i] - r[i]) <= 1e-3 * sc && std::fabs(y[i] - r[n + i]) <= 1e-3 * sc)) ++off;
+        }
+        if (off > n / 100)
+            f.push_back("transform: the float path differs from double for " + std::to_string(off) +
+                        " of 1000 points");
+    }
+    if (t.is_involution()) {
+        std::vector<double> x(r.begin(), r.begin() + n), y(r.begin() + n, r.end());
+        t.apply(Points<double>{x.data(), y.data(), n}, nullptr);
+        std::size_t bad = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double sc = 1 + std::fabs(x0[i]) + std::fabs(y0[i]);
+            if (!(std::fabs(x[i] - x0[i]) <= 1e-9 * sc && std::fabs(y[i] - y0[i]) <= 1e-9 * sc)) ++bad;
+        }
+        if (bad)
+            f.push_back("transform: declared an involution, but T(T(p)) != p for " + std::to_string(bad) +
+                        " of 1000 points");
+    }
+    if (t.has_region()) {
+        std::vector<unsigned char> c(n), c1(n);
+        t.contains(Points<const double>{x0.data(), y0.data(), n}, c.data());
+        for (std::size_t i = 0; i < n; ++i) t.contains(Points<const double>{&x0[i], &y0[i], 1}, &c1[i]);
+        if (c != c1) f.push_back("transform: contains() on a batch differs from point-by-point");
+    }
+}
+
+// ------------------------------------------------------------------ IterationScheme
+void check_scheme(const IterationScheme& s, Findings& f) {
+    TestAffine t;
+    Sampler smp;
+    constexpr std::size_t n = 500;
+    std::vector<double> x0(n), y0(n);
+    for (std::size_t i = 0; i < n; ++i) x0[i] = smp.in(-1, 1), y0[i] = smp.in(-1, 1);
+    for (std::uint64_t step : {0ull, 1ull, 7ull}) {
+        auto batch = [&] {
+            std::vector<double> x = x0, y = y0;
+            s.step(t, Points<double>{x.data(), y.data(), n}, nullptr, step);
+            x.insert(x.end(), y.begin(), y.end());
+            return x;
+        };
+        const auto r = batch();
+        std::vector<double> r1(2 * n);
+        for (std::size_t i = 0; i < n; ++i) {
+            double x = x0[i], y = y0[i];
+            s.step(t, Points<double>{&x, &y, 1}, nullptr, step);
+            r1[i] = x, r1[n + i] = y;
+        }
+        if (!bit_equal(r, r1)) {
+            f.push_back("iteration-scheme: step() on a batch differs from point-by-point");
+            return;
+        }
+        if (!same_on_two_threads(batch)) {
+            f.push_back("iteration-scheme: results differ when evaluated from two threads at once");
+            return;
+        }
+    }
+}
+
+// ------------------------------------------------------------------ Metric
+void check_metric(const Metric& m, Findings& f) {
+    Sampler smp;
+    constexpr std::size_t n = 300;
+    std::vector<double> x(n), y(n);
+    for (std::size_t i = 0; i < n; ++i) x[i] = smp.in(-3, 3), y[i] = smp.in(-3, 3);
+    std::vector<double> d(n * n); // d[i*n + j] = d(p_j, p_i)
+    for (std::size_t i = 0; i < n; ++i)
+        m.distance(Points<const double>{x.data(), y.data(), n}, {x[i], y[i]}, &d[i * n]);
+    std::size_t neg = 0, asym = 0, nonzero = 0, tri = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        nonzero += d[i * n + i] != 0;
+        for (std::size_t j = 0; j < n; ++j) {
+            neg += !(d[i * n + j] >= 0);
+            asym += std::fabs(d[i * n + j] - d[j * n + i]) > 1e-12 * (1 + d[i * n + j]);
+        }
+    }
+    for (std::size_t i = 0; i < 60; ++i)
+        for (std::size_t j = 0; j < 60; ++j)
+            for (std::size_t k = 0; k < 60; ++k)
+                tri += d[i * n + k] > d[i * n + j] + d[j * n + k] + 1e-12 * (1 + d[i * n + k]);
+    if (neg) f.push_back("metric: negative distances");
+    if (asym) f.push_back("metric: not symmetric");
+    if (nonzero) f.push_back("metric: d(p, p) != 0");
+    if (tri) f.push_back("metric: triangle inequality fails on " + std::to_string(tri) + " triples");
+    std::vector<double> d1(n);
+    for (std::size_t j = 0; j < n; ++j)
+        m.distance(Points<const double>{&x[j], &y[j], 1}, {x[0], y[0]}, &d1[j]);
+    if (!bit_equal(d1, std::vector<double>(d.begin(), d.begin() + n)))
+        f.push_back("metric: distance() on a batch differs from point-by-point");
+}
+
+// ------------------------------------------------------------------ Trap
+void check_trap(const Trap& t, Findings& f) {
+    Sampler smp;
+    constexpr std::size_t n = 1000;
+    std::vector<double> x(n), y(n);
+    for (std::size_t i = 0; i < n; ++i) x[i] = smp.in(-4, 4), y[i] = smp.in(-4, 4);
+    auto batch = [&] {
+        std::vector<std::int32_t> out(n);
+        t.test(Points<const double>{x.data(), y.data(), n}, out.data());
+        return out;
+    };
+    const auto r = batch();
+    std::vector<std::int32_t> r1(n);
+    for (std::size_t i = 0; i < n; ++i) t.test(Points<const double>{&x[i], &y[i], 1}, &r1[i]);
+    if (r != r1) f.push_back("trap: test() on a batch differs from point-by-point");
+    if (!same_on_two_threads(batch))
+        f.push_back("trap: results differ when evaluated from two threads at once");
+    for (auto v : r)
+        if (v < -1 || v >= std::int32_t(t.count())) {
+            f.push_back("trap: index out of range");
+            break;
+        }
+}
+
+// ------------------------------------------------------------------ NumberSystem
+void check_numbers(const NumberSystem& ns, Findings& f) {
+    Sampler smp;
+    constexpr std::size_t n = 200;
+    std::vector<double> ux(n), uy(n), vx(n), vy(n), ox(n), oy(n);
+    for (std::size_t i = 0; i < n; ++i)
+        ux[i] = smp.in(-2, 2), uy[i] = smp.in(-2, 2), vx[i] = smp.in(-2, 2), vy[i] = smp.in(-2, 2);
+    ns.multiply({ux.data(), uy.data(), n}, {vx.data(), vy.data(), n}, {ox.data(), oy.data(), n});
+    std::size_t bad = 0, batch = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Mat2 m = ns.multiplier({ux[i], uy[i]});
+        const double px = m.a * vx[i] + m.b * vy[i], py = m.c * vx[i] + m.d * vy[i];
+        bad +=
+            std::fabs(px - ox[i]) + std::fabs(py - oy[i]) > 1e-9 * (1 + std::fabs(ox[i]) + std::fabs(oy[i]));
+        double x, y;
+        ns.multiply({&ux[i], &uy[i], 1}, {&vx[i], &vy[i], 1}, {&x, &y, 1});
+        batch += !(x == ox[i] && y == oy[i]);
+    }
+    if (bad) f.push_back("number-system: multiplier() disagrees with multiply()");
+    if (batch) f.push_back("number-system: multiply() on a batch differs from point-by-point");
+}
+
+// ------------------------------------------------------------------ Colourer
+void check_colourer(const Colourer& c, Findings& f) {
+    constexpr std::size_t n = 257;
+    const Rgb maps[3] = {{1, 0, 0}, {0, 1, 0}, {0.2f, 0.3f, 1}};
+    Sampler smp;
+    std::vector<std::uint32_t> idx(n);
+    std::vector<float> r0(n), g0(n), b0(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        idx[i] = std::uint32_t(i % 3);
+        r0[i] = float(smp.in(0, 1)), g0[i] = float(smp.in(0, 1)), b0[i] = float(smp.in(0, 1));
+    }
+    auto batch = [&] {
+        std::vector<float> r = r0, g = g0, b = b0;
+        c.update(idx.data(), {r.data(), g.data(), b.data(), n}, maps, nullptr);
+        r.insert(r.end(), g.begin(), g.end());
+        r.insert(r.end(), b.begin(), b.end());
+        return r;
+    };
+    const auto all = batch();
+    std::vector<float> one(3 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+        float r = r0[i], g = g0[i], b = b0[i];
+        c.update(&idx[i], {&r, &g, &b, 1}, maps, nullptr);
+        one[i] = r, one[n + i] = g, one[2 * n + i] = b;
+    }
+    if (all != one) f.push_back("colourer: update() on a batch differs from point-by-point");
+    if (!same_on_two_threads(batch))
+        f.push_back("colourer: results differ when evaluated from two threads at once");
+    Histogram h;
+    h.resize(16, 16);
+    for (std::size_t i = 0; i < h.bins.size(); ++i) {
+        const std::uint64_t hits = i % 5 == 0 ? 0 : 1 + (i * 7919) % 1000;
+        h.bins[i] = {hits, hits * (i % 3 == 0 ? colour_scale : 0), hits * colour_scale / 2,
+                     hits * colour_scale / 4};
+    }
+    auto resolve = [&] {
+        std::vector<float> px(h.bins.size() * 3);
+        c.resolve(h, Rgb{0.1f, 0.2f, 0.3f}, px.data());
+        return px;
+    };
+    const auto px = resolve();
+    std::size_t bad = 0;
+    for (float v : px) bad += !(v >= 0 && v <= 1);
+    if (bad) f.push_back("colourer: resolve() gives values outside [0, 1]");
+    if (px[0] != 0.1f || px[1] != 0.2f || px[2] != 0.3f)
+        f.push_back("colourer: an empty bin does not take the background");
+    if (!same_on_two_threads(resolve))
+        f.push_back("colourer: resolve() differs when evaluated from two threads at once");
+}
+
+// ------------------------------------------------------------------ Renderer
+void check_renderer(const Renderer& r, Findings& f) {
+    if (r.width() <= 0 || r.height() <= 0) f.push_back("renderer: non-positive size");
+    if (r.memory_bytes(2) == 0) f.push_back("renderer: memory_bytes() is 0");
+    if (std::uint64_t(r.width()) * std::uint64_t(r.height()) > 512u * 512u) {
+        f.push_back("renderer: the example is too large for the conformance suite (at most 512x512)");
+        return;
+    }
+    auto render = [&](unsigned threads) {
+        Runtime rt(threads, nullptr);
+        RenderStats st;
+        Image img = r.render(rt, st);
+        return img.pixels;
+    };
+    const auto a = render(1), b = render(2);
+    if (a.size() != std::size_t(r.width()) * std::size_t(r.height()) * 3)
+        f.push_back("renderer: image has the wrong size");
+    if (a != b) f.push_back("renderer: 1 and 2 threads give different images");
+    std::size_t bad = 0, lit = 0;
+    for (float v : a) bad += !std::isfinite(v), lit += v > 0;
+    if (bad) f.push_back("renderer: non-finite pixel values");
+    if (!lit) f.push_back("renderer: the example renders a black image");
+}
+
+bool snake_or_paper(const char* s) {
+    if (!s || !*s) return false;
+    for (const char* c = s; *c; ++c)
+        if (!std::isalnum((unsigned char)*c) && *c != '_') return false;
+    return true;
+}
+
+// The example with `type:` added, as a node.
+CNode example_node(const PluginDescriptor& d) {
+    CNode n = parse_yaml(d.example ? d.example : "{}", std::string("<example of ") + d.name + ">");
+    if (n.type == CNode::Type::Null) n = map_node();
+    n.keys.insert(n.keys.begin(), {"type", scalar_node(d.name)});
+    n.key_marks.insert(n.key_marks.begin(), n.mark);
+    return n;
+}
+
+// Expect validation or construction of `n` to be refused with a bad-input error.
+void expect_refused(const Registry& reg, const PluginDescriptor& d, const CNode& n, const std::string& what,
+                    Findings& f) {
+    try {
+        auto t = validate(reg, d.kind, n, d.name);
+        build(reg, *t);
+        f.push_back("parameters: " + what + " was accepted");
+    } catch (const InputError&) {
+        // refused as it should be
+    } catch (const std::exception& e) {
+        f.push_back("parameters: " + what + " gave a non-parameter error: " + e.what());
+    }
+}
+
+void set_param(CNode& n, const std::string& key, CNode v) {
+    if (CNode* p = n.find(key))
+        *p = std::move(v);
+    else {
+        n.keys.emplace_back(key, std::move(v));
+        n.key_marks.push_back(n.mark);
+    }
+}
+
+} // namespace
+
+std::vector<std::string> check_object(const Object& obj, Kind kind) {
+    Findings f;
+    switch (kind) {
+    case Kind::Shape: check_shape(dynamic_cast<const Shape&>(obj), f); break;
+    case Kind::Transform: check_transform(dynamic_cast<const Transform&>(obj), f); break;
+    case Kind::IterationScheme: check_scheme(dynamic_cast<const IterationScheme&>(obj), f); break;
+    case Kind::NumberSystem: check_numbers(dynamic_cast<const NumberSystem&>(obj), f); break;
+    case Kind::Trap: check_trap(dynamic_cast<const Trap&>(obj), f); break;
+    case Kind::Metric: check_metric(dynamic_cast<const Metric&>(obj), f); break;
+    case Kind::Colourer: check_colourer(dynamic_cast<const Colourer&>(obj), f); break;
+    case Kind::Renderer: check_renderer(dynamic_cast<const Renderer&>(obj), f); break;
+    }
+    return f;
+}
+
+std::vector<std::string> run_conformance(const Registry& reg, const PluginEntry& e) {
+    Findings f;
+    const PluginDescriptor& d = *e.desc;
+    // Metadata.
+    if (!d.summary || !*d.summary) f.push_back("metadata: no summary");
+    if (!d.version || !*d.version) f.push_back("metadata: no version");
+    for (std::uint32_t i = 0; i < d.n_params; ++i) {
+        const ParamSpec& s = d.params[i];
+        const std::string name = s.name ? s.name : "";
+        if (!snake_or_paper(s.name)) f.push_back("metadata: parameter name '" + name + "' is not snake_case");
+        if (!s.doc || !*s.doc) f.push_back("metadata: parameter '" + name + "' has no doc line");
+        if (s.type == ParamType::Objects)
+            for (std::uint32_t j = 0; j < s.n_item_params; ++j)
+                if (!s.item_params[j].doc || !*s.item_params[j].doc)
+                    f.push_back("metadata: item parameter '" + std::string(s.item_params[j].name) +
+                                "' has no doc line");
+    }
+    // Builds from its example.
+    CNode ex;
+    std::shared_ptr<const Object> obj;
+    try {
+        ex = example_node(d);
+        auto t = validate(reg, d.kind, ex, d.name);
+        obj = build(reg, *t);
+    } catch (const std::exception& err) {
+        f.push_back(std::string("build: the example does not build: ") + err.what());
+        return f;
+    }
+    // Bad parameters are refused.
+    {
+        CNode n = ex;
+        set_param(n, "no_such_parameter_zz", scalar_node("1"));
+        expect_refused(reg, d, n, "an unknown parameter", f);
+    }
+    for (std::uint32_t i = 0; i < d.n_params; ++i) {
+        const ParamSpec& s = d.params[i];
+        const std::string nm = s.name;
+        {
+            CNode n = ex;
+            CNode wrong = s.type == ParamType::Object || s.type == ParamType::String
+                              ? map_node()
+                              : scalar_node("not-a-value", true);
+            if (s.type == ParamType::Object)
+                wrong.keys.emplace_back("x", scalar_node("1")), wrong.key_marks.resize(1);
+            set_param(n, nm, wrong);
+            expect_refused(reg, d, n, "a value of the wrong type for '" + nm + "'", f);
+        }
+        const bool numeric = s.type == ParamType::Real || s.type == ParamType::Int;
+        if (numeric && std::isfinite(s.lo)) {
+            CNode n = ex;
+            set_param(n, nm, scalar_node(format_real(s.lo_open ? s.lo : s.lo - 1)));
+            expect_refused(reg, d, n, "a value below the range of '" + nm + "'", f);
+        }
+        if (numeric && std::isfinite(s.hi)) {
+            CNode n = ex;
+            set_param(n, nm, scalar_node(format_real(s.hi_open ? s.hi : s.hi + 1)));
+            expect_refused(reg, d, n, "a value above the range of '" + nm + "'", f);
+        }
+        if (numeric && !s.allow_nonfinite) {
+            CNode n = ex;
+            set_param(n, nm, scalar_node(".nan"));
+            expect_refused(reg, d, n, "NaN for '" + nm + "'", f);
+        }
+        if ((s.type == ParamType::Vec2 || s.type == ParamType::Reals) && !s.allow_nonfinite) {
+            CNode n = ex;
+            CNode v = seq_node();
+            const std::size_t len =
+                s.type == ParamType::Vec2 ? 2 : std::max<std::size_t>({1, s.count, s.min_count});
+            for (std::size_t k = 0; k < len; ++k) v.items.push_back(scalar_node(".nan"));
+            set_param(n, nm, v);
+            expect_refused(reg, d, n, "NaN in '" + nm + "'", f);
+        }
+    }
+    auto more = check_object(*obj, d.kind);
+    f.insert(f.end(), more.begin(), more.end());
+    return f;
+}
+
+} // namespace fp::host

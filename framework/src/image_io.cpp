@@ -1,0 +1,133 @@
+// OpenImageIO output and input. Keep spdlog/fmt out of this file (see image_io.hpp).
+#include <fixpoint/errors.hpp>
+#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/version.hpp>
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <filesystem>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace fp::host {
+
+Format format_for(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".png") return Format::Png;
+    if (ext == ".exr") return Format::Exr;
+    if (ext == ".tif" || ext == ".tiff") return Format::Tiff;
+    throw InputError("'" + path + "': unknown output format '" + (ext.empty() ? "(no extension)" : ext) +
+                     "' (use .png, .exr, .tif or .tiff)");
+}
+
+static fs::path temp_path_for(const fs::path& target) {
+    return target.parent_path() / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
+}
+
+void check_output(const std::string& path) {
+    format_for(path);
+    const fs::path target(path);
+    std::error_code ec;
+    if (fs::is_directory(target, ec)) throw InputError("cannot write '" + path + "': it is a folder");
+    const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    if (!fs::is_directory(dir, ec))
+        throw InputError("cannot write '" + path + "': folder '" + dir.string() + "' does not exist");
+    // Probe with the temporary name the real write will use.
+    const fs::path probe = temp_path_for(target);
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+    if (fd < 0) throw InputError("cannot write '" + path + "': " + std::strerror(errno));
+    ::close(fd);
+    ::unlink(probe.c_str());
+    if (fs::exists(target, ec) && ::access(target.c_str(), W_OK) != 0 && errno != ENOENT)
+        throw InputError("cannot write '" + path + "': " + std::strerror(errno));
+}
+
+void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe) {
+    const Format f = format_for(path);
+    const char* oiio_format = f == Format::Png ? "png" : f == Format::Exr ? "openexr" : "tiff";
+    OIIO::TypeDesc type = f == Format::Exr  ? OIIO::TypeDesc::FLOAT
+                          : bit_depth == 16 ? OIIO::TypeDesc::UINT16
+                                            : OIIO::TypeDesc::UINT8;
+    OIIO::ImageSpec spec(img.width, img.height, img.channels, type);
+    spec.attribute("ImageDescription", recipe);
+    spec.attribute("Software", "fixpoint " FIXPOINT_VERSION);
+    if (f == Format::Exr) spec.attribute("compression", "zip");
+
+    const fs::path target(path);
+    const fs::path tmp = temp_path_for(target);
+    auto out = OIIO::ImageOutput::create(oiio_format);
+    if (!out) throw InternalError(std::string("OpenImageIO has no writer for ") + oiio_format);
+    bool ok = out->open(tmp.string(), spec);
+    if (ok) ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
+    if (ok) ok = out->close();
+    if (!ok) {
+        const std::string err = out->geterror();
+        out.reset();
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw InputError("cannot write '" + path + "': " + err);
+    }
+    out.reset();
+    std::error_code ec;
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw InputError("cannot write '" + path + "': " + ec.message());
+    }
+}
+
+std::string read_recipe(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw InputError("cannot read '" + path + "': " + OIIO::geterror());
+    const std::string desc = in->spec().get_string_attribute("ImageDescription");
+    const std::string software = in->spec().get_string_attribute("Software");
+    in->close();
+    if (desc.empty() || software.rfind("fixpoint", 0) != 0)
+        throw InputError("'" + path + "' holds no fixpoint recipe (it was not written by fixpoint)");
+    return desc;
+}
+
+Image read_image(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw InputError("cannot read '" + path + "': " + OIIO::geterror());
+    const auto& spec = in->spec();
+    Image img;
+    img.width = spec.width;
+    img.height = spec.height;
+    img.channels = spec.nchannels;
+    img.pixels.resize(std::size_t(img.width) * std::size_t(img.height) * std::size_t(img.channels));
+    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
+        throw InputError("cannot read '" + path + "': " + in->geterror());
+    in->close();
+    return img;
+}
+
+Comparison compare_images(const std::string& a, const std::string& b, double threshold) {
+    OIIO::ImageBuf A(a), B(b);
+    if (!A.read(0, 0, true, OIIO::TypeDesc::FLOAT))
+        throw InputError("cannot read '" + a + "': " + A.geterror());
+    if (!B.read(0, 0, true, OIIO::TypeDesc::FLOAT))
+        throw InputError("cannot read '" + b + "': " + B.geterror());
+    Comparison c;
+    if (A.spec().width != B.spec().width || A.spec().height != B.spec().height ||
+        A.spec().nchannels != B.spec().nchannels) {
+        c.size_mismatch = true;
+        return c;
+    }
+    const auto r = OIIO::ImageBufAlgo::compare(A, B, float(threshold), float(threshold));
+    c.max_error = r.maxerror;
+    c.mean_error = r.meanerror;
+    c.n_fail = std::size_t(r.nfail);
+    return c;
+}
+
+} // namespace fp::host

@@ -1,0 +1,70 @@
+// The top level of a config file.
+#include <fixpoint/host/pipeline.hpp>
+#include <fixpoint/version.hpp>
+
+#include <algorithm>
+
+namespace fp::host {
+
+Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets) {
+    CNode root = load_yaml_file(path);
+    if (root.type == CNode::Type::Null)
+        root = map_node(), root.mark = Mark{std::make_shared<const std::string>(path), 1, 1};
+    for (const auto& s : sets) apply_override(root, s);
+    return load_pipeline(reg, std::move(root));
+}
+
+Pipeline load_pipeline(const Registry& reg, CNode root) {
+    auto fail = [](const Mark& m, const std::string& msg) { throw InputError(m.str() + ": " + msg); };
+    if (!root.is_map()) fail(root.mark, "expected a mapping with a 'renderer:' key, got " + root.describe());
+    const std::vector<std::string> top = {"renderer", "output", "fixpoint_version"};
+    for (std::size_t i = 0; i < root.keys.size(); ++i) {
+        const auto& k = root.keys[i].first;
+        if (std::find(top.begin(), top.end(), k) != top.end()) continue;
+        const auto near = suggest(k, top);
+        fail(root.key_marks[i],
+             "unknown top-level key '" + k + "'" +
+                 (near.empty() ? " (expected renderer, output)" : " (did you mean '" + near[0] + "'?)"));
+    }
+    const CNode* r = root.find("renderer");
+    if (!r) fail(root.mark, "missing 'renderer:' (the pipeline to render)");
+
+    Pipeline p;
+    if (const CNode* o = root.find("output")) {
+        if (!o->is_map()) fail(o->mark, "output: expected a mapping (path, bit_depth), got " + o->describe());
+        for (std::size_t i = 0; i < o->keys.size(); ++i) {
+            const auto& [k, v] = o->keys[i];
+            if (k == "path") {
+                if (!v.is_scalar()) fail(v.mark, "output.path: expected a file name, got " + v.describe());
+                p.output_path = v.scalar;
+            } else if (k == "bit_depth") {
+                if (!v.is_scalar() || (v.scalar != "8" && v.scalar != "16"))
+                    fail(v.mark, "output.bit_depth: must be 8 or 16, got " + v.describe());
+                p.bit_depth = v.scalar == "8" ? 8 : 16;
+            } else {
+                const auto near = suggest(k, {"path", "bit_depth"});
+                fail(o->key_marks[i], "output: unknown key '" + k + "'" +
+                                          (near.empty() ? " (expected path, bit_depth)"
+                                                        : " (did you mean '" + near[0] + "'?)"));
+            }
+        }
+    }
+    // Stage 2: validate the whole tree against the schemas; stage 3: build.
+    auto typed = validate(reg, Kind::Renderer, *r, "renderer");
+    p.renderer = std::dynamic_pointer_cast<const Renderer>(build(reg, *typed));
+    if (!p.renderer) throw InternalError("renderer plugin built an object that is not a Renderer");
+    p.renderer_mark = r->mark;
+
+    CNode recipe = map_node();
+    recipe.keys.emplace_back("fixpoint_version", scalar_node(FIXPOINT_VERSION, true));
+    recipe.keys.emplace_back("renderer", resolved(*typed));
+    CNode out = map_node();
+    out.keys.emplace_back("bit_depth", scalar_node(std::to_string(p.bit_depth)));
+    out.key_marks.resize(1);
+    recipe.keys.emplace_back("output", std::move(out));
+    recipe.key_marks.resize(recipe.keys.size());
+    p.recipe = emit_yaml(recipe);
+    return p;
+}
+
+} // namespace fp::host

@@ -1,0 +1,152 @@
+// Plugin registry: discovery, ABI check, duplicate names, lifetime.
+#include <fixpoint/host/registry.hpp>
+
+#include <boost/dll/shared_library.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace fp::host {
+
+Registry::~Registry() = default;
+Registry::Registry(Registry&&) noexcept = default;
+Registry& Registry::operator=(Registry&&) noexcept = default;
+
+std::vector<fs::path> Registry::default_dirs() {
+    std::vector<fs::path> dirs;
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) dirs.push_back(exe.parent_path() / FIXPOINT_PLUGIN_REL_DIR);
+    if (const char* env = std::getenv("FIXPOINT_PLUGIN_PATH")) {
+        std::string s = env;
+        std::size_t start = 0;
+        while (start <= s.size()) {
+            const auto colon = s.find(':', start);
+            const std::string part =
+                s.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
+            if (!part.empty()) dirs.emplace_back(part);
+            if (colon == std::string::npos) break;
+            start = colon + 1;
+        }
+    }
+    return dirs;
+}
+
+void Registry::load_dir(const fs::path& dir) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) return;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+        if (e.path().extension() == ".so" && e.is_regular_file()) files.push_back(e.path());
+    std::sort(files.begin(), files.end()); // a fixed order: messages do not depend on the file system
+    for (const auto& f : files) load_file(f);
+}
+
+static bool kebab(const char* s) {
+    if (!s || !*s || *s == '-') return false;
+    for (const char* c = s; *c; ++c)
+        if (!((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '-')) return false;
+    return s[std::char_traits<char>::length(s) - 1] != '-';
+}
+
+const PluginEntry& Registry::load_file(const fs::path& file) {
+    std::error_code ec;
+    const fs::path canon = fs::weakly_canonical(file, ec);
+    const fs::path path = ec ? file : canon;
+    for (const auto& e : entries_)
+        if (e->file == path) return *e; // the same file reached twice (overlapping folders)
+
+    const std::string f = path.string();
+    auto lib = std::make_shared<boost::dll::shared_library>();
+    try {
+        // Local binding: with global binding one plugin's helpers silently replace another's.
+        lib->load(path, boost::dll::load_mode::rtld_now | boost::dll::load_mode::rtld_local);
+    } catch (const std::exception& e) {
+        throw InputError("cannot load plugin '" + f + "': " + e.what());
+    }
+    if (!lib->has("fixpoint_abi") || !lib->has("fixpoint_descriptor"))
+        throw InputError("'" + f +
+                         "' is not a fixpoint plugin (it exports no fixpoint_abi/fixpoint_descriptor)");
+    const std::uint32_t abi = lib->get_alias<const std::uint32_t>("fixpoint_abi");
+    if (abi != abi_version)
+        throw InputError("plugin '" + f + "' was built for plugin ABI " + std::to_string(abi) +
+                         ", this fixpoint needs ABI " + std::to_string(abi_version) +
+                         ": rebuild it against this SDK");
+    const PluginDescriptor& d = lib->get_alias<const PluginDescriptor>("fixpoint_descriptor");
+    if (d.abi != abi_version || !d.create || !d.summary || (!d.params && d.n_params) ||
+        unsigned(d.kind) >= unsigned(kind_count))
+        throw InputError("plugin '" + f + "' has a malformed descriptor");
+    if (!kebab(d.name))
+        throw InputError("plugin '" + f + "' has name '" + std::string(d.name ? d.name : "") +
+                         "', which is not kebab-case");
+    if (const PluginEntry* other = find(d.name))
+        throw InputError("two plugins named '" + std::string(d.name) + "': '" + other->file.string() +
+                         "' and '" + f + "'");
+    auto entry = std::make_unique<PluginEntry>();
+    entry->desc = &d;
+    entry->file = path;
+    entry->lib = std::move(lib);
+    entries_.push_back(std::move(entry));
+    return *entries_.back();
+}
+
+const PluginEntry* Registry::find(std::string_view name) const {
+    for (const auto& e : entries_)
+        if (name == e->desc->name) return e.get();
+    return nullptr;
+}
+
+std::vector<const PluginEntry*> Registry::all(std::optional<Kind> kind) const {
+    std::vector<const PluginEntry*> out;
+    for (const auto& e : entries_)
+        if (!kind || e->desc->kind == *kind) out.push_back(e.get());
+    std::sort(out.begin(), out.end(), [](const PluginEntry* a, const PluginEntry* b) {
+        if (a->desc->kind != b->desc->kind) return a->desc->kind < b->desc->kind;
+        return std::string_view(a->desc->name) < std::string_view(b->desc->name);
+    });
+    return out;
+}
+
+std::vector<std::string> Registry::closest(std::string_view name, std::optional<Kind> kind) const {
+    std::vector<std::string> names;
+    for (const auto* e : all(kind)) names.emplace_back(e->desc->name);
+    return suggest(name, names);
+}
+
+std::shared_ptr<const Object> Registry::create(const PluginEntry& e, const ParamBag& bag) const {
+    Object* raw = e.desc->create(bag);
+    if (!raw) throw InternalError("plugin '" + std::string(e.desc->name) + "' returned no object");
+    // The deleter holds the library: it is unloaded only after the last object from it is gone.
+    auto lib = e.lib;
+    return std::shared_ptr<const Object>(raw, [lib](const Object* o) { delete o; });
+}
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+    std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        cur[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j)
+            cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        std::swap(prev, cur);
+    }
+    return prev[b.size()];
+}
+
+std::vector<std::string> suggest(std::string_view word, const std::vector<std::string>& candidates) {
+    std::vector<std::pair<std::size_t, std::string>> scored;
+    const std::size_t limit = std::max<std::size_t>(2, word.size() / 3);
+    for (const auto& c : candidates) {
+        const std::size_t d = edit_distance(word, c);
+        if (d <= limit) scored.emplace_back(d, c);
+    }
+    std::sort(scored.begin(), scored.end());
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < scored.size() && i < 3; ++i) out.push_back(scored[i].second);
+    return out;
+}
+
+} // namespace fp::host

@@ -1,0 +1,64 @@
+#include <fixpoint/host/runtime.hpp>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <unistd.h>
+
+namespace fp::host {
+
+struct Runtime::Impl {
+    tbb::task_arena arena;
+    explicit Impl(unsigned n) : arena(int(n)) {}
+};
+
+Runtime::Runtime(unsigned threads, const std::atomic<bool>* cancel)
+    : threads_(threads ? threads : 1), cancel_(cancel), impl_(std::make_unique<Impl>(threads_)) {}
+
+Runtime::~Runtime() = default;
+
+void Runtime::parallel_for(std::size_t n, const std::function<void(std::size_t, unsigned)>& task) {
+    impl_->arena.execute([&] {
+        // Grain 1: tasks are coarse (a block of chains, a tile); which worker runs which
+        // task does not change the result, because renderers merge exactly.
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              const int idx = tbb::this_task_arena::current_thread_index();
+                              const unsigned worker = idx < 0 ? 0u : unsigned(idx) % threads_;
+                              for (std::size_t i = r.begin(); i != r.end(); ++i) task(i, worker);
+                          });
+    });
+}
+
+unsigned hardware_threads() {
+    const unsigned n = std::thread::hardware_concurrency();
+    return n ? n : 1;
+}
+
+std::uint64_t available_memory() {
+    std::ifstream in("/proc/meminfo");
+    std::string key;
+    std::uint64_t kb = 0;
+    std::string unit;
+    while (in >> key >> kb >> unit)
+        if (key == "MemAvailable:") return kb * 1024;
+    const long pages = sysconf(_SC_AVPHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    return pages > 0 && size > 0 ? std::uint64_t(pages) * std::uint64_t(size) : UINT64_MAX;
+}
+
+std::string format_bytes(std::uint64_t b) {
+    const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+    double v = double(b);
+    int u = 0;
+    while (v >= 1024 && u < 6) v /= 1024, ++u;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, u ? "%.1f %s" : "%.0f %s", v, units[u]);
+    return buf;
+}
+
+} // namespace fp::host
