@@ -231,7 +231,10 @@ TParam validate_param(const Registry& reg, const ParamSpec& s, const CNode& n, c
         for (std::size_t i = 0; i < n.items.size(); ++i) {
             const std::string ip = path + "[" + std::to_string(i) + "]";
             TParam::Item item;
-            item.object = validate(reg, s.kind, n.items[i], ip);
+            std::vector<std::string> extra_keys;
+            for (std::uint32_t j = 0; j < s.n_item_params; ++j)
+                extra_keys.emplace_back(s.item_params[j].name);
+            item.object = validate(reg, s.kind, n.items[i], ip, extra_keys);
             std::vector<std::string> own = {"type"};
             for (std::uint32_t j = 0; j < item.object->plugin->desc->n_params; ++j)
                 own.emplace_back(item.object->plugin->desc->params[j].name);
@@ -262,8 +265,8 @@ std::string format_float(float v) {
     return std::string(buf, p);
 }
 
-std::unique_ptr<TObject> validate(const Registry& reg, Kind kind, const CNode& node,
-                                  const std::string& path) {
+std::unique_ptr<TObject> validate(const Registry& reg, Kind kind, const CNode& node, const std::string& path,
+                                  const std::vector<std::string>& extra_keys) {
     const std::string kn(kind_name(kind));
     if (!node.is_map())
         fail(node.mark, path,
@@ -293,7 +296,9 @@ std::unique_ptr<TObject> validate(const Registry& reg, Kind kind, const CNode& n
     t->plugin = e;
     t->mark = node.mark;
     t->path = path;
-    t->params = validate_params(reg, e->desc->params, e->desc->n_params, node, path, e->desc->name, {"type"});
+    std::vector<std::string> ignore = extra_keys;
+    ignore.emplace_back("type");
+    t->params = validate_params(reg, e->desc->params, e->desc->n_params, node, path, e->desc->name, ignore);
     return t;
 }
 

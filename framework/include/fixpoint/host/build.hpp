@@ -38,7 +38,9 @@ struct TObject {
 
 /// Validate `node` as an instance of `kind` at `path`. Throws fp::InputError
 /// "file:line:col: path: message".
-std::unique_ptr<TObject> validate(const Registry& reg, Kind kind, const CNode& node, const std::string& path);
+/// `extra_keys` are keys beside the object's own that the slot reads (an item's `weight`).
+std::unique_ptr<TObject> validate(const Registry& reg, Kind kind, const CNode& node, const std::string& path,
+                                  const std::vector<std::string>& extra_keys = {});
 
 /// Build the objects of a validated tree. Plugin errors are given the position of the
 /// parameter they name.
