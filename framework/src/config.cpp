@@ -12,6 +12,8 @@
 namespace fp::host {
 
 std::string Mark::str() const {
+    // Values from the command line (--set path=value) have no line to point at.
+    if (source && source->rfind("--set ", 0) == 0) return *source;
     return (source ? *source : std::string("<input>")) + ":" + std::to_string(line) + ":" +
            std::to_string(col);
 }
@@ -209,7 +211,7 @@ void apply_override(CNode& root, const std::string& assignment) {
     const std::string where = "--set " + assignment;
     if (eq == std::string::npos || eq == 0) throw InputError(where + ": expected path.to.param=value");
     const std::string path = assignment.substr(0, eq);
-    CNode value = parse_yaml(assignment.substr(eq + 1), "--set " + path);
+    CNode value = parse_yaml(assignment.substr(eq + 1), where);
 
     // Split "a.b[2].c" into steps: names and indices.
     struct Step {

@@ -1,0 +1,138 @@
+// Bad input ends with exactly one error line naming the place, exit code 2, and no output
+// file. The messages are golden: a change to one is a change users see.
+#include "cli.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+using fp::test::run_cli;
+
+namespace {
+
+// Three circles around the origin, the smallest pipeline that renders.
+const char* base = R"(renderer:
+  type: chaos-game
+  width: 64
+  height: 64
+  points: 20000
+  chains: 64
+  maps:
+    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.9}}
+    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.9}}
+    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.9}}
+)";
+
+struct Case {
+    const char* name;
+    std::string yaml;
+    std::string expected;  // the whole stderr line, with "bad.yaml" for the file
+    std::vector<std::string> extra_args = {};
+};
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+    const auto at = s.find(from);
+    if (at == std::string::npos) throw std::runtime_error("test setup: '" + from + "' not in base config");
+    return s.replace(at, from.size(), to);
+}
+
+std::vector<Case> cases() {
+    const std::string b = base;
+    const std::string circle0 = "{type: circle, centre: [1, 0], radius: 0.9}";
+    return {
+        {"syntax", "renderer: [1, 2\n", "bad.yaml:2:1: YAML syntax error: end of sequence flow not found"},
+        {"lone_comma", ",", "bad.yaml:1:1: YAML syntax error: unexpected ','"},
+        {"duplicate_key", replace(b, "  height: 64\n", "  height: 64\n  width: 32\n"), "bad.yaml:5:3: duplicate key 'width'"},
+        {"alias", "a: &x 1\nrenderer: *x\n", "bad.yaml:1:4: YAML anchors are not supported: write the value out"},
+        {"second_document", b + "---\nrenderer: {}\n",
+         "bad.yaml:11:1: a second YAML document is not supported (one pipeline per file)"},
+        {"nesting", "renderer: " + std::string(80, '[') + std::string(80, ']') + "\n",
+         "bad.yaml:1:74: nesting deeper than 64 levels"},
+        {"unknown_plugin", replace(b, "type: circle, centre: [1, 0]", "type: circel, centre: [1, 0]"),
+         "bad.yaml:8:39: renderer.maps[0].shape.type: unknown shape 'circel' (did you mean 'circle'?)"},
+        {"unknown_parameter", replace(b, "radius: 0.9}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]",
+                                      "radus: 0.9}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]"),
+         "bad.yaml:8:63: renderer.maps[0].shape: unknown parameter 'radus' for circle (did you mean 'radius'?)"},
+        {"missing_parameter", replace(b, "shape: " + circle0, "centre: [0.1, 0]"),
+         "bad.yaml:8:7: renderer.maps[0]: missing required parameter 'shape' for inversion"},
+        {"ill_typed", replace(b, "width: 64", "width: wide"), "bad.yaml:3:10: renderer.width: expected an integer, got 'wide'"},
+        {"nan", replace(b, "radius: 0.9}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]",
+                        "radius: .nan}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]"),
+         "bad.yaml:8:71: renderer.maps[0].shape.radius: must be a finite number, got .nan"},
+        {"infinite", replace(b, "centre: [1, 0]", "centre: [.inf, 0]"),
+         "bad.yaml:8:56: renderer.maps[0].shape.centre: must be a finite number, got .inf"},
+        {"out_of_range", replace(b, "radius: 0.9}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]",
+                                 "radius: -1}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]"),
+         "bad.yaml:8:71: renderer.maps[0].shape.radius: must be > 0, got -1"},
+        {"empty_maps", "renderer: {type: chaos-game, maps: []}\n", "bad.yaml:1:36: renderer.maps: the list of transforms is empty"},
+        {"wrong_kind", replace(b, "shape: " + circle0, "shape: {type: picard}"),
+         "bad.yaml:8:39: renderer.maps[0].shape.type: 'picard' is an iteration-scheme, but this slot expects a shape"},
+        {"polygon_two_vertices", replace(b, circle0, "{type: polygon, vertices: [[0, 0], [1, 0]]}"),
+         "bad.yaml:8:58: renderer.maps[0].shape.vertices: expected at least 3 points, got 2"},
+        {"polygon_self_intersecting", replace(b, circle0, "{type: polygon, vertices: [[0, 0], [1, 1], [1, 0], [0, 1]]}"),
+         "bad.yaml:8:58: renderer.maps[0].shape.vertices: polygon self-intersects: edges 0 and 2 cross"},
+        {"centre_outside_kernel",
+         replace(b, "shape: " + circle0, "shape: " + circle0 + ", centre: [2, 0]"),
+         "bad.yaml:8:85: renderer.maps[0].centre: inversion centre (2, 0) is outside the kernel of the shape"},
+        {"zero_width", replace(b, "width: 64", "width: 0"), "bad.yaml:3:10: renderer.width: must be in [1, 65536], got 0"},
+        {"too_large", replace(replace(b, "width: 64", "width: 60000"), "height: 64", "height: 60000"), "",
+         {}},  // message depends on the machine's memory: checked by prefix below
+        {"unknown_format", b, "'out.bmp': unknown output format '.bmp' (use .png, .exr, .tif or .tiff)", {"-o", "out.bmp"}},
+        {"unwritable", b, "cannot write 'no/such/folder/out.png': folder 'no/such/folder' does not exist",
+         {"-o", "no/such/folder/out.png"}},
+        {"set_unknown_parameter", b, "--set renderer.widht=10: renderer: unknown parameter 'widht' for chaos-game (did you mean 'width'?)",
+         {"--set", "renderer.widht=10"}},
+        {"set_bad_index", b, "--set renderer.maps[7].weight=2: index 7 out of range ('renderer.maps' has 3 items)",
+         {"--set", "renderer.maps[7].weight=2"}},
+    };
+}
+
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+
+class BadInput : public testing::TestWithParam<Case> {};
+
+TEST_P(BadInput, OneLineExitTwoNoOutput) {
+    const Case& c = GetParam();
+    const std::string dir = fp::test::scratch_dir(std::string("bad_") + c.name);
+    fp::test::write_file(dir + "/bad.yaml", c.yaml);
+    std::vector<std::string> args = {"render", "--quiet", "bad.yaml"};
+    bool has_out = false;
+    for (const auto& a : c.extra_args) has_out = has_out || a == "-o";
+    if (!has_out) args.insert(args.end(), {"-o", "out.png"});
+    args.insert(args.end(), c.extra_args.begin(), c.extra_args.end());
+    const auto cwd = std::filesystem::current_path();
+    std::filesystem::current_path(dir);
+    const auto r = run_cli(args);
+    std::filesystem::current_path(cwd);
+    EXPECT_EQ(r.rc, 2) << r.err;
+    ASSERT_FALSE(r.err.empty());
+    EXPECT_EQ(r.err.back(), '\n');
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    const std::string line = r.err.substr(0, r.err.size() - 1);
+    if (std::string(c.name) == "too_large") {
+        EXPECT_EQ(line.rfind("bad.yaml:2:3: renderer: a 60000x60000 render needs ", 0), 0u) << line;
+        EXPECT_NE(line.find(" of memory with "), std::string::npos) << line;
+    } else {
+        EXPECT_EQ(line, c.expected);
+    }
+    // Nothing written: no image and no temporary file.
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        EXPECT_EQ(e.path().filename(), "bad.yaml") << "left behind: " << e.path();
+}
+
+INSTANTIATE_TEST_SUITE_P(Cli, BadInput, testing::ValuesIn(cases()),
+                         [](const testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });
+
+TEST(BadInput, CommandLineErrorsExitTwo) {
+    auto r = run_cli({"render"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "fixpoint: config is required (see fixpoint --help)\n");
+    r = run_cli({"render", "x.yaml", "--threads", "0"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    r = run_cli({"render", "/no/such/config.yaml"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "/no/such/config.yaml: cannot open file\n");
+}
+
+} // namespace

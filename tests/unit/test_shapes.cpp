@@ -1,0 +1,318 @@
+// Unit tests of the shape plugins: circle, polygon, star-polygon, superformula (paper 01,
+// Sec. 3). Hand-computed ray exits, the inside test's vertex cases, the kernel, and the
+// exact error messages of refused shapes.
+#include <fixpoint/host/host.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <numbers>
+#include <string>
+
+namespace {
+
+using fp::Shape;
+using fp::Vec2;
+
+const fp::host::Host& host() {
+    static const fp::host::Host h;
+    return h;
+}
+
+std::shared_ptr<const Shape> shape(const std::string& yaml) {
+    auto s = host().make<Shape>(yaml);
+    EXPECT_TRUE(s) << yaml;
+    return s;
+}
+
+double ray(const Shape& s, Vec2 o, Vec2 d) {
+    double t = 0;
+    s.ray_exit(o, fp::Points<const double>{&d.x, &d.y, 1}, &t);
+    return t;
+}
+
+float ray_f(const Shape& s, Vec2 o, Vec2 d) {
+    const float dx = float(d.x), dy = float(d.y);
+    float t = 0;
+    s.ray_exit(o, fp::Points<const float>{&dx, &dy, 1}, &t);
+    return t;
+}
+
+bool inside(const Shape& s, double x, double y) {
+    unsigned char out = 2;
+    s.inside(fp::Points<const double>{&x, &y, 1}, &out);
+    return out == 1;
+}
+
+bool inside_f(const Shape& s, float x, float y) {
+    unsigned char out = 2;
+    s.inside(fp::Points<const float>{&x, &y, 1}, &out);
+    return out == 1;
+}
+
+/// `make` must fail with an fp::InputError whose message contains `text`.
+void expect_refused(const std::string& yaml, const std::string& text) {
+    try {
+        host().make<Shape>(yaml);
+        ADD_FAILURE() << "accepted: " << yaml;
+    } catch (const fp::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(text), std::string::npos)
+            << "message: " << e.what() << "\nexpected to contain: " << text;
+    }
+}
+
+const std::string square = "{type: polygon, vertices: [[-1, -1], [1, -1], [1, 1], [-1, 1]]}";
+// L-shape: kernel is the open unit square (0, 1) x (0, 1).
+const std::string l_shape = "{type: polygon, vertices: [[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]]}";
+
+// ------------------------------------------------------------------ circle
+
+TEST(Circle, RayExitHandComputed) {
+    auto c = shape("{type: circle, centre: [0, 0], radius: 1}");
+    // From the centre: t = R / |d|.
+    EXPECT_DOUBLE_EQ(ray(*c, {0, 0}, {1, 0}), 1.0);
+    EXPECT_DOUBLE_EQ(ray(*c, {0, 0}, {0, -4}), 0.25);
+    // From o = (0.5, 0): exits at (1, 0) (t = 0.5), at (-1, 0) (t = 1.5) and, upwards, at
+    // (0.5, sqrt(3)/2) (t = sqrt(3)/2).
+    EXPECT_DOUBLE_EQ(ray(*c, {0.5, 0}, {1, 0}), 0.5);
+    EXPECT_DOUBLE_EQ(ray(*c, {0.5, 0}, {-1, 0}), 1.5);
+    EXPECT_NEAR(ray(*c, {0.5, 0}, {0, 1}), std::sqrt(3.0) / 2, 1e-15);
+    // A zero direction gives +inf.
+    EXPECT_EQ(ray(*c, {0.5, 0}, {0, 0}), std::numeric_limits<double>::infinity());
+}
+
+TEST(Circle, RayExitIsAccurateNearTheBoundary) {
+    // o a hair inside the boundary, ray straight out: the naive (-h + sqrt(h^2 - a c)) / a
+    // cancels; the stable form keeps full relative precision.
+    auto c = shape("{type: circle, centre: [1, 2], radius: 1}");
+    const Vec2 o{1 + (1 - 1e-7), 2};
+    EXPECT_NEAR(ray(*c, o, {1, 0}), 1e-7, 1e-7 * 1e-8);
+    EXPECT_NEAR(ray(*c, o, {-1, 0}), 2 - 1e-7, 1e-15);
+}
+
+TEST(Circle, KernelAndInside) {
+    auto c = shape("{type: circle, centre: [1, -1], radius: 2}");
+    EXPECT_EQ(c->centre(), (Vec2{1, -1}));
+    EXPECT_TRUE(c->in_kernel({2.9, -1}));
+    EXPECT_FALSE(c->in_kernel({3, -1})); // on the boundary: not strictly inside
+    EXPECT_TRUE(inside(*c, 1, 0.9));
+    EXPECT_FALSE(inside(*c, 1, 1.1));
+    EXPECT_TRUE(inside_f(*c, 1.f, 0.9f));
+}
+
+// ------------------------------------------------------------------ polygon: ray exit
+
+TEST(Polygon, RayThroughAVertex) {
+    auto s = shape(square);
+    // From the centre along the diagonal: hits the corner (1, 1) at t = 1 exactly where the
+    // two edges meet.
+    EXPECT_NEAR(ray(*s, {0, 0}, {1, 1}), 1.0, 1e-15);
+    EXPECT_NEAR(ray(*s, {0, 0}, {-2, -2}), 0.5, 1e-15);
+    EXPECT_NEAR(ray_f(*s, {0, 0}, {1, -1}), 1.0f, 1e-6f);
+    // Off-centre o = (0.5, 0): direction (0.5, 1) reaches the corner (1, 1) at t = 1.
+    EXPECT_NEAR(ray(*s, {0.5, 0}, {0.5, 1}), 1.0, 1e-15);
+    // Triangle (0, 0), (4, 0), (0, 4) from o = (1, 1): direction (3, -1) hits the vertex
+    // (4, 0) at t = 1; direction (-1, 3) hits (0, 4) at t = 1.
+    auto t = shape("{type: polygon, vertices: [[0, 0], [4, 0], [0, 4]]}");
+    EXPECT_NEAR(ray(*t, {1, 1}, {3, -1}), 1.0, 1e-15);
+    EXPECT_NEAR(ray(*t, {1, 1}, {-1, 3}), 1.0, 1e-15);
+    EXPECT_NEAR(ray(*t, {1, 1}, {-1, -1}), 1.0, 1e-15);
+}
+
+TEST(Polygon, RayExitHandComputed) {
+    auto s = shape(square);
+    // o = (0, 0), d = (2, 1): the edge x = 1 at t = 0.5, b = (1, 0.5).
+    EXPECT_DOUBLE_EQ(ray(*s, {0, 0}, {2, 1}), 0.5);
+    // o = (0.5, 0), d = (1.5, 1.5): x = 1 at t = 1/3 (before y = 1 at t = 2/3).
+    EXPECT_NEAR(ray(*s, {0.5, 0}, {1.5, 1.5}), 1.0 / 3, 1e-15);
+    // o = (0.5, 0), d = (-3.5, 0): x = -1 at t = 1.5 / 3.5 = 3/7.
+    EXPECT_NEAR(ray(*s, {0.5, 0}, {-3.5, 0}), 3.0 / 7, 1e-15);
+    // Reflex vertex of the L-shape, (1, 1), seen from o = (0.5, 0.25): d = (0.5, 0.75), t = 1.
+    auto l = shape(l_shape);
+    EXPECT_NEAR(ray(*l, {0.5, 0.25}, {0.5, 0.75}), 1.0, 1e-15);
+    // Just either side of that vertex the hit moves continuously.
+    EXPECT_NEAR(ray(*l, {0.5, 0.25}, {0.5, 0.75 + 1e-9}), 1.0, 1e-8);
+    EXPECT_NEAR(ray(*l, {0.5, 0.25}, {0.5, 0.75 - 1e-9}), 1.0, 1e-8);
+    EXPECT_EQ(ray(*l, {0.5, 0.25}, {0, 0}), std::numeric_limits<double>::infinity());
+}
+
+// ------------------------------------------------------------------ polygon: inside test
+
+TEST(Polygon, InsideWithHorizontalRayThroughVertices) {
+    // Diamond: the horizontal ray from a point at y = 0 passes through the vertices (1, 0)
+    // and, from further left, (-1, 0).
+    auto d = shape("{type: polygon, vertices: [[0, -1], [1, 0], [0, 1], [-1, 0]]}");
+    EXPECT_TRUE(inside(*d, 0.5, 0));
+    EXPECT_TRUE(inside(*d, -0.5, 0));
+    EXPECT_TRUE(inside(*d, 0, 0));
+    EXPECT_FALSE(inside(*d, -2, 0)); // ray through both side vertices: 2 crossings
+    EXPECT_FALSE(inside(*d, 1.5, 0));
+    EXPECT_TRUE(inside_f(*d, 0.5f, 0.f));
+    EXPECT_FALSE(inside_f(*d, -2.f, 0.f));
+    // Ray through the top vertex (0, 1) only grazes it: from (-2, 1), outside.
+    EXPECT_FALSE(inside(*d, -2, 1));
+}
+
+TEST(Polygon, InsideWithHorizontalRayAlongAnEdge) {
+    // A step: the edge (2, 1)-(3, 1) is horizontal. Kernel: 0 < x < 2, 1 < y < 2.
+    auto s = shape("{type: polygon, vertices: [[0, 0], [2, 0], [2, 1], [3, 1], [3, 2], [0, 2]]}");
+    EXPECT_TRUE(inside(*s, 1, 1));   // ray along the horizontal edge, then out at x = 3
+    EXPECT_FALSE(inside(*s, -1, 1)); // enters at x = 0, leaves at x = 3
+    EXPECT_TRUE(inside(*s, 2.5, 1.5));
+    EXPECT_FALSE(inside(*s, 2.5, 0.5));
+    EXPECT_TRUE(inside(*s, 1.5, 0.5));
+    EXPECT_TRUE(inside_f(*s, 1.f, 1.f));
+    EXPECT_FALSE(inside_f(*s, -1.f, 1.f));
+}
+
+TEST(Polygon, EitherOrientation) {
+    auto ccw = shape(square);
+    auto cw = shape("{type: polygon, vertices: [[-1, 1], [1, 1], [1, -1], [-1, -1]]}");
+    for (double x : {-1.5, -0.5, 0.0, 0.9, 1.2})
+        for (double y : {-1.5, -0.3, 0.4, 1.1})
+            EXPECT_EQ(inside(*ccw, x, y), inside(*cw, x, y)) << x << " " << y;
+    EXPECT_DOUBLE_EQ(ray(*cw, {0, 0}, {2, 1}), 0.5);
+    EXPECT_NEAR(cw->centre().x, 0, 1e-12);
+    EXPECT_NEAR(cw->centre().y, 0, 1e-12);
+}
+
+// ------------------------------------------------------------------ polygon: kernel
+
+TEST(Polygon, KernelOfConcavePolygon) {
+    auto l = shape(l_shape);
+    // Default centre: the centroid of the kernel (0, 1) x (0, 1).
+    EXPECT_NEAR(l->centre().x, 0.5, 1e-12);
+    EXPECT_NEAR(l->centre().y, 0.5, 1e-12);
+    EXPECT_TRUE(l->in_kernel({0.5, 0.5}));
+    EXPECT_TRUE(l->in_kernel({0.99, 0.99}));
+    EXPECT_TRUE(inside(*l, 1.5, 0.5));      // inside the polygon ...
+    EXPECT_FALSE(l->in_kernel({1.5, 0.5})); // ... but it cannot see (0.5, 1.5)
+    EXPECT_FALSE(l->in_kernel({0.5, 1.5}));
+    EXPECT_FALSE(l->in_kernel({1, 0.5})); // on the line of edge 3: not strictly inside
+}
+
+TEST(Polygon, EmptyKernelRefused) {
+    // A "C": the arms' inner edges y < 1 and y > 2 exclude each other.
+    expect_refused(
+        "{type: polygon, vertices: [[0, 0], [3, 0], [3, 1], [1, 1], [1, 2], [3, 2], [3, 3], [0, 3]]}",
+        "vertices: polygon is not star-shaped: its kernel is empty");
+}
+
+// ------------------------------------------------------------------ polygon: refused
+
+TEST(Polygon, SelfIntersectionRefused) {
+    // Bow-tie: edge 1 (1, 0)-(0, 1) crosses edge 3 (1, 1)-(0, 0) at (0.5, 0.5).
+    expect_refused("{type: polygon, vertices: [[0, 0], [1, 0], [0, 1], [1, 1]]}",
+                   "vertices: polygon self-intersects: edges 1 and 3 cross");
+    // A pentagram drawn as 5 vertices: edge 0 crosses edge 2 first.
+    expect_refused("{type: polygon, vertices: [[0, 1], [0.588, -0.809], [-0.951, 0.309], [0.951, 0.309], "
+                   "[-0.588, -0.809]]}",
+                   "polygon self-intersects: edges 0 and 2 cross");
+}
+
+TEST(Polygon, TooFewVerticesRefused) {
+    // Refused by the schema (min_len(3)) before the plugin runs.
+    expect_refused("{type: polygon, vertices: [[0, 0], [1, 0]]}",
+                   "vertices: expected at least 3 points, got 2");
+}
+
+TEST(Polygon, DegeneratePolygonsRefused) {
+    expect_refused("{type: polygon, vertices: [[0, 0], [1, 0], [1, 0], [0, 1]]}",
+                   "vertices: polygon has repeated consecutive vertices 1 and 2 at (1, 0)");
+    expect_refused("{type: polygon, vertices: [[0, 0], [1, 0], [0, 1], [0, 0]]}",
+                   "vertices: polygon has repeated consecutive vertices 0 and 3 at (0, 0)");
+    expect_refused("{type: polygon, vertices: [[0, 0], [1, 1], [2, 2]]}", "vertices: polygon has zero area");
+}
+
+// ------------------------------------------------------------------ star-polygon
+
+TEST(StarPolygon, VerticesAndCentre) {
+    auto s = shape("{type: star-polygon, points: 5, outer_radius: 1, inner_radius: 0.5, centre: [1, 2]}");
+    EXPECT_EQ(s->centre(), (Vec2{1, 2}));
+    EXPECT_TRUE(s->in_kernel({1, 2}));
+    const auto v = s->outline(0);
+    ASSERT_EQ(v.size(), 10u);
+    // The outline is counter-clockwise; one of its vertices is the tip straight up.
+    bool tip = false;
+    for (const auto& p : v) tip |= std::fabs(p.x - 1) < 1e-12 && std::fabs(p.y - 3) < 1e-12;
+    EXPECT_TRUE(tip);
+    // Rays from the centre through a tip and through an inner (reflex) vertex.
+    EXPECT_NEAR(ray(*s, {1, 2}, {0, 1}), 1.0, 1e-12);
+    const double a = std::numbers::pi / 2 + std::numbers::pi / 5;
+    EXPECT_NEAR(ray(*s, {1, 2}, {std::cos(a), std::sin(a)}), 0.5, 1e-12);
+    EXPECT_TRUE(inside(*s, 1, 2.9));
+    EXPECT_FALSE(inside(*s, 1 + 0.6 * std::cos(a), 2 + 0.6 * std::sin(a)));
+}
+
+TEST(StarPolygon, InnerRadiusNotBelowOuterRefused) {
+    expect_refused("{type: star-polygon, outer_radius: 1, inner_radius: 1}",
+                   "inner_radius: inner_radius (1) must be less than outer_radius (1)");
+    expect_refused("{type: star-polygon, outer_radius: 0.5, inner_radius: 0.75}",
+                   "inner_radius: inner_radius (0.75) must be less than outer_radius (0.5)");
+}
+
+TEST(StarPolygon, TwoPointsIsARhombus) {
+    auto s = shape("{type: star-polygon, points: 2, outer_radius: 2, inner_radius: 1}");
+    EXPECT_TRUE(inside(*s, 0, 1.9));
+    EXPECT_TRUE(inside(*s, 0.9, 0));
+    EXPECT_FALSE(inside(*s, 1.1, 0));
+    EXPECT_NEAR(ray(*s, {0, 0}, {0, 1}), 2.0, 1e-12);
+    EXPECT_NEAR(ray(*s, {0, 0}, {1, 0}), 1.0, 1e-12);
+}
+
+// ------------------------------------------------------------------ superformula
+
+TEST(Superformula, CircleCaseIsExact) {
+    // m = 4, n1 = n2 = n3 = 2, a = b = 1: r = (cos^2 + sin^2)^(-1/2) = 1, the unit circle.
+    auto s = shape("{type: superformula, m: 4, n1: 2, n2: 2, n3: 2, scale: 2, centre: [1, 1]}");
+    EXPECT_NEAR(ray(*s, {1, 1}, {3, 4}), 2.0 / 5, 1e-15); // closed form from the centre
+    EXPECT_NEAR(ray(*s, {2, 1}, {1, 0}), 1.0, 1e-12);     // bisection from off-centre
+    EXPECT_NEAR(ray(*s, {2, 1}, {-1, 0}), 3.0, 1e-12);
+    EXPECT_NEAR(ray_f(*s, {2, 1}, {-1, 0}), 3.0f, 1e-5f);
+    EXPECT_TRUE(inside(*s, 1, 2.99));
+    EXPECT_FALSE(inside(*s, 1, 3.01));
+}
+
+TEST(Superformula, InsideAgreesWithRayExit) {
+    auto s = shape("{type: superformula, m: 5, n1: 2, n2: 7, n3: 7, rotation: 0.3, centre: [0.5, -0.25]}");
+    const Vec2 c = s->centre();
+    EXPECT_EQ(c, (Vec2{0.5, -0.25}));
+    // From the centre and from another point of the kernel.
+    const Vec2 off{c.x + 0.05, c.y - 0.03};
+    ASSERT_TRUE(s->in_kernel(off));
+    for (Vec2 o : {c, off})
+        for (int k = 0; k < 720; ++k) {
+            const double a = 2 * std::numbers::pi * (k + 0.37) / 720;
+            const Vec2 d{std::cos(a), std::sin(a)};
+            const double t = ray(*s, o, d);
+            ASSERT_TRUE(t > 0 && std::isfinite(t));
+            EXPECT_TRUE(inside(*s, o.x + (1 - 1e-9) * t * d.x, o.y + (1 - 1e-9) * t * d.y)) << k;
+            EXPECT_FALSE(inside(*s, o.x + (1 + 1e-9) * t * d.x, o.y + (1 + 1e-9) * t * d.y)) << k;
+            const float tf = ray_f(*s, o, d);
+            EXPECT_NEAR(tf, t, 1e-5 * t);
+        }
+}
+
+TEST(Superformula, KernelExcludesTheTips) {
+    auto s = shape("{type: superformula}");
+    EXPECT_TRUE(s->in_kernel({0, 0}));
+    // A point inside a lobe but near its tip cannot see the other lobes.
+    const auto b = s->bounds();
+    EXPECT_GT(b.xmax, 0.5);
+    Vec2 tip{0, 0};
+    for (const auto& p : s->outline(2048))
+        if (std::hypot(p.x, p.y) > std::hypot(tip.x, tip.y)) tip = p;
+    const Vec2 near_tip{0.9 * tip.x, 0.9 * tip.y};
+    EXPECT_TRUE(inside(*s, near_tip.x, near_tip.y));
+    EXPECT_FALSE(s->in_kernel(near_tip));
+}
+
+TEST(Superformula, NonFiniteRadiusRefused) {
+    // |cos / a|^7 and |sin / b|^7 underflow to 0: r = 0^(-1/2) = inf.
+    expect_refused("{type: superformula, a: 1e300, b: 1e300}",
+                   "superformula radius must be finite and positive");
+}
+
+} // namespace
