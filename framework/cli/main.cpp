@@ -114,11 +114,11 @@ int cmd_render(const Options& o, bool validate_only) {
 std::string range_of(const ParamSpec& s) {
     const bool lo = std::isfinite(s.lo), hi = std::isfinite(s.hi);
     if (!lo && !hi) return "";
-    std::string r = s.lo_open ? "(" : "[";
+    std::string r = s.lo_open || !lo ? "(" : "[";
     r += lo ? format_real(s.lo) : "-inf";
     r += ", ";
     r += hi ? format_real(s.hi) : "inf";
-    r += s.hi_open ? ")" : "]";
+    r += s.hi_open || !hi ? ")" : "]";
     return r;
 }
 

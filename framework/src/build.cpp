@@ -124,8 +124,7 @@ void check_count(const ParamSpec& s, const CNode& n, const std::string& path, co
     if (s.count && n.items.size() != s.count)
         fail(n.mark, path,
              "expected " + std::to_string(s.count) + " " + what + ", got " + std::to_string(n.items.size()));
-    if (n.items.empty() && s.min_count)
-        fail(n.mark, path, std::string("the list of ") + what + " is empty");
+    if (n.items.empty() && s.min_count) fail(n.mark, path, std::string("the list of ") + what + " is empty");
     if (n.items.size() < s.min_count)
         fail(n.mark, path,
              "expected at least " + std::to_string(s.min_count) + " " + what + ", got " +

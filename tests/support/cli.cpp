@@ -45,8 +45,10 @@ CliResult run_cli(const std::vector<std::string>& args, const std::string& input
         for (int k = 0; k < 2; ++k) {
             if (!(fds[k].revents & (POLLIN | POLLHUP))) continue;
             const ssize_t n = read(fds[k].fd, buf, sizeof buf);
-            if (n > 0) (k == 0 ? r.out : r.err).append(buf, std::size_t(n));
-            else (k == 0 ? out_open : err_open) = false;
+            if (n > 0)
+                (k == 0 ? r.out : r.err).append(buf, std::size_t(n));
+            else
+                (k == 0 ? out_open : err_open) = false;
         }
         if (in[1] >= 0 && (fds[2].revents & (POLLOUT | POLLERR))) {
             const ssize_t n = write(in[1], input.data() + written, input.size() - written);
