@@ -1,6 +1,7 @@
 #include <fixpoint/host/runtime.hpp>
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -13,8 +14,11 @@
 namespace fp::host {
 
 struct Runtime::Impl {
+    // TBB caps its workers at the core count unless told otherwise (and warns on stderr);
+    // --threads N means N, even above the core count.
+    tbb::global_control limit;
     tbb::task_arena arena;
-    explicit Impl(unsigned n) : arena(int(n)) {}
+    explicit Impl(unsigned n) : limit(tbb::global_control::max_allowed_parallelism, n), arena(int(n)) {}
 };
 
 Runtime::Runtime(unsigned threads, const std::atomic<bool>* cancel)

@@ -1,0 +1,312 @@
+// End-to-end behaviour of `fixpoint render` and friends, as a user runs them.
+#include "cli.hpp"
+
+#include <fixpoint/host/image_io.hpp>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <thread>
+
+using fp::test::read_file;
+using fp::test::run_cli;
+using fp::test::scratch_dir;
+using fp::test::write_file;
+namespace fs = std::filesystem;
+
+extern char** environ;
+
+namespace {
+
+const char* three_circles = R"(renderer:
+  type: chaos-game
+  width: 96
+  height: 80
+  view: [-1.6, 1.6, -1.4, 1.4]
+  points: 300000
+  chains: 300
+  seed: 7
+  maps:
+    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.9}, colour: [1, 0.4, 0.2]}
+    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.9}, colour: [0.2, 1, 0.4]}
+    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.9}, colour: [0.3, 0.4, 1]}
+    - {type: inversion, shape: {type: star-polygon, points: 5, outer_radius: 0.35, inner_radius: 0.2}, weight: 0.5}
+)";
+
+std::string render(const std::string& dir, const std::string& out, std::vector<std::string> extra = {}) {
+    std::vector<std::string> args = {"render", "--quiet", dir + "/cfg.yaml", "-o", dir + "/" + out};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    return read_file(dir + "/" + out);
+}
+
+double lit_fraction(const std::string& path) {
+    const fp::Image img = fp::host::read_image(path);
+    std::size_t lit = 0;
+    for (std::size_t i = 0; i < img.pixels.size(); i += std::size_t(img.channels)) {
+        bool any = false;
+        for (int c = 0; c < std::min(img.channels, 3); ++c)
+            any = any || img.pixels[i + std::size_t(c)] > 0.02f;
+        lit += any;
+    }
+    return double(lit) / double(img.pixels.size() / std::size_t(img.channels));
+}
+
+TEST(Render, SameBytesOnOneAndTwoThreads) {
+    const auto dir = scratch_dir("determinism");
+    write_file(dir + "/cfg.yaml", three_circles);
+    const auto one = render(dir, "one.png", {"--threads", "1"});
+    const auto two = render(dir, "two.png", {"--threads", "2"});
+    const auto three = render(dir, "three.png", {"--threads", "3"});
+    ASSERT_FALSE(one.empty());
+    EXPECT_TRUE(one == two);
+    EXPECT_TRUE(one == three);
+    EXPECT_GT(lit_fraction(dir + "/one.png"), 0.05);
+    // The double-precision path is deterministic too.
+    const auto d1 = render(dir, "d1.png", {"--threads", "1", "--set", "renderer.precision=double"});
+    const auto d2 = render(dir, "d2.png", {"--threads", "2", "--set", "renderer.precision=double"});
+    EXPECT_TRUE(d1 == d2);
+}
+
+TEST(Render, SeedChangesTheImage) {
+    const auto dir = scratch_dir("seed");
+    write_file(dir + "/cfg.yaml", three_circles);
+    const auto a = render(dir, "a.png");
+    const auto b = render(dir, "b.png", {"--set", "renderer.seed=8"});
+    EXPECT_FALSE(a == b);
+}
+
+TEST(Render, RecipeRoundTripReproducesTheImage) {
+    const auto dir = scratch_dir("recipe");
+    write_file(dir + "/cfg.yaml", three_circles);
+    render(dir, "first.png", {"--set", "renderer.maps[3].weight=2"});
+    const auto r = run_cli({"recipe", dir + "/first.png"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    // Every default is filled in, with the version and the seed.
+    EXPECT_NE(r.out.find("fixpoint_version:"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("seed: 7"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("skip: 20"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("iteration:"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("weight: 2"), std::string::npos) << r.out;
+    write_file(dir + "/recipe.yaml", r.out);
+    const auto again = run_cli({"render", "--quiet", dir + "/recipe.yaml", "-o", dir + "/second.png"});
+    ASSERT_EQ(again.rc, 0) << again.err;
+    EXPECT_TRUE(read_file(dir + "/first.png") == read_file(dir + "/second.png"));
+    // The recipe of the re-render is the same recipe.
+    EXPECT_EQ(run_cli({"recipe", dir + "/second.png"}).out, r.out);
+}
+
+TEST(Render, FormatsFromTheExtension) {
+    const auto dir = scratch_dir("formats");
+    write_file(dir + "/cfg.yaml", three_circles);
+    for (const char* name : {"a.png", "a.exr", "a.tif", "a.tiff"}) {
+        render(dir, name);
+        const auto r = run_cli({"recipe", dir + "/" + name});
+        EXPECT_EQ(r.rc, 0) << name << ": " << r.err;
+        EXPECT_NE(r.out.find("type: chaos-game"), std::string::npos) << name;
+    }
+    EXPECT_GT(lit_fraction(dir + "/a.exr"), 0.05);
+    // 16-bit PNG through the config's output section.
+    write_file(dir + "/cfg.yaml", std::string(three_circles) + "output:\n  bit_depth: 16\n");
+    render(dir, "b16.png");
+    const fp::Image a = fp::host::read_image(dir + "/a.png"), b = fp::host::read_image(dir + "/b16.png");
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    double max_diff = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i)
+        max_diff = std::max(max_diff, double(std::fabs(a.pixels[i] - b.pixels[i])));
+    EXPECT_LE(max_diff, 0.5 / 255 + 1e-6); // same image, finer steps
+}
+
+TEST(Render, DefaultOutputPathComesFromTheConfig) {
+    const auto dir = scratch_dir("default_output");
+    write_file(dir + "/cfg.yaml", std::string(three_circles) + "output:\n  path: " + dir + "/named.png\n");
+    const auto r = run_cli({"render", "--quiet", dir + "/cfg.yaml"});
+    EXPECT_EQ(r.rc, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir + "/named.png"));
+}
+
+TEST(Render, SummaryLine) {
+    const auto dir = scratch_dir("summary");
+    write_file(dir + "/cfg.yaml", three_circles);
+    const auto r = run_cli({"render", dir + "/cfg.yaml", "-o", dir + "/x.png", "--threads", "2"});
+    EXPECT_EQ(r.rc, 0);
+    // Not a terminal: no progress bar, just the summary.
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("300000 points in "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("points/s, 2 threads), "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("restarted chain"), std::string::npos) << r.err;
+}
+
+TEST(Render, ValidateRendersNothing) {
+    const auto dir = scratch_dir("validate");
+    write_file(dir + "/cfg.yaml", three_circles);
+    auto r = run_cli({"validate", dir + "/cfg.yaml", "-o", dir + "/x.png"});
+    EXPECT_EQ(r.rc, 0) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/x.png"));
+    write_file(dir + "/bad.yaml", std::string(three_circles) + "  colour: 1\n");
+    r = run_cli({"validate", dir + "/bad.yaml"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, dir + "/bad.yaml:14:3: renderer: unknown parameter 'colour' for chaos-game (did you "
+                           "mean 'colourer'?)\n");
+}
+
+TEST(Render, CtrlCStopsWithinASecondAndLeavesNoFile) {
+    const auto dir = scratch_dir("interrupt");
+    write_file(dir + "/cfg.yaml", three_circles);
+    const std::string out = dir + "/never.png";
+    std::vector<std::string> args = {FIXPOINT_BIN, "render", "--quiet", dir + "/cfg.yaml",
+                                     "-o",         out,      "--set",   "renderer.points=100000000000",
+                                     "--threads",  "2"};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid;
+    ASSERT_EQ(posix_spawn(&pid, FIXPOINT_BIN, nullptr, nullptr, argv.data(), environ), 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    const auto t0 = std::chrono::steady_clock::now();
+    kill(pid, SIGINT);
+    int status = 0;
+    for (;;) {
+        const pid_t w = waitpid(pid, &status, WNOHANG);
+        if (w == pid) break;
+        if (std::chrono::steady_clock::now() - t0 > std::chrono::seconds(5)) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            FAIL() << "render did not stop within 5 s of SIGINT";
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_LT(secs, 1.0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 130);
+    for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename(), "cfg.yaml") << e.path();
+}
+
+TEST(Render, FailedRenderKeepsThePreviousFile) {
+    const auto dir = scratch_dir("atomic");
+    write_file(dir + "/cfg.yaml", three_circles);
+    render(dir, "keep.png");
+    const auto before = read_file(dir + "/keep.png");
+    const auto r = run_cli(
+        {"render", "--quiet", dir + "/cfg.yaml", "-o", dir + "/keep.png", "--set", "renderer.width=-3"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_TRUE(read_file(dir + "/keep.png") == before);
+}
+
+TEST(Eval, CircleInversionByHand) {
+    // Inversion in the circle |p| = 2: p' = 4 p / |p|^2.
+    //   (1, 0) -> (4, 0);  (0, 4) -> (0, 1);  (1, 1) -> (2, 2);  (3, 4) -> (12/25, 16/25).
+    const std::string t = "{type: inversion, shape: {type: circle, centre: [0, 0], radius: 2}}";
+    auto r = run_cli({"eval", t}, "1 0\n0 4\n1 1\n3 4\n");
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(r.out, "4 0\n0 1\n2 2\n0.47999999999999998 0.64000000000000001\n");
+    // Two steps of an involution give the points back.
+    r = run_cli({"eval", t, "--steps", "2"}, "1 0\n0 4\n1 1\n");
+    EXPECT_EQ(r.out, "1 0\n0 4\n1 1\n");
+    r = run_cli({"eval", t, "--scheme", "{type: picard}", "--steps", "0"}, "0.5 0.25\n");
+    EXPECT_EQ(r.out, "0.5 0.25\n");
+}
+
+TEST(Eval, BadInput) {
+    const std::string t = "{type: inversion, shape: {type: circle}}";
+    auto r = run_cli({"eval", t}, "1 0\nfoo bar\n");
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "<stdin>:2: expected two finite numbers 'x y', got 'foo bar'\n");
+    r = run_cli({"eval", "{type: inversion, shape: {type: circle, radius: 0}}"}, "1 0\n");
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "<transform>:1:49: transform.shape.radius: must be > 0, got 0\n");
+    r = run_cli({"eval", "{type: circle}"}, "1 0\n");
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err,
+              "<transform>:1:8: transform.type: 'circle' is a shape, but this slot expects a transform\n");
+}
+
+TEST(Plugins, ListAndDescribe) {
+    auto r = run_cli({"plugins"});
+    ASSERT_EQ(r.rc, 0);
+    for (const char* name : {"circle", "polygon", "star-polygon", "superformula", "inversion", "picard",
+                             "map-colour", "flame", "chaos-game"})
+        EXPECT_NE(r.out.find(std::string(" ") + name + " "), std::string::npos) << name;
+    r = run_cli({"plugins", "--kind", "shape"});
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 4) << r.out;
+    r = run_cli({"plugins", "--kind", "shapes"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "--kind: unknown kind 'shapes' (did you mean 'shape'?)\n");
+    r = run_cli({"describe", "circle"});
+    EXPECT_EQ(r.rc, 0);
+    EXPECT_NE(r.out.find("radius           real; default 1; range (0, inf)"), std::string::npos) << r.out;
+    r = run_cli({"describe", "circel"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "unknown plugin 'circel' (did you mean 'circle'?)\n");
+}
+
+TEST(Plugins, BrokenPluginFilesAreNamed) {
+    const auto dir = scratch_dir("broken_plugins");
+    write_file(dir + "/junk.so", "this is not a shared library");
+    auto r = run_cli({"--plugin-dir", dir, "plugins"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err.rfind("cannot load plugin '" + dir + "/junk.so': ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    // A real shared library that is not a plugin.
+    const auto dir2 = scratch_dir("not_a_plugin");
+    fs::copy_file(fs::path(FIXPOINT_BIN).parent_path().parent_path() / "lib" / "libfixpoint_sdk.so",
+                  dir2 + "/sdk.so");
+    r = run_cli({"--plugin-dir", dir2, "plugins"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err,
+              "'" + dir2 +
+                  "/sdk.so' is not a fixpoint plugin (it exports no fixpoint_abi/fixpoint_descriptor)\n");
+    // The same plugin under two names.
+    const auto dir3 = scratch_dir("duplicate");
+    const auto plugins = fs::path(FIXPOINT_BIN).parent_path().parent_path() / "lib" / "fixpoint" / "plugins";
+    fs::copy_file(plugins / "circle.so", dir3 + "/circle-copy.so");
+    r = run_cli({"--plugin-dir", dir3, "plugins"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "two plugins named 'circle': '" + fs::canonical(plugins / "circle.so").string() +
+                         "' and '" + dir3 + "/circle-copy.so'\n");
+}
+
+// ------------------------------------------------------------------ every config renders
+std::vector<std::string> all_configs() {
+    std::vector<std::string> out;
+    for (const auto& e : fs::recursive_directory_iterator(fp::test::source_dir() + "/configs"))
+        if (e.path().extension() == ".yaml")
+            out.push_back(fs::relative(e.path(), fp::test::source_dir() + "/configs").string());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+class Configs : public testing::TestWithParam<std::string> {};
+
+TEST_P(Configs, RendersAtSmallSize) {
+    const std::string cfg = fp::test::source_dir() + "/configs/" + GetParam();
+    std::string name = GetParam();
+    std::replace(name.begin(), name.end(), '/', '_');
+    const auto dir = scratch_dir("config_" + name);
+    std::vector<std::string> args = {
+        "render", "--quiet",           cfg, "-o", dir + "/out.png", "--set", "renderer.width=96",
+        "--set",  "renderer.height=96"};
+    if (read_file(cfg).find("type: chaos-game") != std::string::npos)
+        args.insert(args.end(), {"--set", "renderer.points=150000"});
+    const auto r = run_cli(args);
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_GT(lit_fraction(dir + "/out.png"), 0.01) << "the render is (nearly) black";
+}
+
+INSTANTIATE_TEST_SUITE_P(All, Configs, testing::ValuesIn(all_configs()),
+                         [](const testing::TestParamInfo<std::string>& i) {
+                             std::string s = i.param;
+                             for (char& c : s)
+                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                             return s;
+                         });
+
+} // namespace
