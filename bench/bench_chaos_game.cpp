@@ -1,0 +1,91 @@
+// Chaos game through the full plugin pipeline (YAML -> plugins -> renderer -> histogram ->
+// colourer), on the reference kernel's work (bench/circles.yaml), beside an inline scalar
+// loop of the same work as a second yardstick.
+//
+//   fixpoint_bench [--benchmark_filter=...]    FIXPOINT_BENCH_POINTS overrides the 1e8 points
+#include <fixpoint/host/pipeline.hpp>
+#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/rng.hpp>
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <vector>
+
+namespace {
+
+std::uint64_t bench_points() {
+    const char* env = std::getenv("FIXPOINT_BENCH_POINTS");
+    return env ? std::uint64_t(std::atof(env)) : 100000000ull;
+}
+
+void chaos_game(benchmark::State& state, const char* precision) {
+    fp::host::Registry reg;
+    for (const auto& d : fp::host::Registry::default_dirs()) reg.load_dir(d);
+    const std::uint64_t n = bench_points();
+    const auto p = fp::host::load_pipeline(
+        reg, FIXPOINT_BENCH_DIR "/circles.yaml",
+        {"renderer.points=" + std::to_string(n), std::string("renderer.precision=") + precision});
+    const unsigned threads = unsigned(state.range(0));
+    fp::host::Runtime rt(threads, nullptr);
+    std::uint64_t restarts = 0;
+    for (auto _ : state) {
+        fp::RenderStats stats;
+        auto img = p.renderer->render(rt, stats);
+        benchmark::DoNotOptimize(img.pixels.data());
+        restarts = stats.restarts;
+    }
+    state.SetItemsProcessed(std::int64_t(state.iterations() * n));
+    state.counters["restarts"] = double(restarts);
+}
+
+// The same work as a plain scalar loop (double, one orbit, uniform choice among the other
+// maps with redraw while the point is inside), histogram only: no plugins, no colour.
+void inline_scalar(benchmark::State& state) {
+    const std::uint64_t n = bench_points() / 4;
+    double ox[6], oy[6], r2[6];
+    for (int k = 0; k < 5; ++k)
+        ox[k] = std::cos(2 * M_PI * k / 5), oy[k] = std::sin(2 * M_PI * k / 5), r2[k] = 0.65 * 0.65;
+    ox[5] = oy[5] = 0, r2[5] = 0.16;
+    std::vector<std::uint32_t> hist(1024 * 1024);
+    for (auto _ : state) {
+        fp::Rng rng = fp::chain_stream(1, 0);
+        double x = 0.01, y = 0.02;
+        int prev = 5;
+        for (std::uint64_t i = 0; i < n; ++i) {
+            int k;
+            double dx, dy, d2;
+            do {
+                k = prev + 1 + int(fp::uniform_below(rng, 5));
+                k -= k >= 6 ? 6 : 0;
+                dx = x - ox[k], dy = y - oy[k], d2 = dx * dx + dy * dy;
+            } while (d2 <= r2[k]);
+            const double s = r2[k] / d2;
+            x = ox[k] + s * dx, y = oy[k] + s * dy, prev = k;
+            const double px = x * 640 + 512, py = y * 640 + 512;
+            if (px >= 0 && px < 1024 && py >= 0 && py < 1024)
+                ++hist[std::size_t(py) * 1024 + std::size_t(px)];
+        }
+        benchmark::DoNotOptimize(hist.data());
+    }
+    state.SetItemsProcessed(std::int64_t(state.iterations() * n));
+}
+
+} // namespace
+
+BENCHMARK_CAPTURE(chaos_game, float, "float")
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+BENCHMARK_CAPTURE(chaos_game, double, "double")
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+BENCHMARK(inline_scalar)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+BENCHMARK_MAIN();
