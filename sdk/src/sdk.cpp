@@ -21,6 +21,19 @@ Colourer::~Colourer() = default;
 Renderer::~Renderer() = default;
 RenderContext::~RenderContext() = default;
 
+namespace {
+template <class T>
+void squared_exit(const Shape& shape, Vec2 o, Points<const T> d, T* s) {
+    shape.ray_exit(o, d, s);
+    for (std::size_t i = 0; i < d.n; ++i) s[i] *= s[i];
+}
+} // namespace
+
+void Shape::inversion_factor(Vec2 o, Points<const float> d, float* s) const { squared_exit(*this, o, d, s); }
+void Shape::inversion_factor(Vec2 o, Points<const double> d, double* s) const {
+    squared_exit(*this, o, d, s);
+}
+
 bool Transform::has_region() const { return false; }
 void Transform::contains(Points<const float> p, unsigned char* out) const {
     for (std::size_t i = 0; i < p.n; ++i) out[i] = 0;

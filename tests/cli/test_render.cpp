@@ -207,7 +207,7 @@ TEST(Eval, CircleInversionByHand) {
     const std::string t = "{type: inversion, shape: {type: circle, centre: [0, 0], radius: 2}}";
     auto r = run_cli({"eval", t}, "1 0\n0 4\n1 1\n3 4\n");
     ASSERT_EQ(r.rc, 0) << r.err;
-    EXPECT_EQ(r.out, "4 0\n0 1\n2 2\n0.47999999999999998 0.64000000000000001\n");
+    EXPECT_EQ(r.out, "4 0\n0 1\n2 2\n0.47999999999999998 0.64000000000000001\n"); // 12/25, 16/25 rounded
     // Two steps of an involution give the points back.
     r = run_cli({"eval", t, "--steps", "2"}, "1 0\n0 4\n1 1\n");
     EXPECT_EQ(r.out, "1 0\n0 4\n1 1\n");

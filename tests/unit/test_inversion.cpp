@@ -99,8 +99,8 @@ TEST(Inversion, SquareOffCentre) {
 // ------------------------------------------------------------------ eq. (2)
 
 TEST(Inversion, CircleWithItsCentreIsClassicalCircleInversion) {
-    // Eq. (2): p' = o + R^2 / |p - o|^2 (p - o). Equal to rounding (a few ulps: our path
-    // goes through t_b = R / |p - o| and squares it).
+    // Eq. (2): p' = o + R^2 / |p - o|^2 (p - o), to the last bit, in double and in float
+    // (the circle gives the factor R^2 / |d|^2 in closed form).
     const Vec2 o{0.3, -1.2};
     const double R = 1.7;
     auto t = inversion("{type: circle, centre: [0.3, -1.2], radius: 1.7}");
@@ -108,11 +108,15 @@ TEST(Inversion, CircleWithItsCentreIsClassicalCircleInversion) {
     for (int k = 0; k < 2000; ++k) {
         const Vec2 p{-6 + 12 * fp::uniform_double(rng), -6 + 12 * fp::uniform_double(rng)};
         const double dx = p.x - o.x, dy = p.y - o.y, s = R * R / (dx * dx + dy * dy);
-        const Vec2 want{o.x + s * dx, o.y + s * dy};
         const Vec2 got = apply(*t, p);
-        const double scale = std::fabs(want.x) + std::fabs(want.y) + std::hypot(s * dx, s * dy);
-        EXPECT_NEAR(got.x, want.x, 2e-15 * scale) << k;
-        EXPECT_NEAR(got.y, want.y, 2e-15 * scale) << k;
+        EXPECT_EQ(got.x, o.x + s * dx) << k;
+        EXPECT_EQ(got.y, o.y + s * dy) << k;
+        float fx = float(p.x), fy = float(p.y);
+        t->apply(fp::Points<float>{&fx, &fy, 1}, nullptr);
+        const float fdx = float(p.x) - float(o.x), fdy = float(p.y) - float(o.y);
+        const float fs = float(R * R) / (fdx * fdx + fdy * fdy);
+        EXPECT_EQ(fx, float(o.x) + fs * fdx) << k;
+        EXPECT_EQ(fy, float(o.y) + fs * fdy) << k;
     }
 }
 

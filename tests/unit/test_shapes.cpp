@@ -253,6 +253,13 @@ TEST(StarPolygon, InnerRadiusNotBelowOuterRefused) {
                    "inner_radius: inner_radius (0.75) must be less than outer_radius (0.5)");
 }
 
+TEST(StarPolygon, InnerRadiusTooSmallRefused) {
+    // The centre is then within 1e-12 of the star's size from every edge line: no kernel.
+    expect_refused(
+        "{type: star-polygon, outer_radius: 1, inner_radius: 1e-300}",
+        "inner_radius: inner_radius (1e-300) is too small for outer_radius (1): the star has no kernel");
+}
+
 TEST(StarPolygon, TwoPointsIsARhombus) {
     auto s = shape("{type: star-polygon, points: 2, outer_radius: 2, inner_radius: 1}");
     EXPECT_TRUE(inside(*s, 0, 1.9));

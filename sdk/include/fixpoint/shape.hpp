@@ -31,6 +31,13 @@ public:
     virtual void ray_exit(Vec2 o, Points<const float> d, float* t) const = 0;
     virtual void ray_exit(Vec2 o, Points<const double> d, double* t) const = 0;
 
+    /// The factor of star-shaped set inversion (paper 01, eq. (4)): s[i] = [d(o, b)]^2 / |d[i]|^2
+    /// = t^2, where b = o + t d[i] is the boundary hit, so that I(p) = o + s (p - o) with
+    /// d = p - o. The default squares ray_exit(); a shape that knows it in closed form
+    /// overrides it (a circle about its own centre gives R^2 / |d|^2 exactly, eq. (2)).
+    virtual void inversion_factor(Vec2 o, Points<const float> d, float* s) const;
+    virtual void inversion_factor(Vec2 o, Points<const double> d, double* s) const;
+
     /// The boundary as a closed polyline of about `samples` points (polygons: their
     /// vertices), for drawing the sets and for tests.
     virtual std::vector<Vec2> outline(std::size_t samples) const = 0;

@@ -1,0 +1,52 @@
+// flame — the running-average colouring of paper 02, Sec. 5 (Algorithm 2, eq. (28)), a
+// simplified fractal-flame colouring.
+//
+// update: each chain carries a colour c; after a step by map j, c = (c + c_j) / 2, so the
+// colour remembers the recent maps with weights 1/2, 1/4, ... and varies continuously
+// across the fractal (unlike map-colour).
+// resolve: pixel = brightness * mean colour of the bin * (log2(1 + H) / log2(1 + max H))^(1/gamma),
+// clamped to [0, 1]; empty bins take the background.
+//
+// Departure from the paper: Algorithm 2 sets the pixel to the last colour written to it. We
+// use the mean colour of all the hits of the bin instead (the histogram holds colour sums),
+// so the image does not depend on the order in which chains and workers are merged, and the
+// same recipe gives the same bytes on any number of threads.
+#include "tone_map.hpp"
+
+namespace {
+
+constexpr fp::ParamSpec params[] = {
+    fp::param::real("gamma", "gamma of the log-density shading, eq. (28)").def("2.2").above(0),
+    fp::param::real("brightness", "factor on the final colour (clamped to [0, 1] afterwards)")
+        .def("1")
+        .above(0),
+};
+
+class Flame final : public fp::Colourer {
+public:
+    explicit Flame(const fp::ParamBag& p) : gamma_(p.real("gamma")), brightness_(p.real("brightness")) {}
+
+    void update(const std::uint32_t* map, fp::ColourState s, const fp::Rgb* map_colours,
+                const unsigned char* mask) const override {
+        for (std::size_t i = 0; i < s.n; ++i) {
+            if (mask && !mask[i]) continue; // its map index need not be valid
+            const fp::Rgb c = map_colours[map[i]];
+            s.r[i] = (s.r[i] + c.r) * 0.5f;
+            s.g[i] = (s.g[i] + c.g) * 0.5f;
+            s.b[i] = (s.b[i] + c.b) * 0.5f;
+        }
+    }
+
+    void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
+        fp_colourers::tone_map(h, background, rgb, true, gamma_, brightness_);
+    }
+
+private:
+    double gamma_, brightness_;
+};
+
+} // namespace
+
+FIXPOINT_PLUGIN(
+    fp::describe<Flame>(fp::Kind::Colourer, "flame",
+                        "running-average colour c = (c + c_j)/2 with log-density shading (paper 02)", params))

@@ -1,0 +1,120 @@
+// inversion — star-shaped set inversion (paper 01, Sec. 3, eq. (4)).
+//
+// Given a star-shaped set S and a centre o in its kernel, the ray from o through p meets the
+// boundary of S once, at b = o + t_b (p - o). The inverse p' lies on the same ray with
+// d(o, p) d(o, p') = d(o, b)^2 (eq. (3)), that is
+//
+//     p' = o + t_b^2 (p - o).
+//
+// For a circle with o its centre, t_b = R / |p - o| and this is eq. (2). The map swaps the
+// inside and the outside of S, fixes the boundary, and is an involution: the ray through p'
+// is the same, its exit parameter is 1 / t_b, and o + (1 / t_b)^2 t_b^2 (p - o) = p.
+// p = o gives t_b = inf and a non-finite p' (the point at infinity); renderers deal with it.
+//
+// The centre defaults to the shape's own centre(). A centre outside the kernel is refused:
+// the ray from it could meet the boundary more than once, and the map would not be defined.
+//
+// apply() works in chunks of fp::chunk_size points on the stack: the directions d = p - o,
+// one batched inversion_factor call on the shape per chunk (the only virtual call; it gives
+// t_b^2, exactly R^2 / |d|^2 for a circle about its centre), then p' = o + t_b^2 d.
+// Inactive points get the zero direction and are left unchanged. A point within ~1e-19 of o
+// in float gives an infinite factor: its image is at infinity anyway, and the renderer's
+// bad-value policy restarts the chain.
+#include <fixpoint/fixpoint.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+
+constexpr fp::ParamSpec params[] = {
+    fp::param::object("shape", fp::Kind::Shape, "the star-shaped set S to invert in"),
+    fp::param::vec2("centre", "centre of inversion o, strictly inside the kernel of the shape; default: the "
+                              "shape's own centre")
+        .opt(),
+};
+
+std::string num(double v) {
+    char buf[32];
+    auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
+}
+
+class Inversion final : public fp::Transform {
+public:
+    explicit Inversion(const fp::ParamBag& p) : shape_(p.object<fp::Shape>("shape")) {
+        o_ = p.has("centre") ? p.vec2("centre") : shape_->centre();
+        if (!shape_->in_kernel(o_))
+            throw fp::ParamError("centre", "inversion centre (" + num(o_.x) + ", " + num(o_.y) +
+                                               ") is outside the kernel of the shape");
+    }
+
+    void apply(fp::Points<float> p, fp::Mask mask) const override { run(p, mask); }
+    void apply(fp::Points<double> p, fp::Mask mask) const override { run(p, mask); }
+
+    bool has_region() const override { return true; }
+    void contains(fp::Points<const float> p, unsigned char* out) const override { shape_->inside(p, out); }
+    void contains(fp::Points<const double> p, unsigned char* out) const override { shape_->inside(p, out); }
+    std::vector<fp::Vec2> region_outline(std::size_t samples) const override {
+        return shape_->outline(samples);
+    }
+    bool is_involution() const override { return true; }
+
+    fp::Box sample_domain() const override {
+        const fp::Box b = shape_->bounds();
+        const double w = b.xmax - b.xmin, h = b.ymax - b.ymin;
+        return {b.xmin - w, b.xmax + w, b.ymin - h, b.ymax + h};
+    }
+
+private:
+    template <class T>
+    void run(fp::Points<T> p, fp::Mask mask) const {
+        const T ox = T(o_.x), oy = T(o_.y);
+        T dx[fp::chunk_size], dy[fp::chunk_size], t[fp::chunk_size];
+        for (std::size_t begin = 0; begin < p.n; begin += fp::chunk_size) {
+            const std::size_t n = std::min(fp::chunk_size, p.n - begin);
+            T* x = p.x + begin;
+            T* y = p.y + begin;
+            const unsigned char* m = mask ? mask + begin : nullptr;
+            if (m) {
+                bool any = false;
+                for (std::size_t i = 0; i < n; ++i) {
+                    dx[i] = m[i] ? x[i] - ox : T(0);
+                    dy[i] = m[i] ? y[i] - oy : T(0);
+                    any |= m[i] != 0;
+                }
+                if (!any) continue;
+            } else {
+                for (std::size_t i = 0; i < n; ++i) {
+                    dx[i] = x[i] - ox;
+                    dy[i] = y[i] - oy;
+                }
+            }
+            shape_->inversion_factor(o_, fp::Points<const T>{dx, dy, n}, t);
+            if (m) {
+                for (std::size_t i = 0; i < n; ++i) {
+                    x[i] = m[i] ? ox + t[i] * dx[i] : x[i];
+                    y[i] = m[i] ? oy + t[i] * dy[i] : y[i];
+                }
+            } else {
+                for (std::size_t i = 0; i < n; ++i) {
+                    x[i] = ox + t[i] * dx[i];
+                    y[i] = oy + t[i] * dy[i];
+                }
+            }
+        }
+    }
+
+    std::shared_ptr<const fp::Shape> shape_;
+    fp::Vec2 o_;
+};
+
+} // namespace
+
+FIXPOINT_PLUGIN(
+    fp::describe<Inversion>(fp::Kind::Transform, "inversion",
+                            "star-shaped set inversion p' = o + t_b^2 (p - o) (paper 01, eq. (4))", params)
+        .with_example("{shape: {type: circle, centre: [0, 0], radius: 1}}"))
