@@ -85,8 +85,8 @@ int cmd_render(const Options& o, bool validate_only) {
     check_output(out);
     if (validate_only) {
         if (!o.quiet)
-            spdlog::info("{}: valid ({}x{} {} -> {})", o.config, p.renderer->width(), p.renderer->height(),
-                         p.recipe.size() ? "render" : "", out);
+            spdlog::info("{}: valid: a {}x{} render to {}", o.config, p.renderer->width(),
+                         p.renderer->height(), out);
         return 0;
     }
 
