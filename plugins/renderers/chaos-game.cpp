@@ -1,0 +1,1180 @@
+// chaos-game: the random inversion algorithm (paper 01, Algorithm 1) and general chaos games.
+//
+// What it computes
+// ----------------
+// Many independent chains p_0, p_1, ... each move by one of the maps in `maps` per step and
+// plot every point after the first `skip`. Under the inversion rules (paper 01: "not the
+// previous map, not a map whose set holds the point") the next map is drawn among the
+// allowed maps with probabilities proportional to `weight`; this is the paper's rejection
+// loop ("while j = l or inSet(S_l, p): draw again") without the loop: the draw is direct,
+// so a point deep inside several sets costs no more than any other. A chain with no allowed
+// map, or whose point becomes NaN or infinite, restarts from a fresh start point and is
+// counted (RenderStats::restarts, ::bad_values); a chain that restarts 100 times in a row
+// without plotting a point is retired, so no recipe spins forever. With the rules off the
+// draw is a plain weighted one (Walker's alias table: O(1) whatever the number of maps), as
+// in an affine IFS. `inversion_rules: auto` turns them on exactly when every map has a set.
+//
+// How (the hot path)
+// ------------------
+// Chains run in blocks of 512, one block per task of the host's parallel_for, in lockstep,
+// as structure-of-arrays state (x, y, previous map, colour, pcg32 state, age, points left).
+// One step of a block:
+//   1. inside tests: one Transform::contains call per map with a set on the whole block
+//      (rules on);
+//   2. the draw: one pcg32 output per chain; the total allowed weight and the cumulative
+//      search, branch-free, 16 chains per AVX-512 vector with the per-map tests as mask
+//      registers (or one pass over the block per map elsewhere); with the rules off, Walker's
+//      alias table;
+//   3. grouping by map: each map's chains compressed into its own staging segment (AVX-512
+//      vcompress, up to 16 maps; a scalar counting sort otherwise), one IterationScheme::step
+//      call per map on its segment, expanded back in place;
+//   4. one Colourer::update call for the block;
+//   5. bookkeeping (finite?, plotted?, age, points left), bin indices and colours packed
+//      {1, r, g, b} in 16 bits each, in one pass (AVX-512, float) or a few vectorised loops;
+//   6. the deposit: one 4 x 32-bit add per point into the worker's own histogram.
+// So a step costs 2k + 1 virtual calls per block (k maps), none per point; nothing is
+// allocated, looked up, thrown or logged per point. Block buffers are allocated once per
+// worker and stay in L1/L2 (about 100 bytes per chain, k more for the tests, 8 k for the
+// staging segments).
+//
+// The workers' histograms have 16-byte bins {hits, r, g, b} of 32 bits (half of
+// fp::HistBin: the bins a fractal touches are what limits the deposit, and twice as many
+// stay in cache); a bin spills into a list of 64-bit bins when its hits reach 65536, before
+// its colour sums (at most 65535 per point) can overflow. They live in 2 MiB-aligned memory
+// advised for transparent huge pages (no TLB miss per deposit). At the end they and the
+// spills are summed into one fp::Histogram, which the colourer resolves.
+//
+// Where the time goes (bench/circles.yaml: 6 circles, 1024 x 1024, map-colour; one core of
+// the 2-core AVX-512 machine): about a third in the deposit (random 16-byte read-modify-
+// writes over a 16 MiB histogram: ~12 cycles each in isolation, against ~5 for the
+// reference kernel's 4-byte counters), an eighth in grouping by map, the rest spread over
+// the inside tests, the transforms, the colourer, the draw and the bookkeeping.
+//
+// Precision
+// ---------
+// `precision: float` (the default) keeps the chains in float lanes: twice the SIMD width of
+// double, and plenty for a histogram a few thousand pixels wide over a view of ordinary size.
+// `precision: double` is for deep zooms, where float's 24-bit mantissa no longer resolves a
+// pixel of the view (roughly when (xmax - xmin) / width < 1e-6 * |x|); it runs the same
+// algorithm in 8-lane vectors, with the bookkeeping in the generic loops.
+//
+// Determinism
+// -----------
+// A render is a pure function of its recipe, whatever the thread count:
+//   - chain i draws from its own stream, fp::chain_stream(seed, i) (pcg32, bit-identical; kept
+//     here as SoA state so the draws vectorise), exactly one output per step plus those of its
+//     own start points, so its path depends on nothing but (seed, i, its own history);
+//   - the number of chains and the points per chain are fixed by the recipe (chain i plots
+//     points / chains points, one more for i < points % chains), never by the thread count;
+//   - all map choices are integer arithmetic; float work is plain IEEE arithmetic compiled
+//     without FMA contraction, so every SIMD width gives the same bits;
+//   - each worker sums into its own integer histogram; integer sums are exact and
+//     independent of order, so merging the workers' histograms gives the same bytes on 1 or N
+//     threads (and the block size does not matter either).
+// The iteration scheme sees step index n = the block's step count (equal to the chain's step
+// count since the render began, restarts included).
+//
+// Binning: a point plots when x in [xmin, xmax) and y in (ymin, ymax]; column =
+// floor((x - xmin) * (width / (xmax - xmin))), row = floor((ymax - y) * (height / (ymax -
+// ymin))) (y = ymax is the top row), in the chain precision with the scale factors
+// precomputed, clamped to the image in case the product rounds up. Colour sums add
+// round(c * fp::colour_scale) per channel (c clamped to [0, 1], NaN to 0; rounded as
+// trunc(c * 65535 + 0.5) in float). RenderStats::samples counts the points plotted after
+// `skip`, inside the view or not; chains start with the mean colour of the maps.
+//
+// Errors (ParamError, by parameter): "view": "the view must be [xmin, xmax, ymin, ymax] with
+// xmin < xmax" (or "... with ymin < ymax"); "maps": "the list of maps is empty"; "height":
+// "the image is too large: width * height must be below 4294967295 pixels".
+#include <fixpoint/fixpoint.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <new>
+#include <string>
+#include <vector>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+#if defined(__SSE4_1__)
+#include <immintrin.h>
+#endif
+// The loops over a block's arrays have no dependences between iterations: tell GCC, so that
+// they vectorise without run-time alias checks (GCC ignores __restrict on local pointers).
+#if defined(__GNUC__) && !defined(__clang__)
+#define FP_IVDEP _Pragma("GCC ivdep")
+#else
+#define FP_IVDEP
+#endif
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+#define FP_CHAOS_COMPRESS 1
+#else
+#define FP_CHAOS_COMPRESS 0
+#endif
+#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512BW__)
+#define FP_CHAOS_AVX512 1
+#else
+#define FP_CHAOS_AVX512 0
+#endif
+
+namespace {
+
+using std::size_t;
+using std::uint32_t;
+using std::uint64_t;
+
+/// Chains per block (one task). 512 keeps a block's state in L1 (about 30 KiB in float) and
+/// gives the per-map segments enough points to amortise their virtual calls.
+constexpr size_t block_size = 512;
+/// Steps between polls of ctx.cancelled() and progress reports (about 1 ms of work).
+constexpr uint64_t poll_steps = 64;
+/// Candidates drawn for a start point outside every set before the last one is taken anyway.
+constexpr unsigned start_tries = 32;
+/// Restarts in a row without a plotted point after which a chain is retired.
+constexpr uint32_t max_idle_restarts = 100;
+
+// ---------------------------------------------------------------- pcg32, structure of arrays
+// fp::Rng is pcg32 (setseq XSH-RR 64/32, output of the previous state). The same generator on
+// plain arrays, so that a block's draws vectorise; chain_stream(seed, i) seeds it.
+constexpr uint64_t pcg_mult = 6364136223846793005ull;
+
+inline void pcg_seed(uint64_t seed, uint64_t chain, uint64_t& state, uint64_t& inc) {
+    inc = (chain << 1) | 1u;
+    state = (fp::mix64(seed) + inc) * pcg_mult + inc;
+}
+
+inline uint32_t pcg_next(uint64_t& state, uint64_t inc) {
+    const uint64_t old = state;
+    state = old * pcg_mult + inc;
+    const auto x = uint32_t(((old >> 18) ^ old) >> 27);
+    const auto rot = uint32_t(old >> 59);
+    return (x >> rot) | (x << ((32u - rot) & 31u));
+}
+
+/// fp::uniform_double on the SoA stream: uniform in [0, 1) with 53 random bits.
+inline double pcg_uniform(uint64_t& state, uint64_t inc) {
+    const uint64_t hi = pcg_next(state, inc) >> 5, lo = pcg_next(state, inc) >> 6;
+    return double((hi << 26) | lo) * 0x1.0p-53;
+}
+
+// ---------------------------------------------------------------- aligned buffers
+struct AlignedFree {
+    void operator()(void* p) const { ::operator delete(p, std::align_val_t(64)); }
+};
+
+struct HugeFree {
+    void operator()(void* p) const { ::operator delete(p, std::align_val_t(2u << 20)); }
+};
+
+template <class U>
+struct Buf {
+    std::unique_ptr<U[], AlignedFree> p;
+    void alloc(size_t n) {
+        p.reset(static_cast<U*>(::operator new(std::max<size_t>(n, 1) * sizeof(U), std::align_val_t(64))));
+        std::memset(static_cast<void*>(p.get()), 0, std::max<size_t>(n, 1) * sizeof(U));
+    }
+    U* get() const { return p.get(); }
+};
+
+/// A large zeroed buffer for random access (the histograms): 2 MiB aligned and, on Linux,
+/// backed by transparent huge pages where the system allows, so that the deposits do not
+/// miss the TLB on every point (a 1024 x 1024 histogram spans 8192 pages of 4 KiB).
+template <class U>
+struct HugeBuf {
+    std::unique_ptr<U[], HugeFree> p;
+    void alloc(size_t n) {
+        constexpr size_t huge = 2u << 20;
+        const size_t bytes = (std::max<size_t>(n, 1) * sizeof(U) + huge - 1) / huge * huge;
+        p.reset(static_cast<U*>(::operator new(bytes, std::align_val_t(huge))));
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+        ::madvise(static_cast<void*>(p.get()), bytes, MADV_HUGEPAGE); // advice only: failure is harmless
+#endif
+        std::memset(static_cast<void*>(p.get()), 0, bytes);
+    }
+    U* get() const { return p.get(); }
+};
+
+/// A worker's histogram bin: {hits, r, g, b} in 32 bits each, 16 bytes, half of fp::HistBin,
+/// so that twice as many of the bins a fractal touches stay in cache (at 1024 x 1024 this
+/// alone took the circles benchmark from 45 to 57 M points/s). A bin spills into 64 bits
+/// before it can overflow: when its hits reach 65536, its colour sums are at most
+/// 65536 * 65535 < 2^32.
+typedef uint32_t Cnt4 __attribute__((vector_size(16)));
+typedef uint64_t Bin4 __attribute__((vector_size(32)));
+constexpr uint32_t spill_hits = 65536;
+
+/// What a point adds, {1, r, g, b}, packed in 16 bits each into one 64-bit word, and its
+/// widening to a bin's 4 x 32 bits (one instruction with SSE4.1).
+inline Cnt4 widen(uint64_t d) {
+#if defined(__SSE4_1__)
+    return Cnt4(_mm_cvtepu16_epi32(_mm_cvtsi64_si128(std::int64_t(d))));
+#else
+    return Cnt4{uint32_t(d & 0xffffu), uint32_t((d >> 16) & 0xffffu), uint32_t((d >> 32) & 0xffffu),
+                uint32_t(d >> 48)};
+#endif
+}
+
+/// With AVX-512, chains are grouped by map with compress / expand instructions into one
+/// staging segment per map (up to this many maps); beyond, or without AVX-512, by a scalar
+/// counting sort into contiguous segments. Both give the same points in the same order.
+constexpr size_t max_compress_maps = 16;
+/// A map's staging segment: room for a whole block plus one full vector stored past its end.
+constexpr size_t seg_stride = block_size + 16;
+
+/// A worker's histogram: 32-bit bins (one more, the last, takes the points not plotted) and
+/// the list of bins spilled into 64 bits. Made by the worker on its first task.
+struct WorkerHist {
+    HugeBuf<Cnt4> bins;
+    std::vector<std::pair<uint32_t, Bin4>> spills;
+    uint32_t dummy = 0;
+
+    void alloc(size_t px) {
+        bins.alloc(px + 1);
+        spills.reserve(256);
+        dummy = uint32_t(px);
+    }
+    [[gnu::noinline, gnu::cold]] void spill(uint32_t i) {
+        Cnt4& b = bins.get()[i];
+        if (i != dummy) spills.emplace_back(i, Bin4{b[0], b[1], b[2], b[3]});
+        b = Cnt4{0, 0, 0, 0};
+    }
+};
+
+/// Built-in palette (Tableau 10), by map index, for maps without a `colour`.
+constexpr fp::Rgb palette[] = {
+    {0x4e / 255.f, 0x79 / 255.f, 0xa7 / 255.f}, {0xf2 / 255.f, 0x8e / 255.f, 0x2b / 255.f},
+    {0xe1 / 255.f, 0x57 / 255.f, 0x59 / 255.f}, {0x76 / 255.f, 0xb7 / 255.f, 0xb2 / 255.f},
+    {0x59 / 255.f, 0xa1 / 255.f, 0x4f / 255.f}, {0xed / 255.f, 0xc9 / 255.f, 0x48 / 255.f},
+    {0xb0 / 255.f, 0x7a / 255.f, 0xa1 / 255.f}, {0xff / 255.f, 0x9d / 255.f, 0xa7 / 255.f},
+    {0x9c / 255.f, 0x75 / 255.f, 0x5f / 255.f}, {0xba / 255.f, 0xb0 / 255.f, 0xac / 255.f},
+};
+constexpr size_t palette_size = sizeof(palette) / sizeof(palette[0]);
+
+// ---------------------------------------------------------------- per-worker block state
+template <class T>
+struct Scratch {
+    // chain state
+    Buf<T> x, y;
+    Buf<uint64_t> rs, ri, left;
+    Buf<uint32_t> prev, age, idle;
+    Buf<float> cr, cg, cb;
+    Buf<uint32_t> active; // 0 / 1
+    // per-step scratch
+    Buf<unsigned char> inside; // k rows of block_size
+    Buf<uint32_t> rnd, tot, cum, chosen, perm, idx, restart, plotf, cnt;
+    Buf<uint64_t> dep; // packed {1, r, g, b} of each chain's point
+    Buf<unsigned char> moved;
+    Buf<T> gx, gy;
+    // start points
+    Buf<T> sx, sy;
+    Buf<uint32_t> pend;
+    Buf<unsigned char> hit, any;
+
+    explicit Scratch(size_t k) {
+        const size_t B = block_size;
+        x.alloc(B), y.alloc(B), rs.alloc(B), ri.alloc(B), left.alloc(B);
+        prev.alloc(B), age.alloc(B), idle.alloc(B), cr.alloc(B), cg.alloc(B), cb.alloc(B), active.alloc(B);
+        inside.alloc(k * B);
+        rnd.alloc(B), tot.alloc(B), cum.alloc(B), chosen.alloc(B), perm.alloc(B), idx.alloc(B),
+            restart.alloc(B);
+        plotf.alloc(B), cnt.alloc(k + 1), dep.alloc(B);
+        moved.alloc(B), gx.alloc(staging(k)), gy.alloc(staging(k));
+        sx.alloc(B), sy.alloc(B), pend.alloc(B), hit.alloc(B), any.alloc(B);
+    }
+
+    static size_t staging(size_t k) {
+        return FP_CHAOS_COMPRESS && k <= max_compress_maps ? k * seg_stride : block_size;
+    }
+    static uint64_t bytes(size_t k) {
+        const uint64_t B = block_size;
+        return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + k + 9 * 4 + 8 + 1 + 4 + 2) +
+               2 * sizeof(T) * staging(k) + 12 * (k + 2) + 64 * 40;
+    }
+};
+
+struct BlockResult {
+    uint64_t plotted = 0, restarts = 0, bad = 0;
+};
+
+// ---------------------------------------------------------------- the renderer
+class ChaosGame final : public fp::Renderer {
+public:
+    explicit ChaosGame(const fp::ParamBag& p);
+
+    int width() const override { return width_; }
+    int height() const override { return height_; }
+    uint64_t memory_bytes(unsigned workers) const override;
+    uint64_t work_units() const override;
+    fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
+
+private:
+    template <class T>
+    void render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total) const;
+    template <class T, bool Rules>
+    void run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
+                   fp::RenderContext& ctx) const;
+    template <class T>
+    void choose_rules(Scratch<T>& s, size_t nb) const;
+    template <class T>
+    void choose_alias(Scratch<T>& s, size_t nb) const;
+    template <class T>
+    void new_starts(Scratch<T>& s, const uint32_t* list, size_t m) const;
+    template <class T>
+    void move_chains(Scratch<T>& s, size_t nb, uint64_t n) const;
+
+    int width_ = 512, height_ = 512;
+    double xmin_ = -1.5, xmax_ = 1.5, ymin_ = -1.5, ymax_ = 1.5;
+    uint64_t points_ = 1000000, seed_ = 1, skip_ = 20, chains_ = 4096;
+    bool has_start_ = false;
+    fp::Vec2 start_;
+    bool rules_ = true, double_ = false;
+    fp::Rgb background_;
+
+    std::vector<std::shared_ptr<const fp::Transform>> maps_;
+    std::vector<uint32_t> region_maps_;       ///< indices of the maps with a set
+    std::vector<uint32_t> q_;                 ///< integer weights (rules on)
+    std::vector<uint32_t> alias_thr_, alias_; ///< Walker's alias table (rules off)
+    std::vector<fp::Rgb> colours_;            ///< k + 1 entries (the last one is never used)
+    fp::Rgb initial_colour_;
+    std::shared_ptr<const fp::IterationScheme> iteration_;
+    std::shared_ptr<const fp::Colourer> colourer_;
+};
+
+ChaosGame::ChaosGame(const fp::ParamBag& p) {
+    width_ = int(p.integer("width"));
+    height_ = int(p.integer("height"));
+    if (uint64_t(width_) * uint64_t(height_) >= 0xffffffffull)
+        throw fp::ParamError("height",
+                             "the image is too large: width * height must be below 4294967295 pixels");
+    const auto& v = p.reals("view");
+    if (v.size() != 4) throw fp::ParamError("view", "the view must be [xmin, xmax, ymin, ymax]");
+    xmin_ = v[0], xmax_ = v[1], ymin_ = v[2], ymax_ = v[3];
+    if (!(xmin_ < xmax_))
+        throw fp::ParamError("view", "the view must be [xmin, xmax, ymin, ymax] with xmin < xmax");
+    if (!(ymin_ < ymax_))
+        throw fp::ParamError("view", "the view must be [xmin, xmax, ymin, ymax] with ymin < ymax");
+    points_ = uint64_t(p.integer("points"));
+    seed_ = uint64_t(p.integer("seed"));
+    skip_ = uint64_t(p.integer("skip"));
+    chains_ = uint64_t(p.integer("chains"));
+    has_start_ = p.has("start");
+    if (has_start_) start_ = p.vec2("start");
+    background_ = p.colour("background");
+    double_ = p.string("precision") == "double";
+    iteration_ = p.object<fp::IterationScheme>("iteration");
+    colourer_ = p.object<fp::Colourer>("colourer");
+
+    const auto& items = p.objects("maps");
+    if (items.empty()) throw fp::ParamError("maps", "the list of maps is empty");
+    const size_t k = items.size();
+    std::vector<double> w(k, 1.0);
+    for (size_t j = 0; j < k; ++j) {
+        auto m = fp::as<fp::Transform>(items[j]);
+        if (!m) throw fp::InternalError("chaos-game: maps[" + std::to_string(j) + "] is not a transform");
+        fp::Rgb c = palette[j % palette_size];
+        if (items[j].extras) {
+            w[j] = items[j].extras->real("weight");
+            if (items[j].extras->has("colour")) c = items[j].extras->colour("colour");
+        }
+        if (!(w[j] > 0) || !std::isfinite(w[j]))
+            throw fp::ParamError("maps", "maps[" + std::to_string(j) + "].weight must be a positive number");
+        const bool region = m->has_region();
+        if (region) region_maps_.push_back(uint32_t(j));
+        maps_.push_back(std::move(m));
+        colours_.push_back(c);
+    }
+    colours_.push_back(fp::Rgb{});
+    initial_colour_ = fp::Rgb{};
+    for (size_t j = 0; j < k; ++j) {
+        initial_colour_.r += colours_[j].r / float(k);
+        initial_colour_.g += colours_[j].g / float(k);
+        initial_colour_.b += colours_[j].b / float(k);
+    }
+
+    const std::string& rules = p.string("inversion_rules");
+    rules_ = rules == "on" || (rules == "auto" && region_maps_.size() == k);
+
+    // Integer weights for the draw among the allowed maps: sum below 2^32, each at least 1.
+    double sum = 0;
+    for (double x : w) sum += x;
+    q_.resize(k);
+    for (size_t j = 0; j < k; ++j)
+        q_[j] = uint32_t(std::max(1.0, std::floor(w[j] / sum * double(1u << 31) + 0.5)));
+
+    // Walker's alias table (Vose's construction) with 32-bit thresholds: column c =
+    // floor(u * k), kept when the fraction's 32 bits are below thr[c], else alias[c].
+    alias_thr_.assign(k, 0xffffffffu);
+    alias_.resize(k);
+    std::vector<double> sc(k);
+    std::vector<uint32_t> small, large;
+    for (size_t j = 0; j < k; ++j) {
+        sc[j] = w[j] / sum * double(k);
+        alias_[j] = uint32_t(j);
+        (sc[j] < 1.0 ? small : large).push_back(uint32_t(j));
+    }
+    while (!small.empty() && !large.empty()) {
+        const uint32_t s = small.back(), l = large.back();
+        small.pop_back();
+        alias_thr_[s] = uint32_t(std::min(4294967295.0, std::floor(sc[s] * 4294967296.0)));
+        alias_[s] = l;
+        sc[l] = (sc[l] + sc[s]) - 1.0;
+        if (sc[l] < 1.0) {
+            large.pop_back();
+            small.push_back(l);
+        }
+    }
+    // What is left (rounding) is full: its column keeps itself (thr = max, alias = self).
+}
+
+uint64_t ChaosGame::work_units() const {
+    const uint64_t live = std::min(chains_, points_); // chains with at least one point
+    return live * skip_ + points_;
+}
+
+uint64_t ChaosGame::memory_bytes(unsigned workers) const {
+    const uint64_t px = uint64_t(width_) * uint64_t(height_);
+    // The workers' 32-bit histograms, the total, the spill lists (at most one entry per
+    // 65536 points).
+    const uint64_t hist = uint64_t(workers) * ((px + 1) * sizeof(Cnt4) + (2u << 20)) +
+                          px * sizeof(fp::HistBin) + (points_ / spill_hits + uint64_t(workers) * 256) * 48;
+    const uint64_t image = px * 3 * sizeof(float);
+    const uint64_t scratch = uint64_t(workers) * (double_ ? Scratch<double>::bytes(maps_.size())
+                                                          : Scratch<float>::bytes(maps_.size()));
+    return hist + image + scratch;
+}
+
+fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) const {
+    stats = fp::RenderStats{};
+    fp::Histogram total;
+    if (double_)
+        render_t<double>(ctx, stats, total);
+    else
+        render_t<float>(ctx, stats, total);
+    if (ctx.cancelled()) throw fp::Cancelled();
+    fp::Image img;
+    img.width = width_;
+    img.height = height_;
+    img.channels = 3;
+    img.pixels.assign(size_t(width_) * size_t(height_) * 3, 0.0f);
+    colourer_->resolve(total, background_, img.pixels.data());
+    return img;
+}
+
+template <class T>
+void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total) const {
+    const unsigned workers = std::max(1u, ctx.workers());
+    const size_t px = size_t(width_) * size_t(height_);
+    const size_t blocks = size_t((chains_ + block_size - 1) / block_size);
+    // Per worker: its block state and its histogram (one extra bin that takes the points not
+    // plotted), both made by the worker itself on its first task (first touch).
+    std::vector<std::unique_ptr<Scratch<T>>> scratch(workers);
+    std::vector<WorkerHist> hists(workers);
+    std::vector<BlockResult> results(blocks);
+
+    ctx.parallel_for(blocks, [&](size_t b, unsigned w) {
+        if (ctx.cancelled()) throw fp::Cancelled();
+        if (w >= workers) throw fp::InternalError("chaos-game: worker index out of range");
+        if (!scratch[w]) scratch[w] = std::make_unique<Scratch<T>>(maps_.size());
+        if (!hists[w].bins.get()) hists[w].alloc(px);
+        if (rules_)
+            run_block<T, true>(b, *scratch[w], hists[w], results[b], ctx);
+        else
+            run_block<T, false>(b, *scratch[w], hists[w], results[b], ctx);
+    });
+    scratch.clear();
+
+    for (const auto& r : results) {
+        stats.samples += r.plotted;
+        stats.restarts += r.restarts;
+        stats.bad_values += r.bad;
+    }
+    stats.unit = "points";
+
+    // Sum the workers' histograms (exact integer sums; rows in parallel).
+    total.resize(width_, height_);
+    const size_t rows_per_task = 16;
+    const size_t tasks = (size_t(height_) + rows_per_task - 1) / rows_per_task;
+    ctx.parallel_for(tasks, [&](size_t t, unsigned) {
+        const size_t b0 = t * rows_per_task * size_t(width_);
+        const size_t b1 = std::min(px, b0 + rows_per_task * size_t(width_));
+        fp::HistBin* out = total.bins.data();
+        for (const auto& h : hists) {
+            const Cnt4* in = h.bins.get();
+            if (!in) continue;
+            for (size_t i = b0; i < b1; ++i) {
+                out[i].hits += in[i][0];
+                out[i].r += in[i][1];
+                out[i].g += in[i][2];
+                out[i].b += in[i][3];
+            }
+        }
+    });
+    for (const auto& h : hists) {
+        for (const auto& [i, v] : h.spills) {
+            fp::HistBin& o = total.bins[i];
+            o.hits += v[0];
+            o.r += v[1];
+            o.g += v[2];
+            o.b += v[3];
+        }
+    }
+}
+
+// ---------------------------------------------------------------- map choice
+// Rules on: chosen[i] = the map drawn among those allowed for chain i (not its previous map,
+// not a map whose set holds its point) with probability q_j / (sum of allowed q); k when none
+// is allowed or the chain is inactive; restart[i] = 1 for active chains with none allowed.
+template <class T>
+void ChaosGame::choose_rules(Scratch<T>& s, size_t nb) const {
+    const size_t k = maps_.size();
+    const fp::Points<const T> pts{s.x.get(), s.y.get(), nb};
+    unsigned char* __restrict inside = s.inside.get();
+    for (uint32_t j : region_maps_) maps_[j]->contains(pts, inside + size_t(j) * block_size);
+
+    uint64_t* __restrict rs = s.rs.get();
+    const uint64_t* __restrict ri = s.ri.get();
+    uint32_t* __restrict rnd = s.rnd.get();
+    uint32_t* __restrict tot = s.tot.get();
+    uint32_t* __restrict cum = s.cum.get();
+    uint32_t* __restrict chosen = s.chosen.get();
+    uint32_t* __restrict restart = s.restart.get();
+    const uint32_t* __restrict prev = s.prev.get();
+    const uint32_t* __restrict active = s.active.get();
+
+    // One pcg32 output r per chain; u = floor(r * total / 2^32) in [0, total); chosen =
+    // #{j : cum_j <= u}, the first map whose cumulative weight passes u (an allowed one, since
+    // the others add nothing).
+    FP_IVDEP
+    for (size_t i = 0; i < nb; ++i) rnd[i] = pcg_next(rs[i], ri[i]);
+#if FP_CHAOS_AVX512
+    {
+        typedef unsigned long long U64x8 __attribute__((vector_size(64)));
+        // 16 chains per vector, the per-map tests as mask registers: two short loops over
+        // the maps per vector, nothing stored but the results.
+        const __m512i one = _mm512_set1_epi32(1), vnone = _mm512_set1_epi32(int(k));
+        const __m128i zero8 = _mm_setzero_si128();
+        for (size_t i = 0; i < nb; i += 16) {
+            const __mmask16 live = nb - i >= 16 ? __mmask16(0xffff) : __mmask16((1u << (nb - i)) - 1u);
+            const __m512i p = _mm512_maskz_loadu_epi32(live, prev + i);
+            __m512i t = _mm512_setzero_si512();
+            for (size_t j = 0; j < k; ++j) {
+                const __mmask16 out = _mm_cmpeq_epi8_mask(
+                    _mm_loadu_si128(reinterpret_cast<const __m128i*>(inside + j * block_size + i)), zero8);
+                const __mmask16 ok = out & _mm512_cmpneq_epi32_mask(p, _mm512_set1_epi32(int(j)));
+                t = _mm512_mask_add_epi32(t, ok, t, _mm512_set1_epi32(int(q_[j])));
+            }
+            const __m512i r = _mm512_maskz_loadu_epi32(live, rnd + i);
+            // u = high 32 bits of r * t, lane by lane (the even lanes' products shifted down,
+            // the odd lanes' products have theirs in place). Vector extensions rather than
+            // _mm512_mul_epu32, which trips GCC 12's -Wmaybe-uninitialized.
+            const U64x8 r64 = U64x8(r), t64 = U64x8(t), low32 = U64x8{} + 0xffffffffu;
+            const auto lo = __m512i(((r64 & low32) * (t64 & low32)) >> 32);
+            const auto hi = __m512i((r64 >> 32) * (t64 >> 32));
+            const __m512i u = _mm512_mask_blend_epi32(__mmask16(0xaaaa), lo, hi);
+            __m512i cumv = _mm512_setzero_si512(), c = _mm512_setzero_si512();
+            for (size_t j = 0; j < k; ++j) {
+                const __mmask16 out = _mm_cmpeq_epi8_mask(
+                    _mm_loadu_si128(reinterpret_cast<const __m128i*>(inside + j * block_size + i)), zero8);
+                const __mmask16 ok = out & _mm512_cmpneq_epi32_mask(p, _mm512_set1_epi32(int(j)));
+                cumv = _mm512_mask_add_epi32(cumv, ok, cumv, _mm512_set1_epi32(int(q_[j])));
+                c = _mm512_mask_add_epi32(c, _mm512_cmple_epu32_mask(cumv, u), c, one);
+            }
+            const __mmask16 act = _mm512_mask_cmpneq_epi32_mask(
+                live, _mm512_maskz_loadu_epi32(live, active + i), _mm512_setzero_si512());
+            const __mmask16 some = _mm512_cmpneq_epi32_mask(t, _mm512_setzero_si512());
+            _mm512_mask_storeu_epi32(chosen + i, live, _mm512_mask_blend_epi32(act & some, vnone, c));
+            _mm512_mask_storeu_epi32(restart + i, live, _mm512_maskz_mov_epi32(act & __mmask16(~some), one));
+        }
+        return;
+    }
+#endif
+    for (size_t i = 0; i < nb; ++i) tot[i] = 0;
+    for (size_t j = 0; j < k; ++j) {
+        const unsigned char* __restrict in = inside + j * block_size;
+        const uint32_t qj = q_[j], jj = uint32_t(j);
+        FP_IVDEP
+        for (size_t i = 0; i < nb; ++i) tot[i] += (in[i] == 0 && prev[i] != jj) ? qj : 0u;
+    }
+    FP_IVDEP
+    for (size_t i = 0; i < nb; ++i) {
+        rnd[i] = uint32_t((uint64_t(rnd[i]) * tot[i]) >> 32);
+        cum[i] = 0;
+        chosen[i] = 0;
+    }
+    for (size_t j = 0; j < k; ++j) {
+        const unsigned char* __restrict in = inside + j * block_size;
+        const uint32_t qj = q_[j], jj = uint32_t(j);
+        FP_IVDEP
+        for (size_t i = 0; i < nb; ++i) {
+            cum[i] += (in[i] == 0 && prev[i] != jj) ? qj : 0u;
+            chosen[i] += cum[i] <= rnd[i] ? 1u : 0u;
+        }
+    }
+    const uint32_t none = uint32_t(k);
+    FP_IVDEP
+    for (size_t i = 0; i < nb; ++i) {
+        const bool live = active[i] != 0;
+        restart[i] = (live && tot[i] == 0) ? 1u : 0u;
+        chosen[i] = (live && tot[i] != 0) ? chosen[i] : none;
+    }
+}
+
+// Rules off: Walker's alias table, one pcg32 output per chain.
+template <class T>
+void ChaosGame::choose_alias(Scratch<T>& s, size_t nb) const {
+    const uint32_t k = uint32_t(maps_.size());
+    uint64_t* __restrict rs = s.rs.get();
+    const uint64_t* __restrict ri = s.ri.get();
+    uint32_t* __restrict chosen = s.chosen.get();
+    uint32_t* __restrict restart = s.restart.get();
+    const uint32_t* __restrict active = s.active.get();
+    const uint32_t* __restrict thr = alias_thr_.data();
+    const uint32_t* __restrict alias = alias_.data();
+    FP_IVDEP
+    for (size_t i = 0; i < nb; ++i) {
+        const uint64_t m = uint64_t(pcg_next(rs[i], ri[i])) * k;
+        const auto col = uint32_t(m >> 32), frac = uint32_t(m);
+        const uint32_t c = frac < thr[col] ? col : alias[col];
+        chosen[i] = active[i] ? c : k;
+        restart[i] = 0;
+    }
+}
+
+// ---------------------------------------------------------------- grouping by map
+#if FP_CHAOS_COMPRESS
+// One vector of chains: L lanes of T, their chosen maps as L 32-bit integers.
+template <class T>
+struct Lanes;
+template <>
+struct Lanes<float> {
+    static constexpr size_t L = 16;
+    using M = __mmask16;
+    using V = __m512;
+    using I = __m512i;
+    static M live(size_t n) { return n >= L ? M(0xffff) : M((1u << n) - 1u); }
+    static I maps(const uint32_t* c, M live, uint32_t none) {
+        return _mm512_mask_loadu_epi32(_mm512_set1_epi32(int(none)), live, c);
+    }
+    static M eq(I c, uint32_t j) { return _mm512_cmpeq_epi32_mask(c, _mm512_set1_epi32(int(j))); }
+    static V load(const float* p, M live) { return _mm512_maskz_loadu_ps(live, p); }
+    static V loadu(const float* p) { return _mm512_loadu_ps(p); }
+    static void store(float* p, M live, V v) { _mm512_mask_storeu_ps(p, live, v); }
+    static void storeu(float* p, V v) { _mm512_storeu_ps(p, v); }
+    static V compress(M m, V v) { return _mm512_maskz_compress_ps(m, v); }
+    static V expand(V old, M m, V v) { return _mm512_mask_expand_ps(old, m, v); }
+    static unsigned count(M m) { return unsigned(__builtin_popcount(unsigned(m))); }
+};
+template <>
+struct Lanes<double> {
+    static constexpr size_t L = 8;
+    using M = __mmask8;
+    using V = __m512d;
+    using I = __m256i;
+    static M live(size_t n) { return n >= L ? M(0xff) : M((1u << n) - 1u); }
+    static I maps(const uint32_t* c, M live, uint32_t none) {
+        return _mm256_mask_loadu_epi32(_mm256_set1_epi32(int(none)), live, c);
+    }
+    static M eq(I c, uint32_t j) { return _mm256_cmpeq_epi32_mask(c, _mm256_set1_epi32(int(j))); }
+    static V load(const double* p, M live) { return _mm512_maskz_loadu_pd(live, p); }
+    static V loadu(const double* p) { return _mm512_loadu_pd(p); }
+    static void store(double* p, M live, V v) { _mm512_mask_storeu_pd(p, live, v); }
+    static void storeu(double* p, V v) { _mm512_storeu_pd(p, v); }
+    static V compress(M m, V v) { return _mm512_maskz_compress_pd(m, v); }
+    static V expand(V old, M m, V v) { return _mm512_mask_expand_pd(old, m, v); }
+    static unsigned count(M m) { return unsigned(__builtin_popcount(unsigned(m))); }
+};
+#endif
+
+// Group the chains by chosen map (chains with chosen = k stay), call the iteration scheme
+// once per map on its points, and put the new points back.
+template <class T>
+void ChaosGame::move_chains(Scratch<T>& s, size_t nb, uint64_t n) const {
+    const size_t k = maps_.size();
+    [[maybe_unused]] const auto none = uint32_t(k);
+    T* __restrict x = s.x.get();
+    T* __restrict y = s.y.get();
+    T* __restrict gx = s.gx.get();
+    T* __restrict gy = s.gy.get();
+    const uint32_t* __restrict chosen = s.chosen.get();
+    uint32_t* __restrict cnt = s.cnt.get();
+#if FP_CHAOS_COMPRESS
+    if (k <= max_compress_maps) {
+        // Compress each map's lanes into its own segment (a full vector store: what lies past
+        // the segment's end is overwritten by the next store or never read).
+        using V = Lanes<T>;
+        for (size_t j = 0; j < k; ++j) cnt[j] = 0;
+        for (size_t i = 0; i < nb; i += V::L) {
+            const auto live = V::live(nb - i);
+            const auto c = V::maps(chosen + i, live, none);
+            const auto vx = V::load(x + i, live), vy = V::load(y + i, live);
+            for (size_t j = 0; j < k; ++j) {
+                const auto m = V::eq(c, uint32_t(j));
+                V::storeu(gx + j * seg_stride + cnt[j], V::compress(m, vx));
+                V::storeu(gy + j * seg_stride + cnt[j], V::compress(m, vy));
+                cnt[j] += V::count(m);
+            }
+        }
+        for (size_t j = 0; j < k; ++j)
+            if (cnt[j])
+                iteration_->step(*maps_[j], fp::Points<T>{gx + j * seg_stride, gy + j * seg_stride, cnt[j]},
+                                 nullptr, n);
+        // Expand back: the inverse permutation, lane by lane in the same order.
+        for (size_t j = 0; j < k; ++j) cnt[j] = 0;
+        for (size_t i = 0; i < nb; i += V::L) {
+            const auto live = V::live(nb - i);
+            const auto c = V::maps(chosen + i, live, none);
+            auto vx = V::load(x + i, live), vy = V::load(y + i, live);
+            for (size_t j = 0; j < k; ++j) {
+                const auto m = V::eq(c, uint32_t(j));
+                vx = V::expand(vx, m, V::loadu(gx + j * seg_stride + cnt[j]));
+                vy = V::expand(vy, m, V::loadu(gy + j * seg_stride + cnt[j]));
+                cnt[j] += V::count(m);
+            }
+            V::store(x + i, live, vx);
+            V::store(y + i, live, vy);
+        }
+        return;
+    }
+#endif
+    // Counting sort into contiguous segments; perm remembers where each point came from.
+    uint32_t* __restrict perm = s.perm.get();
+    for (size_t j = 0; j <= k; ++j) cnt[j] = 0;
+    for (size_t i = 0; i < nb; ++i) ++cnt[chosen[i]];
+    uint32_t start = 0;
+    for (size_t j = 0; j <= k; ++j) {
+        const uint32_t c = cnt[j];
+        cnt[j] = start;
+        start += c;
+    }
+    for (size_t i = 0; i < nb; ++i) {
+        const uint32_t t = cnt[chosen[i]]++;
+        perm[t] = uint32_t(i);
+        gx[t] = x[i];
+        gy[t] = y[i];
+    }
+    // cnt[j] is now the end of map j's segment.
+    for (size_t j = 0; j < k; ++j) {
+        const size_t beg = j == 0 ? 0 : cnt[j - 1], len = cnt[j] - beg;
+        if (len) iteration_->step(*maps_[j], fp::Points<T>{gx + beg, gy + beg, len}, nullptr, n);
+    }
+    const size_t movers = cnt[k - 1];
+    for (size_t t = 0; t < movers; ++t) {
+        x[perm[t]] = gx[t];
+        y[perm[t]] = gy[t];
+    }
+}
+
+// ---------------------------------------------------------------- start points
+// For the m chains list[0..m): a start point. With `start` given, that point; else a uniform
+// point of the view outside every map's set, drawn from the chain's own stream (at most
+// start_tries candidates, the last one taken whatever it is). Batched: one contains call per
+// map with a set per round, over all pending chains.
+template <class T>
+void ChaosGame::new_starts(Scratch<T>& s, const uint32_t* list, size_t m) const {
+    T* x = s.x.get();
+    T* y = s.y.get();
+    if (has_start_) {
+        for (size_t t = 0; t < m; ++t) x[list[t]] = T(start_.x), y[list[t]] = T(start_.y);
+        return;
+    }
+    uint32_t* pend = s.pend.get();
+    std::copy(list, list + m, pend);
+    size_t np = m;
+    T* sx = s.sx.get();
+    T* sy = s.sy.get();
+    unsigned char* hit = s.hit.get();
+    unsigned char* any = s.any.get();
+    for (unsigned tr = 0; tr < start_tries && np > 0; ++tr) {
+        for (size_t t = 0; t < np; ++t) {
+            const uint32_t i = pend[t];
+            const double ux = pcg_uniform(s.rs.get()[i], s.ri.get()[i]);
+            const double uy = pcg_uniform(s.rs.get()[i], s.ri.get()[i]);
+            sx[t] = T(xmin_ + (xmax_ - xmin_) * ux);
+            sy[t] = T(ymin_ + (ymax_ - ymin_) * uy);
+            any[t] = 0;
+        }
+        if (tr + 1 < start_tries) {
+            const fp::Points<const T> cand{sx, sy, np};
+            for (uint32_t j : region_maps_) {
+                maps_[j]->contains(cand, hit);
+                for (size_t t = 0; t < np; ++t) any[t] |= hit[t];
+            }
+        }
+        size_t keep = 0;
+        for (size_t t = 0; t < np; ++t) {
+            const uint32_t i = pend[t];
+            if (any[t]) {
+                pend[keep++] = i;
+            } else {
+                x[i] = sx[t];
+                y[i] = sy[t];
+            }
+        }
+        np = keep;
+    }
+}
+
+// ---------------------------------------------------------------- bookkeeping of a step
+template <class T>
+struct BinView {
+    T xmin, xmax, ymin, ymax, scx, scy;
+    uint32_t W, H, dummy, skip, none;
+};
+
+struct StepCounts {
+    uint32_t plotted = 0, bad = 0, restarts = 0, still = 0;
+};
+
+constexpr float cscale = float(fp::colour_scale);
+
+// After a step: for each chain, whether it moved, whether its point is finite (else: a bad
+// value and a restart), whether it plots (moved, finite, past `skip`); its age, previous map,
+// idle count, points left and activity; its bin (the last one, outside the image, when not
+// plotted or outside the view: x in [xmin, xmax), y in (ymin, ymax], y = ymax the top row,
+// indices clamped in case the products round up to width or height); and its colour packed
+// {1, r, g, b} in 16 bits each (round(c * colour_scale), c clamped to [0, 1], NaN to 0).
+// The generic loops keep 0/1 integer masks of one width per loop, so that they vectorise.
+template <class T>
+StepCounts bookkeep_generic(Scratch<T>& s, size_t nb, const BinView<T>& v) {
+    const T* __restrict x = s.x.get();
+    const T* __restrict y = s.y.get();
+    const uint32_t* __restrict chosen = s.chosen.get();
+    uint32_t* __restrict prev = s.prev.get();
+    uint32_t* __restrict age = s.age.get();
+    uint32_t* __restrict idle = s.idle.get();
+    uint32_t* __restrict restart = s.restart.get();
+    uint32_t* __restrict plotf = s.plotf.get();
+    uint32_t* __restrict idx = s.idx.get();
+    uint64_t* __restrict left = s.left.get();
+    uint32_t* __restrict active = s.active.get();
+    const float* __restrict cr = s.cr.get();
+    const float* __restrict cg = s.cg.get();
+    const float* __restrict cb = s.cb.get();
+    uint64_t* __restrict dep = s.dep.get();
+    StepCounts n;
+    FP_IVDEP
+    for (size_t i = 0; i < nb; ++i) {
+        const T xi = x[i], yi = y[i];
+        const uint32_t mv = chosen[i] < v.none ? 1u : 0u;
+        const uint32_t fin = ((xi - xi == T(0)) & (yi - yi == T(0))) ? 1u : 0u; // 0 for NaN, inf
+        const uint32_t isbad = mv & (fin ^ 1u);
+        const uint32_t plot = mv & fin & (age[i] >= v.skip ? 1u : 0u);
+        age[i] += mv & (age[i] < v.skip ? 1u : 0u);
+        prev[i] = mv ? chosen[i] : prev[i];
+        idle[i] = plot ? 0u : idle[i];
+        restart[i] |= isbad << 1; // bit 0: no allowed map, bit 1: bad value
+        plotf[i] = plot;
+    }
+    FP_IVDEP
+    for (size_t i = 0; i < nb; ++i) {
+        const T xi = x[i], yi = y[i];
+        const uint32_t in =
+            plotf[i] & (((xi >= v.xmin) & (xi < v.xmax) & (yi > v.ymin) & (yi <= v.ymax)) ? 1u : 0u);
+        const T fx = in ? (xi - v.xmin) * v.scx : T(0), fy = in ? (v.ymax - yi) * v.scy : T(0);
+        const auto ix = std::min(uint32_t(std::int32_t(fx)), v.W - 1);
+        const auto iy = std::min(uint32_t(std::int32_t(fy)), v.H - 1);
+        idx[i] = in ? iy * v.W + ix : v.dummy;
+    }
+    for (size_t i = 0; i < nb; ++i) {
+        n.plotted += plotf[i];
+        n.bad += restart[i] >> 1;
+        n.restarts += restart[i] != 0 ? 1u : 0u;
+    }
+    FP_IVDEP
+    for (size_t i = 0; i < nb; ++i) {
+        left[i] -= plotf[i];
+        const uint32_t act = active[i] & (left[i] != 0 ? 1u : 0u);
+        active[i] = act;
+        n.still += act;
+    }
+    FP_IVDEP
+    for (size_t i = 0; i < nb; ++i) {
+        const float r0 = cr[i] > 0.0f ? cr[i] : 0.0f, r = r0 < 1.0f ? r0 : 1.0f;
+        const float g0 = cg[i] > 0.0f ? cg[i] : 0.0f, g = g0 < 1.0f ? g0 : 1.0f;
+        const float b0 = cb[i] > 0.0f ? cb[i] : 0.0f, b = b0 < 1.0f ? b0 : 1.0f;
+        const auto qr = uint64_t(std::int32_t(r * cscale + 0.5f));
+        const auto qg = uint64_t(std::int32_t(g * cscale + 0.5f));
+        const auto qb = uint64_t(std::int32_t(b * cscale + 0.5f));
+        dep[i] = 1u | (qr << 16) | (qg << 32) | (qb << 48);
+    }
+    return n;
+}
+
+template <class T>
+StepCounts bookkeep(Scratch<T>& s, size_t nb, const BinView<T>& v) {
+    return bookkeep_generic(s, nb, v);
+}
+
+#if FP_CHAOS_AVX512
+// The same for float chains, 16 at a time in registers (one pass instead of five); the same
+// IEEE operations in the same order, so the same bits.
+template <>
+StepCounts bookkeep<float>(Scratch<float>& s, size_t nb, const BinView<float>& v) {
+    StepCounts n;
+    // (Masked forms with all lanes on: the unmasked ones trip GCC 12's -Wmaybe-uninitialized.)
+    constexpr __mmask16 all = 0xffff;
+    const __m512i one = _mm512_set1_epi32(1), two = _mm512_set1_epi32(2), zero = _mm512_setzero_si512();
+    const __m512i vnone = _mm512_set1_epi32(int(v.none)), vskip = _mm512_set1_epi32(int(v.skip));
+    const __m512i vW = _mm512_set1_epi32(int(v.W)), vW1 = _mm512_set1_epi32(int(v.W - 1));
+    const __m512i vH1 = _mm512_set1_epi32(int(v.H - 1)), vdummy = _mm512_set1_epi32(int(v.dummy));
+    const __m512 fzero = _mm512_setzero_ps(), fone = _mm512_set1_ps(1.0f);
+    const __m512 xmin = _mm512_set1_ps(v.xmin), xmax = _mm512_set1_ps(v.xmax);
+    const __m512 ymin = _mm512_set1_ps(v.ymin), ymax = _mm512_set1_ps(v.ymax);
+    const __m512 scx = _mm512_set1_ps(v.scx), scy = _mm512_set1_ps(v.scy);
+    const __m512 cs = _mm512_set1_ps(cscale), half = _mm512_set1_ps(0.5f);
+    const __m512i one64 = _mm512_set1_epi64(1);
+    const __m512i lo_idx = _mm512_set_epi32(23, 7, 22, 6, 21, 5, 20, 4, 19, 3, 18, 2, 17, 1, 16, 0);
+    const __m512i hi_idx = _mm512_set_epi32(31, 15, 30, 14, 29, 13, 28, 12, 27, 11, 26, 10, 25, 9, 24, 8);
+    for (size_t i = 0; i < nb; i += 16) {
+        const __mmask16 live = nb - i >= 16 ? __mmask16(0xffff) : __mmask16((1u << (nb - i)) - 1u);
+        const __m512i c = _mm512_maskz_loadu_epi32(live, s.chosen.get() + i);
+        const __mmask16 mv = _mm512_mask_cmplt_epu32_mask(live, c, vnone);
+        const __m512 x = _mm512_maskz_loadu_ps(live, s.x.get() + i);
+        const __m512 y = _mm512_maskz_loadu_ps(live, s.y.get() + i);
+        const __mmask16 fin = _mm512_cmp_ps_mask(_mm512_sub_ps(x, x), fzero, _CMP_EQ_OQ) &
+                              _mm512_cmp_ps_mask(_mm512_sub_ps(y, y), fzero, _CMP_EQ_OQ);
+        const __mmask16 isbad = mv & __mmask16(~fin);
+        __m512i a = _mm512_maskz_loadu_epi32(live, s.age.get() + i);
+        const __mmask16 old = _mm512_cmpge_epu32_mask(a, vskip);
+        const __mmask16 plot = mv & fin & old;
+        a = _mm512_mask_add_epi32(a, mv & __mmask16(~old), a, one);
+        _mm512_mask_storeu_epi32(s.age.get() + i, live, a);
+        const __m512i pv = _mm512_maskz_loadu_epi32(live, s.prev.get() + i);
+        _mm512_mask_storeu_epi32(s.prev.get() + i, live, _mm512_mask_mov_epi32(pv, mv, c));
+        const __m512i idl = _mm512_maskz_loadu_epi32(live, s.idle.get() + i);
+        _mm512_mask_storeu_epi32(s.idle.get() + i, live, _mm512_maskz_mov_epi32(__mmask16(~plot), idl));
+        __m512i rs = _mm512_maskz_loadu_epi32(live, s.restart.get() + i);
+        rs = _mm512_mask_or_epi32(rs, isbad, rs, two);
+        _mm512_mask_storeu_epi32(s.restart.get() + i, live, rs);
+        n.plotted += unsigned(__builtin_popcount(unsigned(plot)));
+        n.bad += unsigned(__builtin_popcount(unsigned(isbad)));
+        n.restarts += unsigned(__builtin_popcount(unsigned(_mm512_mask_cmpneq_epi32_mask(live, rs, zero))));
+
+        // bin index
+        const __mmask16 in =
+            plot & _mm512_cmp_ps_mask(x, xmin, _CMP_GE_OQ) & _mm512_cmp_ps_mask(x, xmax, _CMP_LT_OQ) &
+            _mm512_cmp_ps_mask(y, ymin, _CMP_GT_OQ) & _mm512_cmp_ps_mask(y, ymax, _CMP_LE_OQ);
+        const __m512 fx = _mm512_maskz_mul_ps(in, _mm512_sub_ps(x, xmin), scx);
+        const __m512 fy = _mm512_maskz_mul_ps(in, _mm512_sub_ps(ymax, y), scy);
+        const __m512i ix = _mm512_maskz_min_epu32(all, _mm512_maskz_cvttps_epi32(all, fx), vW1);
+        const __m512i iy = _mm512_maskz_min_epu32(all, _mm512_maskz_cvttps_epi32(all, fy), vH1);
+        const __m512i id =
+            _mm512_mask_blend_epi32(in, vdummy, _mm512_add_epi32(_mm512_mullo_epi32(iy, vW), ix));
+        _mm512_mask_storeu_epi32(s.idx.get() + i, live, id);
+
+        // points left (64-bit), activity
+        const __mmask8 live0 = __mmask8(live), live1 = __mmask8(live >> 8);
+        __m512i l0 = _mm512_maskz_loadu_epi64(live0, s.left.get() + i);
+        __m512i l1 = _mm512_maskz_loadu_epi64(live1, s.left.get() + i + 8);
+        l0 = _mm512_mask_sub_epi64(l0, __mmask8(plot), l0, one64);
+        l1 = _mm512_mask_sub_epi64(l1, __mmask8(plot >> 8), l1, one64);
+        _mm512_mask_storeu_epi64(s.left.get() + i, live0, l0);
+        _mm512_mask_storeu_epi64(s.left.get() + i + 8, live1, l1);
+        const __mmask16 nz = __mmask16(_mm512_cmpneq_epi64_mask(l0, zero)) |
+                             __mmask16(__mmask16(_mm512_cmpneq_epi64_mask(l1, zero)) << 8);
+        const __mmask16 act = nz & _mm512_mask_cmpneq_epi32_mask(
+                                       live, _mm512_maskz_loadu_epi32(live, s.active.get() + i), zero);
+        _mm512_mask_storeu_epi32(s.active.get() + i, live, _mm512_maskz_mov_epi32(act, one));
+        n.still += unsigned(__builtin_popcount(unsigned(act)));
+
+        // colour, packed {1, r, g, b}: max(c, 0) then min(., 1) sends NaN to 0 (maxps returns
+        // its second operand when the first is NaN), as the generic loop does.
+        auto q = [&](const float* p) {
+            const __m512 c0 = _mm512_maskz_min_ps(
+                all, _mm512_maskz_max_ps(all, _mm512_maskz_loadu_ps(live, p), fzero), fone);
+            return _mm512_maskz_cvttps_epi32(all, _mm512_add_ps(_mm512_mul_ps(c0, cs), half));
+        };
+        const __m512i qr = q(s.cr.get() + i), qg = q(s.cg.get() + i), qb = q(s.cb.get() + i);
+        const __m512i lo = _mm512_or_si512(one, _mm512_maskz_slli_epi32(all, qr, 16));
+        const __m512i hi = _mm512_or_si512(qg, _mm512_maskz_slli_epi32(all, qb, 16));
+        _mm512_mask_storeu_epi64(s.dep.get() + i, live0, _mm512_permutex2var_epi32(lo, lo_idx, hi));
+        _mm512_mask_storeu_epi64(s.dep.get() + i + 8, live1, _mm512_permutex2var_epi32(lo, hi_idx, hi));
+    }
+    return n;
+}
+#endif
+
+// ---------------------------------------------------------------- one block of chains
+template <class T, bool Rules>
+void ChaosGame::run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
+                          fp::RenderContext& ctx) const {
+    const size_t k = maps_.size();
+    const uint64_t c0 = uint64_t(block) * block_size;
+    const size_t nb = size_t(std::min<uint64_t>(block_size, chains_ - c0));
+    const uint64_t per = points_ / chains_, extra = points_ % chains_;
+    const uint32_t none = uint32_t(k);
+
+    // Initial state.
+    uint64_t nominal = 0; // steps of this block without restarts, for progress
+    size_t nlive = 0;
+    uint32_t* list = s.perm.get();
+    for (size_t i = 0; i < nb; ++i) {
+        const uint64_t chain = c0 + i;
+        pcg_seed(seed_, chain, s.rs.get()[i], s.ri.get()[i]);
+        const uint64_t left = per + (chain < extra ? 1 : 0);
+        s.left.get()[i] = left;
+        s.active.get()[i] = left > 0 ? 1u : 0u;
+        s.prev.get()[i] = none;
+        s.age.get()[i] = 0;
+        s.idle.get()[i] = 0;
+        s.cr.get()[i] = initial_colour_.r;
+        s.cg.get()[i] = initial_colour_.g;
+        s.cb.get()[i] = initial_colour_.b;
+        s.x.get()[i] = T(0);
+        s.y.get()[i] = T(0);
+        if (left > 0) {
+            nominal += skip_ + left;
+            list[nlive++] = uint32_t(i);
+        }
+    }
+    new_starts(s, list, nlive);
+
+    // Constants of the deposit.
+    BinView<T> bv;
+    bv.xmin = T(xmin_), bv.xmax = T(xmax_), bv.ymin = T(ymin_), bv.ymax = T(ymax_);
+    bv.scx = T(double(width_) / (xmax_ - xmin_)), bv.scy = T(double(height_) / (ymax_ - ymin_));
+    bv.W = uint32_t(width_), bv.H = uint32_t(height_);
+    bv.dummy = uint32_t(size_t(width_) * size_t(height_));
+    bv.skip = uint32_t(std::min<uint64_t>(skip_, 0xffffffffu));
+    bv.none = none;
+
+    uint32_t* __restrict chosen = s.chosen.get();
+    uint32_t* __restrict prev = s.prev.get();
+    uint32_t* __restrict age = s.age.get();
+    uint32_t* __restrict idle = s.idle.get();
+    const uint32_t* __restrict idx = s.idx.get();
+    uint32_t* __restrict restart = s.restart.get();
+    const uint64_t* __restrict dep = s.dep.get();
+    Cnt4* const bins = hist.bins.get();
+    uint64_t* __restrict left = s.left.get();
+    uint32_t* __restrict active = s.active.get();
+    unsigned char* __restrict moved = s.moved.get();
+    float* __restrict cr = s.cr.get();
+    float* __restrict cg = s.cg.get();
+    float* __restrict cb = s.cb.get();
+
+    uint64_t reported = 0;
+    size_t live = nlive;
+    for (uint64_t n = 0; live > 0; ++n) {
+        if (n % poll_steps == 0 && n > 0) {
+            if (ctx.cancelled()) throw fp::Cancelled();
+            const uint64_t done = std::min(nominal, n * uint64_t(nlive));
+            ctx.progress(done - reported);
+            reported = done;
+        }
+
+        // 1-2. Choose a map per chain (k = does not move this step).
+        if constexpr (Rules)
+            choose_rules(s, nb);
+        else
+            choose_alias(s, nb);
+
+        // 3. Group the chains by map, one step call per map, back in place.
+        move_chains(s, nb, n);
+
+        // 4. Colours.
+        FP_IVDEP
+        for (size_t i = 0; i < nb; ++i) moved[i] = chosen[i] < none ? 1 : 0;
+        colourer_->update(chosen, fp::ColourState{cr, cg, cb, nb}, colours_.data(), moved);
+
+        // 5. Bookkeeping, bin indices and colour values, branch-free over the block.
+        const StepCounts sc = bookkeep(s, nb, bv);
+
+        // 6. Deposit: one 4 x 32-bit add per chain (the unplotted land in the last bin).
+        for (size_t i = 0; i < nb; ++i) {
+            Cnt4& b = bins[idx[i]];
+            b += widen(dep[i]);
+            if (__builtin_expect(b[0] == spill_hits, 0)) hist.spill(idx[i]);
+        }
+
+        res.plotted += sc.plotted;
+        res.bad += sc.bad;
+        live = sc.still;
+
+        // 7. Restarts (rare): a fresh start point, or retirement after too many in a row.
+        if (sc.restarts) {
+            size_t m = 0;
+            for (size_t i = 0; i < nb; ++i) {
+                if (!restart[i]) continue;
+                ++res.restarts;
+                if (++idle[i] > max_idle_restarts) {
+                    if (active[i]) --live;
+                    active[i] = 0;
+                    left[i] = 0;
+                    continue;
+                }
+                if (!active[i]) continue; // finished with its last point (cannot happen: bad)
+                prev[i] = none;
+                age[i] = 0;
+                list[m++] = uint32_t(i);
+            }
+            new_starts(s, list, m);
+        }
+    }
+    ctx.progress(nominal - std::min(nominal, reported));
+}
+
+// ---------------------------------------------------------------- schema
+constexpr fp::ParamSpec map_item_params[] = {
+    fp::param::real("weight", "relative probability of choosing the map").def("1").above(0),
+    fp::param::colour("colour",
+                      "colour of the points the map produces (default: a built-in palette by index)")
+        .opt(),
+};
+
+constexpr fp::ParamSpec params[] = {
+    fp::param::integer("width", "image width in pixels").def("512").min(1).max(65536),
+    fp::param::integer("height", "image height in pixels").def("512").min(1).max(65536),
+    fp::param::reals("view", "the plotted region [xmin, xmax, ymin, ymax]")
+        .def("[-1.5, 1.5, -1.5, 1.5]")
+        .len(4),
+    fp::param::integer("points", "total number of points plotted over all chains")
+        .def("1000000")
+        .min(1)
+        .max(1e15),
+    fp::param::integer("seed", "seed of the random streams (chain i uses stream (seed, i))").def("1").min(0),
+    fp::param::integer("skip", "points not plotted at the start of each chain and after each restart")
+        .def("20")
+        .min(0)
+        .max(1e9),
+    fp::param::vec2("start",
+                    "start point of every chain (default: a random point of the view outside every set)")
+        .opt(),
+    fp::param::integer("chains", "independent chains (fixed whatever the thread count)")
+        .def("4096")
+        .min(1)
+        .max(16777216),
+    fp::param::objects("maps", fp::Kind::Transform,
+                       "the maps of the chaos game, each with a weight and a colour")
+        .min_len(1)
+        .items(map_item_params),
+    fp::param::object("iteration", fp::Kind::IterationScheme, "iteration process applied with the chosen map")
+        .def("{type: picard}"),
+    fp::param::object("colourer", fp::Kind::Colourer, "how points are coloured and the histogram tone-mapped")
+        .def("{type: flame}"),
+    fp::param::string("inversion_rules",
+                      "paper 01's rules (not the previous map, not a map whose set holds the "
+                      "point): auto = on when every map has a set")
+        .def("auto")
+        .one_of("auto|on|off"),
+    fp::param::string("precision",
+                      "arithmetic of the chains: float (twice the SIMD width) or double (deep zooms)")
+        .def("float")
+        .one_of("float|double"),
+    fp::param::colour("background", "colour of pixels no point reached").def("[0, 0, 0]"),
+};
+
+} // namespace
+
+FIXPOINT_PLUGIN(
+    fp::describe<ChaosGame>(fp::Kind::Renderer, "chaos-game",
+                            "random inversion algorithm (paper 01) and general chaos games", params)
+        .with_example("{maps: [{type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.8}}, "
+                      "{type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.8}}, "
+                      "{type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.8}}], "
+                      "width: 32, height: 32, points: 20000, chains: 64}"))
