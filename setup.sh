@@ -45,6 +45,6 @@ cmake --build build -j"$jobs"
 if [ "$mode" = test ]; then
     ctest --test-dir build --output-on-failure -j"$jobs" --timeout 900
 else
-    build/bin/fixpoint render configs/inversion/fig6d.yaml -o fixpoint.png
-    echo "setup: rendered configs/inversion/fig6d.yaml to fixpoint.png"
+    build/bin/fixpoint render configs/inversion/fig6a.yaml -o fixpoint.png
+    echo "setup: rendered configs/inversion/fig6a.yaml to fixpoint.png"
 fi

@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <fstream>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -168,6 +169,15 @@ CNode convert(const YAML::Node& n, const std::shared_ptr<const std::string>& src
 
 } // namespace
 
+// A common slip: an unquoted hex colour, whose '#' starts a comment and swallows the rest of
+// the line, so that the error shows up somewhere else.
+static std::string comment_hint(const std::string& text) {
+    static const std::regex hex_colour(R"([:,\[]\s*#[0-9a-fA-F]{6})");
+    return std::regex_search(text, hex_colour)
+               ? " (a '#' after a space starts a comment: quote colours, as in \"#ff6b6b\")"
+               : "";
+}
+
 CNode parse_yaml(const std::string& text, const std::string& source) {
     auto src = std::make_shared<const std::string>(source);
     if (text.size() > max_yaml_bytes)
@@ -187,7 +197,9 @@ CNode parse_yaml(const std::string& text, const std::string& source) {
         if (c.type == CNode::Type::Null) c.mark = Mark{src, 1, 1};
         return c;
     } catch (const YAML::Exception& e) {
-        fail_at(src, e.mark, "YAML syntax error: " + e.msg);
+        fail_at(src, e.mark, "YAML syntax error: " + e.msg + comment_hint(text));
+    } catch (const InputError& e) {
+        throw InputError(e.what() + comment_hint(text));
     }
 }
 

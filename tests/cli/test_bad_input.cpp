@@ -44,6 +44,10 @@ std::vector<Case> cases() {
         {"lone_comma", ",", "bad.yaml:1:1: YAML syntax error: unexpected ','"},
         {"duplicate_key", replace(b, "  height: 64\n", "  height: 64\n  width: 32\n"),
          "bad.yaml:5:3: duplicate key 'width'"},
+        {"unquoted_hex_colour", replace(b, "radius: 0.9}}\n", "radius: 0.9}, colour: #ff6b6b}\n"),
+         "bad.yaml:9:5: YAML syntax error: illegal block entry (a '#' after a space starts a comment: quote "
+         "colours, as "
+         "in \"#ff6b6b\")"},
         {"alias", "a: &x 1\nrenderer: *x\n",
          "bad.yaml:1:4: YAML anchors are not supported: write the value out"},
         {"second_document", b + "---\nrenderer: {}\n",

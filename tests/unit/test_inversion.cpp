@@ -126,6 +126,10 @@ struct Case {
     std::string shape, centre;
 };
 
+void PrintTo(const Case& c, std::ostream* os) {
+    *os << c.shape << (c.centre.empty() ? "" : " centre " + c.centre);
+}
+
 class Involution : public ::testing::TestWithParam<Case> {};
 
 TEST_P(Involution, TwiceIsIdentity) {
