@@ -133,6 +133,73 @@ void check_count(const ParamSpec& s, const CNode& n, const std::string& path, co
 
 TParam validate_param(const Registry& reg, const ParamSpec& s, const CNode& n, const std::string& path);
 
+// A q-system number a + qb written as text: "0.5+0.5q", "0.75-0.9q", "-2q", "q", "1.5".
+bool parse_qnumber(const std::string& text, Vec2& out) {
+    std::string t;
+    for (char c : text)
+        if (c != ' ') t += c;
+    auto real_of = [](const std::string& s, double& v) {
+        const char* b = s.data();
+        const char* e = b + s.size();
+        if (b != e && *b == '+') ++b;
+        auto [p, ec] = std::from_chars(b, e, v);
+        return ec == std::errc() && p == e && b != e;
+    };
+    if (t.empty()) return false;
+    if (t.back() != 'q') {
+        out.y = 0;
+        return real_of(t, out.x);
+    }
+    t.pop_back();
+    // The sign that starts the q part: the last + or - not at the start and not an exponent's.
+    std::size_t split = 0;
+    for (std::size_t i = 1; i < t.size(); ++i)
+        if ((t[i] == '+' || t[i] == '-') && t[i - 1] != 'e' && t[i - 1] != 'E') split = i;
+    const std::string re = t.substr(0, split), im = t.substr(split);
+    out.x = 0;
+    if (!re.empty() && !real_of(re, out.x)) return false;
+    if (im.empty() || im == "+")
+        out.y = 1;
+    else if (im == "-")
+        out.y = -1;
+    else if (!real_of(im, out.y))
+        return false;
+    return true;
+}
+
+Vec2 qnumber_value(const CNode& n, const std::string& path) {
+    Vec2 v;
+    double d;
+    if (n.is_seq() && n.items.size() == 2 && parse_real(n.items[0], d) && parse_real(n.items[1], v.y)) {
+        v.x = d;
+    } else if (!n.is_scalar() || !parse_qnumber(n.scalar, v)) {
+        fail(n.mark, path,
+             "cannot read " + n.describe() +
+                 " as a number or q-system number (write 0.7, 0.5+0.5q or [0.5, 0.5])");
+    }
+    if (!std::isfinite(v.x) || !std::isfinite(v.y)) fail(n.mark, path, "must be finite, got " + n.describe());
+    return v;
+}
+
+Sequence sequence_value(const CNode& n, const std::string& path) {
+    Sequence seq;
+    if (!n.is_seq()) {
+        seq.values.push_back(qnumber_value(n, path));
+        return seq;
+    }
+    if (n.items.empty()) fail(n.mark, path, "a periodic list must not be empty");
+    double a, b;
+    if (n.items.size() == 2 && parse_real(n.items[0], a) && parse_real(n.items[1], b)) {
+        seq.bare_pair = true;
+        if (!std::isfinite(a) || !std::isfinite(b)) fail(n.mark, path, "must be finite, got " + n.describe());
+        seq.values = {Vec2{a, 0}, Vec2{b, 0}};
+        return seq;
+    }
+    for (std::size_t i = 0; i < n.items.size(); ++i)
+        seq.values.push_back(qnumber_value(n.items[i], path + "[" + std::to_string(i) + "]"));
+    return seq;
+}
+
 std::vector<TParam> validate_params(const Registry& reg, const ParamSpec* specs, std::size_t n_specs,
                                     const CNode& node, const std::string& path, const std::string& owner,
                                     const std::vector<std::string>& ignore) {
@@ -226,6 +293,7 @@ TParam validate_param(const Registry& reg, const ParamSpec& s, const CNode& n, c
         t.value = std::move(v);
         break;
     }
+    case ParamType::Sequence: t.value = sequence_value(n, path); break;
     case ParamType::Object: t.object = validate(reg, s.kind, n, path); break;
     case ParamType::Objects: {
         check_count(s, n, path, (std::string(kind_name(s.kind)) + "s").c_str());
@@ -408,6 +476,18 @@ CNode value_node(const TParam& p) {
         CNode operator()(const std::vector<Vec2>& v) const {
             CNode s = seq_node();
             for (Vec2 q : v) s.items.push_back((*this)(q));
+            return s;
+        }
+        static CNode qnumber(Vec2 v) {
+            if (v.y == 0) return scalar_node(format_real(v.x));
+            std::string im = format_real(v.y);
+            if (im[0] != '-') im = "+" + im;
+            return scalar_node(format_real(v.x) + im + "q");
+        }
+        CNode operator()(const Sequence& q) const {
+            if (q.values.size() == 1 && !q.bare_pair) return qnumber(q.values[0]);
+            CNode s = seq_node();
+            for (Vec2 v : q.values) s.items.push_back(qnumber(v));
             return s;
         }
         CNode operator()(const std::shared_ptr<const Object>&) const { return {}; }

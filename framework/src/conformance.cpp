@@ -498,7 +498,7 @@ std::vector<std::string> run_conformance(const Registry& reg, const PluginEntry&
             set_param(n, nm, scalar_node(format_real(s.hi_open ? s.hi : s.hi + 1)));
             expect_refused(reg, d, n, "a value above the range of '" + nm + "'", f);
         }
-        if (numeric && !s.allow_nonfinite) {
+        if ((numeric || s.type == ParamType::Sequence) && !s.allow_nonfinite) {
             CNode n = ex;
             set_param(n, nm, scalar_node(".nan"));
             expect_refused(reg, d, n, "NaN for '" + nm + "'", f);

@@ -15,6 +15,7 @@ std::string_view param_type_name(ParamType t) {
     case ParamType::Vec2s: return "list of points";
     case ParamType::Object: return "object";
     case ParamType::Objects: return "list of objects";
+    case ParamType::Sequence: return "sequence";
     }
     return "?";
 }
@@ -79,6 +80,10 @@ const std::shared_ptr<const Object>& ParamBag::object_ptr(const std::string& n) 
 }
 const std::vector<ObjectItem>& ParamBag::objects(const std::string& n) const {
     return std::get<std::vector<ObjectItem>>(get(n, ParamType::Objects));
+}
+
+const Sequence& ParamBag::sequence(const std::string& n) const {
+    return std::get<Sequence>(get(n, ParamType::Sequence));
 }
 
 void ParamBag::bad_cast(const std::string& name) const {

@@ -46,5 +46,8 @@ bool Transform::is_involution() const { return false; }
 Box Transform::sample_domain() const { return {-2, 2, -2, 2}; }
 
 unsigned IterationScheme::applications() const { return 1; }
+bool NumberSystem::is_real() const { return false; }
+
+bool Colourer::needs_colour() const { return true; }
 
 } // namespace fp

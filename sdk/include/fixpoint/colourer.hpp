@@ -34,6 +34,11 @@ public:
     /// Turn the histogram into RGB pixels (3 floats per pixel, row-major, top row first,
     /// display values in [0, 1]). Empty bins take `background`.
     virtual void resolve(const Histogram& h, Rgb background, float* rgb) const = 0;
+
+    /// False when resolve() reads only the hit counts of the histogram (its colour sums may
+    /// all be 0): a renderer may then skip update() and the colour sums altogether and count
+    /// hits only. The default is true.
+    virtual bool needs_colour() const;
 };
 
 } // namespace fp

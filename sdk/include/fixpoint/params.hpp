@@ -28,13 +28,14 @@ enum class ParamType : std::uint32_t {
     Bool,
     Int,
     Real,
-    String,  ///< free text, or one of `choices`
-    Vec2,    ///< [x, y]
-    Colour,  ///< [r, g, b] in [0, 1], or "#rrggbb"
-    Reals,   ///< list of reals (`count` fixes the length when non-zero)
-    Vec2s,   ///< list of [x, y]
-    Object,  ///< a plugin instance of kind `kind`: a mapping with a `type:` key
-    Objects, ///< a list of plugin instances of kind `kind`, each with `item_params`
+    String,   ///< free text, or one of `choices`
+    Vec2,     ///< [x, y]
+    Colour,   ///< [r, g, b] in [0, 1], or "#rrggbb"
+    Reals,    ///< list of reals (`count` fixes the length when non-zero)
+    Vec2s,    ///< list of [x, y]
+    Object,   ///< a plugin instance of kind `kind`: a mapping with a `type:` key
+    Objects,  ///< a list of plugin instances of kind `kind`, each with `item_params`
+    Sequence, ///< a parameter sequence over the step index n: a number, a q-number, or a periodic list
 };
 
 std::string_view param_type_name(ParamType t);
@@ -144,6 +145,7 @@ constexpr ParamSpec object(const char* n, Kind k, const char* d) {
     s.kind = k;
     return s;
 }
+constexpr ParamSpec sequence(const char* n, const char* d) { return make(n, ParamType::Sequence, d); }
 constexpr ParamSpec objects(const char* n, Kind k, const char* d) {
     auto s = make(n, ParamType::Objects, d);
     s.kind = k;
@@ -153,6 +155,29 @@ constexpr ParamSpec objects(const char* n, Kind k, const char* d) {
 
 class ParamBag;
 
+/// A parameter sequence over the step index n (paper 02): periodic, the value at step n is
+/// values[n % values.size()]. Each value is a q-system number a + qb stored as (a, b) (a real
+/// number has b = 0). Written in YAML as
+///   0.7                      a constant
+///   0.5+0.5q  or  "-0.9q"    a constant q-number
+///   [0.7, 0.9]               two plain numbers: see `bare_pair`
+///   [0.7, 0.9, 0.5]          a periodic list (eq. (29) alternates two values)
+///   [0.5+0.5q, [0.1, 2]]     a periodic list of q-numbers (an element [a, b] is a + qb)
+struct Sequence {
+    std::vector<Vec2> values;
+    /// Written as a list of exactly two plain numbers [x, y]: over the reals the periodic
+    /// list (x, y), in a q-system the single number x + qy. The scheme decides, knowing its
+    /// number system (resolve()).
+    bool bare_pair = false;
+
+    Vec2 at(std::uint64_t n) const { return values[n % values.size()]; }
+    /// The sequence as the scheme sees it, given whether it computes in the reals.
+    Sequence resolve(bool real_numbers) const {
+        if (!bare_pair || real_numbers) return {values, false};
+        return {{Vec2{values[0].x, values[1].x}}, false};
+    }
+};
+
 /// One element of an Objects parameter: the object and its extra keys (`weight`, ...).
 struct ObjectItem {
     std::shared_ptr<const Object> object;
@@ -160,8 +185,9 @@ struct ObjectItem {
 };
 
 /// A typed value of a parameter.
-using ParamValue = std::variant<bool, std::int64_t, double, std::string, Vec2, Rgb, std::vector<double>,
-                                std::vector<Vec2>, std::shared_ptr<const Object>, std::vector<ObjectItem>>;
+using ParamValue =
+    std::variant<bool, std::int64_t, double, std::string, Vec2, Rgb, std::vector<double>, std::vector<Vec2>,
+                 std::shared_ptr<const Object>, std::vector<ObjectItem>, Sequence>;
 
 /// The typed parameters of one plugin instance. Built by the host; read by the plugin's
 /// constructor. Reads of a name the schema does not declare are a plugin bug (InternalError);
@@ -182,6 +208,7 @@ public:
     const std::vector<Vec2>& vec2s(const std::string& name) const;
     const std::shared_ptr<const Object>& object_ptr(const std::string& name) const;
     const std::vector<ObjectItem>& objects(const std::string& name) const;
+    const Sequence& sequence(const std::string& name) const;
 
     /// The object parameter `name` as interface I (the host has checked its kind).
     template <class I>

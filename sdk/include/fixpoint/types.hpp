@@ -27,6 +27,14 @@ struct Mat2 {
     double a = 1, b = 0, c = 0, d = 1;
 };
 
+constexpr Mat2 operator+(const Mat2& p, const Mat2& q) {
+    return {p.a + q.a, p.b + q.b, p.c + q.c, p.d + q.d};
+}
+constexpr Mat2 operator-(const Mat2& p, const Mat2& q) {
+    return {p.a - q.a, p.b - q.b, p.c - q.c, p.d - q.d};
+}
+constexpr Vec2 operator*(const Mat2& m, Vec2 v) { return {m.a * v.x + m.b * v.y, m.c * v.x + m.d * v.y}; }
+
 /// The interfaces a plugin can implement. The order is part of the ABI.
 enum class Kind : std::uint32_t {
     Shape,
