@@ -74,6 +74,21 @@ void check_memory(const Pipeline& p, unsigned threads) {
                          format_bytes(have) + " available");
 }
 
+// A render that drew nothing is refused rather than written as a silent black image; one that
+// drew almost nothing is written with a warning.
+void check_drawn(const Pipeline& p, const RenderStats& st) {
+    if (st.drawn == RenderStats::unknown_count) return;
+    const std::string why = std::to_string(st.restarts) + " restarted chain" + (st.restarts == 1 ? "" : "s") +
+                            ", " + std::to_string(st.bad_values) + " bad value" +
+                            (st.bad_values == 1 ? "" : "s") + " (points escaping to infinity or NaN)";
+    if (st.drawn == 0)
+        throw InputError(p.renderer_mark.str() + ": renderer: nothing was drawn (0 of " +
+                         std::to_string(st.samples) + " " + st.unit + " landed in the image; " + why +
+                         "); check the view and the parameters");
+    if (double(st.drawn) < 0.001 * double(st.samples))
+        spdlog::warn("warning: only {} of {} {} landed in the image; {}", st.drawn, st.samples, st.unit, why);
+}
+
 int cmd_render(const Options& o, bool validate_only) {
     const Registry reg = make_registry(o);
     const Pipeline p = load_pipeline(reg, o.config, o.sets);
@@ -98,10 +113,17 @@ int cmd_render(const Options& o, bool validate_only) {
     {
         ProgressBar bar(
             p.renderer->work_units(), [&rt] { return rt.done(); }, !o.quiet && ::isatty(2));
-        img = p.renderer->render(rt, stats);
+        try {
+            img = p.renderer->render(rt, stats);
+        } catch (const InputError& e) {
+            // Refused during the render (a plugin that can only tell at run time): point at
+            // the renderer, the one place we know.
+            throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
+        }
     }
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (g_interrupted.load()) throw Cancelled();
+    check_drawn(p, stats);
     write_image(img, out, p.bit_depth, p.recipe);
     if (!o.quiet)
         spdlog::info("{}: {} {} in {:.2f} s ({:.3g} {}/s, {} thread{}), {} restarted chain{}, {} bad value{}",

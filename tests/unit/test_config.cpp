@@ -84,8 +84,9 @@ TEST(Host, WrongAbiIsRefusedNamingTheFile) {
     Registry reg;
     const std::string file = std::string(FIXPOINT_FIXTURES) + "/wrong-abi.so";
     EXPECT_EQ(error_of([&] { reg.load_file(file); }),
-              "plugin '" + file +
-                  "' was built for plugin ABI 42, this fixpoint needs ABI 1: rebuild it against this SDK");
+              "plugin '" + file + "' was built for plugin ABI " + std::to_string(fp::abi_version + 41) +
+                  ", this fixpoint needs ABI " + std::to_string(fp::abi_version) +
+                  ": rebuild it against this SDK");
 }
 
 TEST(Host, ObjectsKeepTheirLibraryLoaded) {

@@ -22,6 +22,11 @@ struct RenderStats {
     std::uint64_t samples = 0;    ///< points plotted or pixel samples taken
     std::uint64_t restarts = 0;   ///< chains restarted (no allowed map, bad values)
     std::uint64_t bad_values = 0; ///< NaN or infinite points met
+    /// Of `samples`, those that reached the image (points inside the view, pixel samples
+    /// that hit something); the CLI refuses to write an empty render and warns about a
+    /// nearly empty one. unknown_count: the renderer does not count them.
+    std::uint64_t drawn = unknown_count;
+    static constexpr std::uint64_t unknown_count = ~std::uint64_t(0);
     std::string unit = "points";
 };
 
