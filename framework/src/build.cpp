@@ -172,6 +172,8 @@ Vec2 qnumber_value(const CNode& n, const std::string& path) {
     double d;
     if (n.is_seq() && n.items.size() == 2 && parse_real(n.items[0], d) && parse_real(n.items[1], v.y)) {
         v.x = d;
+    } else if (parse_real(n, d) && !std::isfinite(d)) {
+        fail(n.mark, path, "must be a finite number, got " + n.scalar);
     } else if (!n.is_scalar() || !parse_qnumber(n.scalar, v)) {
         fail(n.mark, path,
              "cannot read " + n.describe() +

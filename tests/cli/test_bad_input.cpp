@@ -102,6 +102,26 @@ std::vector<Case> cases() {
          b,
          "cannot write 'no/such/folder/out.png': folder 'no/such/folder' does not exist",
          {"-o", "no/such/folder/out.png"}},
+        // Iteration processes (paper 02).
+        {"qnumber_syntax",
+         replace(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: 0.5+q0.5}\n"),
+         "bad.yaml:7:34: renderer.iteration.alpha: cannot read '0.5+q0.5' as a number or q-system number "
+         "(write 0.7, "
+         "0.5+0.5q or [0.5, 0.5])"},
+        {"qnumber_nan",
+         replace(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: .nan}\n"),
+         "bad.yaml:7:34: renderer.iteration.alpha: must be a finite number, got .nan"},
+        {"empty_periodic_list",
+         replace(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: []}\n"),
+         "bad.yaml:7:34: renderer.iteration.alpha: a periodic list must not be empty"},
+        {"empty_switching",
+         replace(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: switching, schemes: []}\n"),
+         "bad.yaml:7:41: renderer.iteration.schemes: the list of iteration-schemes is empty"},
+        {"qnumber_in_real_scheme",
+         replace(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: 0.5+0.5q}\n"),
+         "bad.yaml:7:34: renderer.iteration.alpha: 0.5+0.5q is a q-system number, but the scheme computes in "
+         "the real "
+         "numbers (set numbers: {type: q-system, A: ..., B: ...})"},
         {"set_unknown_parameter",
          b,
          "--set renderer.widht=10: renderer: unknown parameter 'widht' for chaos-game (did you mean "
