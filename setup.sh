@@ -23,7 +23,7 @@ packages=(
     build-essential cmake pkg-config git
     libboost-dev libboost-filesystem-dev libyaml-cpp-dev libopenimageio-dev
     libspdlog-dev libfmt-dev libtbb-dev libcli11-dev libpcg-cpp-dev
-    libgtest-dev libgmock-dev libbenchmark-dev clang-format
+    libgtest-dev libgmock-dev libbenchmark-dev clang-format fonts-dejavu-core
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -47,6 +47,8 @@ struct Options {
     std::vector<std::string> plugin_dirs;
     std::string config, out, image, name, transform, scheme = "{type: picard}", kind;
     std::vector<std::string> sets, files;
+    std::string vary;
+    int columns = 0;
     unsigned threads = 0;
     bool quiet = false;
     long long steps = 1;
@@ -89,7 +91,97 @@ void check_drawn(const Pipeline& p, const RenderStats& st) {
         spdlog::warn("warning: only {} of {} {} landed in the image; {}", st.drawn, st.samples, st.unit, why);
 }
 
+// --vary PATH=V1,V2,... or PATH=A..B (integers): the values, split at top-level commas.
+std::pair<std::string, std::vector<std::string>> parse_vary(const std::string& spec) {
+    const auto eq = spec.find('=');
+    if (eq == std::string::npos || eq == 0)
+        throw InputError("--vary " + spec + ": expected path.to.param=V1,V2,... or A..B");
+    const std::string path = spec.substr(0, eq), rest = spec.substr(eq + 1);
+    std::vector<std::string> values;
+    const auto dots = rest.find("..");
+    long long a = 0, b = 0;
+    char tail = 0;
+    if (dots != std::string::npos && std::sscanf(rest.c_str(), "%lld..%lld%c", &a, &b, &tail) == 2) {
+        if (b < a || b - a >= 1000)
+            throw InputError("--vary " + spec + ": a range A..B with A <= B, at most 1000 values");
+        for (long long v = a; v <= b; ++v) values.push_back(std::to_string(v));
+    } else {
+        int depth = 0;
+        std::string cur;
+        for (char c : rest) {
+            depth += (c == '[' || c == '{') - (c == ']' || c == '}');
+            if (c == ',' && depth == 0)
+                values.push_back(cur), cur.clear();
+            else
+                cur += c;
+        }
+        values.push_back(cur);
+        for (auto& v : values)
+            if (v.find_first_not_of(' ') == std::string::npos)
+                throw InputError("--vary " + spec + ": an empty value");
+    }
+    if (values.size() > 1000) throw InputError("--vary " + spec + ": at most 1000 values");
+    return {path, values};
+}
+
+std::string child_path(const std::string& sheet, std::size_t k) {
+    const fs::path p(sheet);
+    return (p.parent_path() / (p.stem().string() + "-" + std::to_string(k) + p.extension().string()))
+        .string();
+}
+
+// A collection: one render per value of --vary, each written to its own file, and a contact
+// sheet of them all with a caption per child. Every variant is validated before the first
+// render starts.
+int cmd_collection(const Options& o) {
+    const Registry reg = make_registry(o);
+    const auto [path, values] = parse_vary(o.vary);
+    std::vector<Pipeline> pipes;
+    for (const auto& v : values) pipes.push_back(load_pipeline(reg, o.config, o.sets, path + "=" + v));
+    const unsigned threads = o.threads ? o.threads : hardware_threads();
+    for (const auto& p : pipes) check_memory(p, threads);
+    const std::string out = !o.out.empty()                  ? o.out
+                            : !pipes[0].output_path.empty() ? pipes[0].output_path
+                                                            : default_output(o.config);
+    check_output(out);
+    for (std::size_t k = 0; k < pipes.size(); ++k) check_output(child_path(out, k + 1));
+
+    install_sigint();
+    std::vector<Image> children;
+    std::vector<std::string> captions;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (std::size_t k = 0; k < pipes.size(); ++k) {
+        const Pipeline& p = pipes[k];
+        Runtime rt(threads, &g_interrupted);
+        RenderStats stats;
+        Image img;
+        {
+            ProgressBar bar(
+                p.renderer->work_units(), [&rt] { return rt.done(); }, !o.quiet && ::isatty(2));
+            img = p.renderer->render(rt, stats);
+        }
+        if (g_interrupted.load()) throw Cancelled();
+        check_drawn(p, stats);
+        write_image(img, child_path(out, k + 1), p.bit_depth, p.recipe);
+        if (!o.quiet)
+            spdlog::info("{}: {}={}: {} {}, {} restarted chains", child_path(out, k + 1), path, values[k],
+                         stats.samples, stats.unit, stats.restarts);
+        children.push_back(std::move(img));
+        captions.push_back(path.substr(path.rfind('.') + 1) + " = " + values[k]);
+    }
+    bool text = true;
+    const Image sheet = contact_sheet(children, captions, o.columns, &text);
+    if (!text) spdlog::warn("warning: no font found for the captions (install fonts-dejavu-core)");
+    write_image(sheet, out, pipes[0].bit_depth,
+                "# contact sheet: --vary " + o.vary + "; children " + child_path(out, 1) + " ... " +
+                    child_path(out, pipes.size()) + "\n# the recipe of the first child:\n" + pipes[0].recipe);
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!o.quiet) spdlog::info("{}: contact sheet of {} children in {:.2f} s", out, pipes.size(), secs);
+    return 0;
+}
+
 int cmd_render(const Options& o, bool validate_only) {
+    if (!o.vary.empty() && !validate_only) return cmd_collection(o);
     const Registry reg = make_registry(o);
     const Pipeline p = load_pipeline(reg, o.config, o.sets);
     const unsigned threads = o.threads ? o.threads : hardware_threads();
@@ -292,6 +384,11 @@ int main(int argc, char** argv) {
                      "Worker threads (default: all cores); the image does not depend on it")
         ->check(CLI::Range(1u, 4096u));
     render->add_flag("-q,--quiet", o.quiet, "No progress bar, no summary");
+    render->add_option("--vary", o.vary,
+                       "Render a collection: one child per value (path.to.param=V1,V2,... or A..B), each to "
+                       "OUT-<k>.png, and a contact sheet with captions to OUT");
+    render->add_option("--columns", o.columns, "Columns of the contact sheet (default: about square)")
+        ->check(CLI::Range(1, 1000));
 
     auto* validate_cmd =
         app.add_subcommand("validate", "Check everything a render would check; render nothing");

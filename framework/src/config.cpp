@@ -14,7 +14,7 @@ namespace fp::host {
 
 std::string Mark::str() const {
     // Values from the command line (--set path=value) have no line to point at.
-    if (source && source->rfind("--set ", 0) == 0) return *source;
+    if (source && (source->rfind("--set ", 0) == 0 || source->rfind("--vary ", 0) == 0)) return *source;
     return (source ? *source : std::string("<input>")) + ":" + std::to_string(line) + ":" +
            std::to_string(col);
 }
@@ -218,9 +218,9 @@ CNode load_yaml_file(const std::string& path) {
 }
 
 // ------------------------------------------------------------------ overrides
-void apply_override(CNode& root, const std::string& assignment) {
+void apply_override(CNode& root, const std::string& assignment, const std::string& flag) {
     const auto eq = assignment.find('=');
-    const std::string where = "--set " + assignment;
+    const std::string where = flag + " " + assignment;
     if (eq == std::string::npos || eq == 0) throw InputError(where + ": expected path.to.param=value");
     const std::string path = assignment.substr(0, eq);
     CNode value = parse_yaml(assignment.substr(eq + 1), where);

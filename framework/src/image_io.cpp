@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
@@ -109,6 +110,47 @@ Image read_image(const std::string& path) {
         throw InputError("cannot read '" + path + "': " + in->geterror());
     in->close();
     return img;
+}
+
+Image contact_sheet(const std::vector<Image>& children, const std::vector<std::string>& captions, int columns,
+                    bool* captions_drawn) {
+    const int n = int(children.size());
+    if (n == 0) throw InternalError("contact sheet of no images");
+    int cw = 0, ch = 0;
+    for (const auto& c : children) cw = std::max(cw, c.width), ch = std::max(ch, c.height);
+    if (columns <= 0) columns = int(std::ceil(std::sqrt(double(n))));
+    columns = std::min(columns, n);
+    const int rows = (n + columns - 1) / columns;
+    const int gap = std::max(2, cw / 64);
+    const int bar = std::max(18, std::min(48, ch / 10)); // caption bar under each child
+    const int W = columns * cw + (columns + 1) * gap, H = rows * (ch + bar) + (rows + 1) * gap;
+    OIIO::ImageBuf sheet(OIIO::ImageSpec(W, H, 3, OIIO::TypeDesc::FLOAT));
+    OIIO::ImageBufAlgo::zero(sheet);
+    const char* font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+    const std::string fontname = std::filesystem::exists(font) ? font : "";
+    bool all_text = true;
+    for (int i = 0; i < n; ++i) {
+        const Image& c = children[std::size_t(i)];
+        const int x0 = gap + (i % columns) * (cw + gap), y0 = gap + (i / columns) * (ch + bar + gap);
+        OIIO::ImageBuf child(OIIO::ImageSpec(c.width, c.height, c.channels, OIIO::TypeDesc::FLOAT),
+                             const_cast<float*>(c.pixels.data()));
+        OIIO::ImageBufAlgo::paste(sheet, x0, y0, 0, 0, child, OIIO::ROI(0, c.width, 0, c.height, 0, 1, 0, 3));
+        if (std::size_t(i) < captions.size()) {
+            const float white[3] = {1, 1, 1};
+            const int size = bar * 2 / 3;
+            all_text = OIIO::ImageBufAlgo::render_text(sheet, x0 + gap, y0 + ch + bar - (bar - size) / 2 - 2,
+                                                       captions[std::size_t(i)], size, fontname, white) &&
+                       all_text;
+        }
+    }
+    if (captions_drawn) *captions_drawn = all_text;
+    Image out;
+    out.width = W;
+    out.height = H;
+    out.channels = 3;
+    out.pixels.resize(std::size_t(W) * std::size_t(H) * 3);
+    sheet.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, out.pixels.data());
+    return out;
 }
 
 Comparison compare_images(const std::string& a, const std::string& b, double threshold) {

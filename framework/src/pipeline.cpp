@@ -6,11 +6,13 @@
 
 namespace fp::host {
 
-Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets) {
+Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets,
+                       const std::string& vary) {
     CNode root = load_yaml_file(path);
     if (root.type == CNode::Type::Null)
         root = map_node(), root.mark = Mark{std::make_shared<const std::string>(path), 1, 1};
     for (const auto& s : sets) apply_override(root, s);
+    if (!vary.empty()) apply_override(root, vary, "--vary");
     return load_pipeline(reg, std::move(root));
 }
 

@@ -73,6 +73,17 @@ TEST(Render, SameBytesOnOneAndTwoThreads) {
     const auto d1 = render(dir, "d1.png", {"--threads", "1", "--set", "renderer.precision=double"});
     const auto d2 = render(dir, "d2.png", {"--threads", "2", "--set", "renderer.precision=double"});
     EXPECT_TRUE(d1 == d2);
+    // So is the hits-only path (a colourer that needs no colour: 32-bit hit counters).
+    const std::string density = "renderer.colourer={type: density}";
+    const auto h1 = render(dir, "h1.png", {"--threads", "1", "--set", density});
+    const auto h2 = render(dir, "h2.png", {"--threads", "2", "--set", density});
+    const auto h3 =
+        render(dir, "h3.png", {"--threads", "2", "--set", density, "--set", "renderer.precision=double"});
+    ASSERT_FALSE(h1.empty());
+    EXPECT_TRUE(h1 == h2);
+    EXPECT_FALSE(h1 == one);
+    EXPECT_GT(lit_fraction(dir + "/h1.png"), 0.05);
+    EXPECT_FALSE(h3.empty());
 }
 
 TEST(Render, SeedChangesTheImage) {
@@ -308,5 +319,45 @@ INSTANTIATE_TEST_SUITE_P(All, Configs, testing::ValuesIn(all_configs()),
                                  if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                              return s;
                          });
+
+} // namespace
+
+namespace {
+
+TEST(Collection, ChildrenAndContactSheet) {
+    const auto dir = scratch_dir("collection");
+    write_file(dir + "/cfg.yaml", three_circles);
+    const auto r = run_cli({"render", "--quiet", dir + "/cfg.yaml", "-o", dir + "/sheet.png", "--vary",
+                            "renderer.seed=3..5", "--columns", "3"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    // Each child is the render of its own recipe: the same bytes as a plain render with that seed.
+    for (int k = 1; k <= 3; ++k) {
+        const std::string child = dir + "/sheet-" + std::to_string(k) + ".png";
+        render(dir, "plain.png", {"--set", "renderer.seed=" + std::to_string(k + 2)});
+        EXPECT_TRUE(read_file(child) == read_file(dir + "/plain.png")) << child;
+    }
+    const fp::Image sheet = fp::host::read_image(dir + "/sheet.png");
+    EXPECT_GT(sheet.width, 3 * 96);
+    EXPECT_GT(sheet.height, 80);
+    EXPECT_LT(sheet.height, 2 * 80); // one row of three
+    EXPECT_GT(lit_fraction(dir + "/sheet.png"), 0.03);
+    const auto rec = run_cli({"recipe", dir + "/sheet.png"});
+    EXPECT_EQ(rec.out.rfind("# contact sheet: --vary renderer.seed=3..5", 0), 0u) << rec.out;
+}
+
+TEST(Collection, BadVaryIsRefusedBeforeRendering) {
+    const auto dir = scratch_dir("collection_bad");
+    write_file(dir + "/cfg.yaml", three_circles);
+    auto r =
+        run_cli({"render", "--quiet", dir + "/cfg.yaml", "-o", dir + "/s.png", "--vary", "renderer.seed"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "--vary renderer.seed: expected path.to.param=V1,V2,... or A..B\n");
+    // The third value is bad: nothing at all is rendered.
+    r = run_cli(
+        {"render", "--quiet", dir + "/cfg.yaml", "-o", dir + "/s.png", "--vary", "renderer.width=50,60,-1"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "--vary renderer.width=-1: renderer.width: must be in [1, 65536], got -1\n");
+    for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename(), "cfg.yaml") << e.path();
+}
 
 } // namespace

@@ -51,7 +51,8 @@ CNode parse_yaml(const std::string& text, const std::string& source);
 CNode load_yaml_file(const std::string& path);
 
 /// Apply `path.to.param=value` (value is YAML) to `root`. Throws fp::InputError.
-void apply_override(CNode& root, const std::string& assignment);
+/// `flag` names the option in messages (--set, --vary).
+void apply_override(CNode& root, const std::string& assignment, const std::string& flag = "--set");
 
 /// Emit as block YAML (keys in stored order).
 std::string emit_yaml(const CNode& n);

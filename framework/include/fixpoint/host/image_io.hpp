@@ -5,6 +5,7 @@
 #include <fixpoint/render.hpp>
 
 #include <string>
+#include <vector>
 
 namespace fp::host {
 
@@ -28,6 +29,12 @@ std::string read_recipe(const std::string& path);
 
 /// Read an image as float RGB(A) pixels. Throws fp::InputError.
 Image read_image(const std::string& path);
+
+/// A contact sheet: the children in a grid of `columns` (0: about square), each with its
+/// caption in a bar beneath it (DejaVu Sans when installed, else OpenImageIO's default font; no
+/// caption, and `captions_drawn` false, when no font can be found).
+Image contact_sheet(const std::vector<Image>& children, const std::vector<std::string>& captions, int columns,
+                    bool* captions_drawn = nullptr);
 
 struct Comparison {
     double max_error = 0, mean_error = 0;

@@ -27,7 +27,10 @@ struct Pipeline {
 };
 
 /// Parse, apply the overrides, validate, build.
-Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets);
+/// Parse, apply the overrides (`sets`, then `vary`: one more assignment from --vary), validate,
+/// build.
+Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets,
+                       const std::string& vary = "");
 Pipeline load_pipeline(const Registry& reg, CNode root);
 
 } // namespace fp::host
