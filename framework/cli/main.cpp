@@ -133,7 +133,7 @@ std::string child_path(const std::string& sheet, std::size_t k) {
 // A collection: one render per value of --vary, each written to its own file, and a contact
 // sheet of them all with a caption per child. Every variant is validated before the first
 // render starts.
-int cmd_collection(const Options& o) {
+int cmd_collection(const Options& o, bool validate_only) {
     const Registry reg = make_registry(o);
     const auto [path, values] = parse_vary(o.vary);
     std::vector<Pipeline> pipes;
@@ -145,6 +145,11 @@ int cmd_collection(const Options& o) {
                                                             : default_output(o.config);
     check_output(out);
     for (std::size_t k = 0; k < pipes.size(); ++k) check_output(child_path(out, k + 1));
+    if (validate_only) {
+        if (!o.quiet)
+            spdlog::info("{}: valid: a collection of {} children to {}", o.config, pipes.size(), out);
+        return 0;
+    }
 
     install_sigint();
     std::vector<Image> children;
@@ -181,7 +186,7 @@ int cmd_collection(const Options& o) {
 }
 
 int cmd_render(const Options& o, bool validate_only) {
-    if (!o.vary.empty() && !validate_only) return cmd_collection(o);
+    if (!o.vary.empty()) return cmd_collection(o, validate_only);
     const Registry reg = make_registry(o);
     const Pipeline p = load_pipeline(reg, o.config, o.sets);
     const unsigned threads = o.threads ? o.threads : hardware_threads();
@@ -398,6 +403,7 @@ int main(int argc, char** argv) {
     validate_cmd->add_option("--threads", o.threads, "Threads to check memory for")
         ->check(CLI::Range(1u, 4096u));
     validate_cmd->add_flag("-q,--quiet", o.quiet, "Print nothing when valid");
+    validate_cmd->add_option("--vary", o.vary, "Check every child of a collection (as render --vary)");
 
     auto* plugins = app.add_subcommand("plugins", "List the plugins found");
     plugins->add_option("--kind", o.kind, "Only this kind (shape, transform, iteration-scheme, ...)");
