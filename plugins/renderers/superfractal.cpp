@@ -1,0 +1,566 @@
+// superfractal: Barnsley's V-variable algorithm with buffers (paper 03, Sec. III; Barnsley,
+// "Superfractals", 2006).
+//
+// What it computes
+// ----------------
+// K IFSs (each a list of maps: any transform plugin, affine or gumowski-mira alike) and B
+// buffers, each holding a set of `points_per_buffer` points. The buffers start as random
+// points of `start_box` (default: the view). One step makes B new buffers from the old ones:
+// for each new buffer b',
+//   1. choose an IFS i with probabilities `ifs_probabilities`;
+//   2. for each map f_j of IFS i (m maps), choose a source buffer s_j with probabilities
+//      `buffer_probabilities` (a buffer may be chosen for several maps);
+//   3. b' is the union of f_j(share j of s_j), j = 1..m.
+// This is the paper's L/R experiment (two IFSs F, G, two buffers, all probabilities 1/2) for
+// any K, any number of maps per IFS, any B >= 1 and any probabilities. After `steps` steps
+// each buffer holds one V-variable fractal, a "child" of the superfractal collection; the
+// buffer `child` is rendered, as a histogram through the colourer like chaos-game. A buffer
+// changes completely with every step, so only the last step's buffer is plotted: for a
+// denser image raise points_per_buffer. With one IFS and one buffer this is the deterministic
+// IFS algorithm on a fixed number of points, and the child is the IFS's attractor.
+//
+// Fixed-size buffers: the shares
+// ------------------------------
+// A buffer has N points. The new buffer b' is cut into m contiguous shares; share j has
+// n_j = N / m points, one more for j < N % m, and takes the source points of index
+// j, j + m, j + 2m, ... of its source buffer (the residue class j mod m, which has exactly
+// n_j members). So the shares together take every source index exactly once: when all maps
+// read the same buffer, the new buffer is the image of every old point under exactly one
+// map, no point is duplicated or lost, and each share samples its source evenly (the source's
+// own shares are contiguous). With one IFS of two maps and N = 2^k points, the point at index
+// i has followed the maps given by the bits of i, rotated each step: the deterministic
+// algorithm at depth k. Source points are taken deterministically; the RNG only chooses IFSs
+// and buffers, and draws the start points.
+//
+// Probabilities
+// -------------
+// Each list must have one entry per IFS (ifs_probabilities) or per buffer
+// (buffer_probabilities); absent, the probabilities are equal. Entries must be >= 0 (the
+// schema's range) and sum to 1 within 1e-6; otherwise the recipe is refused, not normalised:
+// the paper requires p_1 + p_2 = 1, and a plugin cannot warn, so a silent normalisation would
+// hide a missing or mistyped entry. Sums within the tolerance are divided by their sum. An
+// entry of 0 is allowed: that IFS or buffer is never chosen.
+//
+// Bad values
+// ----------
+// A point that becomes NaN or infinite (a map that is not a contraction: GM orbits can run
+// away) is counted (RenderStats::bad_values) and replaced by a copy of a finite point of the
+// same new buffer, with its colour: the previous one by index, or the first finite one for
+// the points before it. When no point of a new buffer is finite, the whole buffer is redrawn
+// from start_box (counted as RenderStats::restarts, one per point) from its own stream.
+// Never a crash, never an empty buffer.
+//
+// Colour
+// ------
+// Every point carries a colour; after each map the colourer's update() sees the map's index
+// (in `maps`) and its `colour` (default: the built-in palette by index), so with map-colour a
+// point shows the colour of the last map applied and with flame the running mean along its
+// history. Points start with the mean colour of the maps.
+//
+// Determinism
+// -----------
+// A render is a pure function of its recipe, whatever the thread count:
+//   - the choices (IFS per new buffer, source buffer per map) are drawn in a fixed order
+//     (step by step, buffer by buffer, map by map) from the stream fp::chain_stream(seed, 0),
+//     one fp::uniform_double per choice;
+//   - start points: buffer b, chunk c draws from stream (seed, 1 + b * C + c), C the number of
+//     chunks of a buffer; a redrawn buffer b at step s from stream (seed, 1 + B * C + s * B + b);
+//   - a step is cut into B * C tasks (buffer, chunk of 16384 points), fixed by the recipe;
+//     each task writes only its own range of the new generation, reads only the old one, and
+//     calls the maps on its contiguous sub-ranges; the repair of bad values runs afterwards,
+//     one task per buffer, in index order;
+//   - points are double; float work is plain IEEE arithmetic built without FMA contraction;
+//   - the child is deposited into one integer fp::Histogram in index order.
+// Progress: one unit per point made (start points and every step), reported per task;
+// ctx.cancelled() is polled at every task and step (fp::Cancelled).
+//
+// Binning (as chaos-game): a point plots when x in [xmin, xmax) and y in (ymin, ymax];
+// column = floor((x - xmin) * (width / (xmax - xmin))), row = floor((ymax - y) * (height /
+// (ymax - ymin))), clamped to the image. Colour sums add round(c * fp::colour_scale) per
+// channel (c clamped to [0, 1], NaN to 0). RenderStats::samples counts the child's points,
+// ::drawn those inside the view.
+//
+// Errors (ParamError, by parameter):
+//   "view": "the view must be [xmin, xmax, ymin, ymax] with xmin < xmax" (or ymin < ymax);
+//   "start_box": "the start box must be [xmin, xmax, ymin, ymax] with xmin <= xmax" (or ymin
+//     <= ymax; a box of zero width or height is allowed);
+//   "height": "the image is too large: width * height must be below 4294967295 pixels";
+//   "maps": "IFS 1 has no maps: the maps' ifs indices must cover 0 to 2 (each IFS needs at
+//     least one map)";
+//   "ifs_probabilities": "expected 2 probabilities (one per IFS), got 3"; "the probabilities
+//     sum to 0.9, not 1: give probabilities that sum to 1 (they are not normalised)";
+//   "buffer_probabilities": the same with "(one per buffer)";
+//   "child": "child 2 does not exist: there are 2 buffers, numbered from 0".
+// The schema refuses the rest before the plugin sees it, with the element's position: an
+// empty list of maps ("the list of transforms is empty"), a negative probability
+// ("ifs_probabilities[1]: must be >= 0, got -0.5"), zero buffers ("buffers: must be in
+// [1, 65536], got 0").
+#include <fixpoint/fixpoint.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace {
+
+using std::size_t;
+using std::uint32_t;
+using std::uint64_t;
+
+/// Points per task: a few hundred microseconds of work for cheap maps, few tasks per buffer.
+constexpr size_t chunk_points = 16384;
+/// Points per map call inside a task: gathered, mapped, coloured and checked while in L1.
+constexpr size_t batch_points = 512;
+/// Tolerance on the sum of the probabilities.
+constexpr double sum_tolerance = 1e-6;
+
+/// Built-in palette (Tableau 10), by map index, for maps without a `colour` (as chaos-game).
+constexpr fp::Rgb palette[] = {
+    {0x4e / 255.f, 0x79 / 255.f, 0xa7 / 255.f}, {0xf2 / 255.f, 0x8e / 255.f, 0x2b / 255.f},
+    {0xe1 / 255.f, 0x57 / 255.f, 0x59 / 255.f}, {0x76 / 255.f, 0xb7 / 255.f, 0xb2 / 255.f},
+    {0x59 / 255.f, 0xa1 / 255.f, 0x4f / 255.f}, {0xed / 255.f, 0xc9 / 255.f, 0x48 / 255.f},
+    {0xb0 / 255.f, 0x7a / 255.f, 0xa1 / 255.f}, {0xff / 255.f, 0x9d / 255.f, 0xa7 / 255.f},
+    {0x9c / 255.f, 0x75 / 255.f, 0x5f / 255.f}, {0xba / 255.f, 0xb0 / 255.f, 0xac / 255.f},
+};
+constexpr size_t palette_size = sizeof(palette) / sizeof(palette[0]);
+
+/// Shortest decimal that reads back as v (for messages).
+std::string real_text(double v) {
+    char buf[32];
+    for (int prec = 1; prec <= 17; ++prec) {
+        std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+        if (std::strtod(buf, nullptr) == v) break;
+    }
+    return buf;
+}
+
+/// The probabilities `name` (one per item, `what` naming the items), checked and divided by
+/// their sum; equal when absent. Returned as cumulative sums.
+std::vector<double> cumulative_probabilities(const fp::ParamBag& p, const char* name, size_t n,
+                                             const char* what) {
+    std::vector<double> v(n, 1.0 / double(n));
+    if (p.has(name)) {
+        v = p.reals(name);
+        if (v.size() != n)
+            throw fp::ParamError(name, "expected " + std::to_string(n) +
+                                           (n == 1 ? " probability" : " probabilities") + " (one per " +
+                                           what + "), got " + std::to_string(v.size()));
+        double sum = 0;
+        for (double x : v) sum += x;
+        if (!(std::fabs(sum - 1.0) <= sum_tolerance))
+            throw fp::ParamError(name,
+                                 "the probabilities sum to " + real_text(sum) +
+                                     ", not 1: give probabilities that sum to 1 (they are not normalised)");
+        for (double& x : v) x /= sum;
+    }
+    std::vector<double> cum(n);
+    double acc = 0;
+    for (size_t k = 0; k < n; ++k) cum[k] = acc += v[k];
+    return cum;
+}
+
+/// Index k drawn with probability cum[k] - cum[k - 1]: the first k with u < cum[k] (a binary
+/// search: thousands of buffers are fine). An entry of probability 0 is never drawn;
+/// `fallback` (the last entry of positive probability) takes the case u >= cum.back() that
+/// rounding could leave.
+uint32_t draw(fp::Rng& rng, const std::vector<double>& cum, uint32_t fallback) {
+    const double u = fp::uniform_double(rng);
+    const auto it = std::upper_bound(cum.begin(), cum.end(), u);
+    return it == cum.end() ? fallback : uint32_t(it - cum.begin());
+}
+
+uint32_t last_positive(const std::vector<double>& cum) {
+    for (size_t k = cum.size(); k-- > 0;)
+        if (cum[k] > (k ? cum[k - 1] : 0.0)) return uint32_t(k);
+    return uint32_t(cum.size() - 1);
+}
+
+/// One generation of buffers: B * N points, buffer b at [b * N, (b + 1) * N).
+struct Generation {
+    std::vector<double> x, y;
+    std::vector<float> r, g, b; ///< empty when the colourer needs no colour
+};
+
+class Superfractal final : public fp::Renderer {
+public:
+    explicit Superfractal(const fp::ParamBag& p);
+
+    int width() const override { return width_; }
+    int height() const override { return height_; }
+    uint64_t memory_bytes(unsigned workers) const override;
+    uint64_t work_units() const override { return (steps_ + 1) * buffers_ * points_; }
+    fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
+
+private:
+    void fill_start(Generation& g, size_t b, size_t begin, size_t end, uint64_t stream) const;
+    uint64_t step_chunk(const Generation& cur, Generation& next, size_t b, size_t begin, size_t end,
+                        uint32_t ifs, const uint32_t* src) const;
+    uint64_t repair(Generation& g, size_t b, uint64_t stream) const;
+
+    int width_ = 512, height_ = 512;
+    double xmin_ = 0, xmax_ = 1, ymin_ = 0, ymax_ = 1;
+    double sxmin_ = 0, sxmax_ = 1, symin_ = 0, symax_ = 1; ///< start box
+    uint64_t seed_ = 1, steps_ = 30, points_ = 100000, buffers_ = 2, child_ = 0;
+    bool colour_ = true;
+    fp::Rgb background_, initial_colour_;
+
+    std::vector<std::shared_ptr<const fp::Transform>> maps_;
+    std::vector<fp::Rgb> colours_;
+    std::vector<std::vector<uint32_t>> ifs_; ///< IFS i: indices in maps_ of its maps, in order
+    size_t max_maps_ = 1;                    ///< most maps in one IFS
+    std::vector<double> ifs_cum_, buffer_cum_;
+    uint32_t ifs_fallback_ = 0, buffer_fallback_ = 0;
+    std::shared_ptr<const fp::Colourer> colourer_;
+};
+
+Superfractal::Superfractal(const fp::ParamBag& p) {
+    width_ = int(p.integer("width"));
+    height_ = int(p.integer("height"));
+    if (uint64_t(width_) * uint64_t(height_) >= 0xffffffffull)
+        throw fp::ParamError("height",
+                             "the image is too large: width * height must be below 4294967295 pixels");
+    const auto& v = p.reals("view");
+    xmin_ = v[0], xmax_ = v[1], ymin_ = v[2], ymax_ = v[3];
+    if (!(xmin_ < xmax_))
+        throw fp::ParamError("view", "the view must be [xmin, xmax, ymin, ymax] with xmin < xmax");
+    if (!(ymin_ < ymax_))
+        throw fp::ParamError("view", "the view must be [xmin, xmax, ymin, ymax] with ymin < ymax");
+    sxmin_ = xmin_, sxmax_ = xmax_, symin_ = ymin_, symax_ = ymax_;
+    if (p.has("start_box")) {
+        const auto& s = p.reals("start_box");
+        sxmin_ = s[0], sxmax_ = s[1], symin_ = s[2], symax_ = s[3];
+        if (!(sxmin_ <= sxmax_))
+            throw fp::ParamError("start_box",
+                                 "the start box must be [xmin, xmax, ymin, ymax] with xmin <= xmax");
+        if (!(symin_ <= symax_))
+            throw fp::ParamError("start_box",
+                                 "the start box must be [xmin, xmax, ymin, ymax] with ymin <= ymax");
+    }
+    seed_ = uint64_t(p.integer("seed"));
+    steps_ = uint64_t(p.integer("steps"));
+    points_ = uint64_t(p.integer("points_per_buffer"));
+    buffers_ = uint64_t(p.integer("buffers"));
+    child_ = uint64_t(p.integer("child"));
+    if (child_ >= buffers_)
+        throw fp::ParamError(
+            "child", "child " + std::to_string(child_) + " does not exist: there " +
+                         (buffers_ == 1 ? "is 1 buffer" : "are " + std::to_string(buffers_) + " buffers") +
+                         ", numbered from 0");
+    background_ = p.colour("background");
+    colourer_ = p.object<fp::Colourer>("colourer");
+    colour_ = colourer_->needs_colour();
+
+    const auto& items = p.objects("maps");
+    if (items.empty()) throw fp::ParamError("maps", "the list of maps is empty");
+    std::vector<uint32_t> ifs_of(items.size(), 0);
+    uint32_t k = 0;
+    for (size_t j = 0; j < items.size(); ++j) {
+        auto m = fp::as<fp::Transform>(items[j]);
+        if (!m) throw fp::InternalError("superfractal: maps[" + std::to_string(j) + "] is not a transform");
+        fp::Rgb c = palette[j % palette_size];
+        if (items[j].extras) {
+            ifs_of[j] = uint32_t(items[j].extras->integer("ifs"));
+            if (items[j].extras->has("colour")) c = items[j].extras->colour("colour");
+        }
+        k = std::max(k, ifs_of[j] + 1);
+        maps_.push_back(std::move(m));
+        colours_.push_back(c);
+    }
+    ifs_.resize(k);
+    for (size_t j = 0; j < items.size(); ++j) ifs_[ifs_of[j]].push_back(uint32_t(j));
+    for (uint32_t i = 0; i < k; ++i) {
+        if (ifs_[i].empty())
+            throw fp::ParamError("maps", "IFS " + std::to_string(i) +
+                                             " has no maps: the maps' ifs indices must cover 0 to " +
+                                             std::to_string(k - 1) + " (each IFS needs at least one map)");
+        max_maps_ = std::max(max_maps_, ifs_[i].size());
+    }
+    initial_colour_ = fp::Rgb{};
+    for (const auto& c : colours_) {
+        initial_colour_.r += c.r / float(colours_.size());
+        initial_colour_.g += c.g / float(colours_.size());
+        initial_colour_.b += c.b / float(colours_.size());
+    }
+
+    ifs_cum_ = cumulative_probabilities(p, "ifs_probabilities", k, "IFS");
+    buffer_cum_ = cumulative_probabilities(p, "buffer_probabilities", size_t(buffers_), "buffer");
+    ifs_fallback_ = last_positive(ifs_cum_);
+    buffer_fallback_ = last_positive(buffer_cum_);
+}
+
+uint64_t Superfractal::memory_bytes(unsigned) const {
+    const uint64_t px = uint64_t(width_) * uint64_t(height_);
+    const uint64_t per_point = 2 * sizeof(double) + (colour_ ? 3 * sizeof(float) : 0);
+    const uint64_t buffers = 2 * buffers_ * points_ * per_point; // two generations
+    const uint64_t hist = px * sizeof(fp::HistBin);
+    const uint64_t image = px * 3 * sizeof(float);
+    // No per-worker state: a task's scratch is on the stack.
+    return buffers + hist + image;
+}
+
+void Superfractal::fill_start(Generation& g, size_t b, size_t begin, size_t end, uint64_t stream) const {
+    fp::Rng rng = fp::chain_stream(seed_, stream);
+    const size_t base = b * size_t(points_);
+    for (size_t i = begin; i < end; ++i) {
+        const double u = fp::uniform_double(rng), w = fp::uniform_double(rng);
+        g.x[base + i] = sxmin_ + (sxmax_ - sxmin_) * u;
+        g.y[base + i] = symin_ + (symax_ - symin_) * w;
+    }
+    if (colour_) {
+        std::fill(g.r.begin() + std::ptrdiff_t(base + begin), g.r.begin() + std::ptrdiff_t(base + end),
+                  initial_colour_.r);
+        std::fill(g.g.begin() + std::ptrdiff_t(base + begin), g.g.begin() + std::ptrdiff_t(base + end),
+                  initial_colour_.g);
+        std::fill(g.b.begin() + std::ptrdiff_t(base + begin), g.b.begin() + std::ptrdiff_t(base + end),
+                  initial_colour_.b);
+    }
+}
+
+// New buffer b, points [begin, end): for each share j of IFS `ifs` overlapping the range, the
+// source points j + m t of buffer src[j], in batches of batch_points that stay in L1: gather,
+// one Transform::apply call, the colours and one Colourer::update call, the finiteness count.
+// Returns the number of non-finite points made.
+uint64_t Superfractal::step_chunk(const Generation& cur, Generation& next, size_t b, size_t begin, size_t end,
+                                  uint32_t ifs, const uint32_t* src) const {
+    const std::vector<uint32_t>& maps = ifs_[ifs];
+    const size_t n = size_t(points_), m = maps.size();
+    const size_t q = n / m, rem = n % m;
+    const size_t base = b * n;
+    uint32_t map_index[batch_points];
+    uint64_t bad = 0;
+    for (size_t j = 0; j < m; ++j) {
+        const size_t off = j * q + std::min(j, rem), nj = q + (j < rem ? 1 : 0);
+        const size_t lo = std::max(begin, off), hi = std::min(end, off + nj);
+        if (lo >= hi) continue;
+        const size_t sbase = size_t(src[j]) * n;
+        std::fill(map_index, map_index + batch_points, maps[j]);
+        for (size_t b0 = lo; b0 < hi; b0 += batch_points) {
+            const size_t b1 = std::min(hi, b0 + batch_points), len = b1 - b0;
+            double* __restrict x = next.x.data() + base + b0;
+            double* __restrict y = next.y.data() + base + b0;
+            const double* __restrict cx = cur.x.data();
+            const double* __restrict cy = cur.y.data();
+            const size_t s0 = sbase + j + m * (b0 - off); // source of point b0 + i: s0 + m i
+            for (size_t i = 0; i < len; ++i) {
+                const size_t s = s0 + m * i;
+                x[i] = cx[s];
+                y[i] = cy[s];
+            }
+            maps_[maps[j]]->apply(fp::Points<double>{x, y, len}, nullptr);
+            if (colour_) {
+                float* __restrict r = next.r.data() + base + b0;
+                float* __restrict g = next.g.data() + base + b0;
+                float* __restrict bl = next.b.data() + base + b0;
+                for (size_t i = 0; i < len; ++i) {
+                    const size_t s = s0 + m * i;
+                    r[i] = cur.r[s];
+                    g[i] = cur.g[s];
+                    bl[i] = cur.b[s];
+                }
+                colourer_->update(map_index, fp::ColourState{r, g, bl, len}, colours_.data(), nullptr);
+            }
+            for (size_t i = 0; i < len; ++i) bad += (std::isfinite(x[i]) && std::isfinite(y[i])) ? 0u : 1u;
+        }
+    }
+    return bad;
+}
+
+// Replace the non-finite points of buffer b by the previous finite point (the first finite
+// one for those before it); redraw the whole buffer from the start box when none is finite.
+// Returns the points redrawn.
+uint64_t Superfractal::repair(Generation& g, size_t b, uint64_t stream) const {
+    const size_t n = size_t(points_), base = b * n;
+    auto finite = [&](size_t i) { return std::isfinite(g.x[base + i]) && std::isfinite(g.y[base + i]); };
+    size_t first = 0;
+    while (first < n && !finite(first)) ++first;
+    if (first == n) {
+        fill_start(g, b, 0, n, stream);
+        return n;
+    }
+    auto copy = [&](size_t to, size_t from) {
+        g.x[base + to] = g.x[base + from];
+        g.y[base + to] = g.y[base + from];
+        if (colour_) {
+            g.r[base + to] = g.r[base + from];
+            g.g[base + to] = g.g[base + from];
+            g.b[base + to] = g.b[base + from];
+        }
+    };
+    for (size_t i = 0; i < first; ++i) copy(i, first);
+    for (size_t i = first + 1; i < n; ++i)
+        if (!finite(i)) copy(i, i - 1);
+    return 0;
+}
+
+fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) const {
+    stats = fp::RenderStats{};
+    const size_t n = size_t(points_), nb = size_t(buffers_);
+    const size_t chunks = (n + chunk_points - 1) / chunk_points;
+    const size_t tasks = nb * chunks;
+
+    Generation gen[2];
+    for (auto& g : gen) {
+        g.x.assign(nb * n, 0.0);
+        g.y.assign(nb * n, 0.0);
+        if (colour_) {
+            g.r.assign(nb * n, 0.0f);
+            g.g.assign(nb * n, 0.0f);
+            g.b.assign(nb * n, 0.0f);
+        }
+    }
+
+    // Start sets: random points of the start box.
+    ctx.parallel_for(tasks, [&](size_t t, unsigned) {
+        if (ctx.cancelled()) throw fp::Cancelled();
+        const size_t b = t / chunks, c = t % chunks;
+        const size_t begin = c * chunk_points, end = std::min(n, begin + chunk_points);
+        fill_start(gen[0], b, begin, end, 1 + t);
+        ctx.progress(end - begin);
+    });
+
+    fp::Rng choices = fp::chain_stream(seed_, 0);
+    std::vector<uint32_t> ifs_choice(nb), src(nb * max_maps_);
+    std::vector<uint64_t> bad(tasks);
+    std::vector<uint64_t> redrawn(nb);
+    for (uint64_t s = 0; s < steps_; ++s) {
+        if (ctx.cancelled()) throw fp::Cancelled();
+        const Generation& cur = gen[s % 2];
+        Generation& next = gen[(s + 1) % 2];
+        for (size_t b = 0; b < nb; ++b) {
+            ifs_choice[b] = draw(choices, ifs_cum_, ifs_fallback_);
+            for (size_t j = 0; j < ifs_[ifs_choice[b]].size(); ++j)
+                src[b * max_maps_ + j] = draw(choices, buffer_cum_, buffer_fallback_);
+        }
+        ctx.parallel_for(tasks, [&](size_t t, unsigned) {
+            if (ctx.cancelled()) throw fp::Cancelled();
+            const size_t b = t / chunks, c = t % chunks;
+            const size_t begin = c * chunk_points, end = std::min(n, begin + chunk_points);
+            bad[t] = step_chunk(cur, next, b, begin, end, ifs_choice[b], src.data() + b * max_maps_);
+            ctx.progress(end - begin);
+        });
+        uint64_t bad_step = 0;
+        for (uint64_t x : bad) bad_step += x;
+        if (bad_step == 0) continue;
+        stats.bad_values += bad_step;
+        std::fill(redrawn.begin(), redrawn.end(), 0);
+        ctx.parallel_for(nb, [&](size_t b, unsigned) {
+            if (ctx.cancelled()) throw fp::Cancelled();
+            uint64_t any = 0;
+            for (size_t c = 0; c < chunks; ++c) any += bad[b * chunks + c];
+            if (any) redrawn[b] = repair(next, b, 1 + tasks + s * nb + b);
+        });
+        for (uint64_t x : redrawn) stats.restarts += x;
+    }
+    if (ctx.cancelled()) throw fp::Cancelled();
+
+    // The child: buffer `child` of the last generation, into one integer histogram.
+    const Generation& last = gen[steps_ % 2];
+    fp::Histogram hist;
+    hist.resize(width_, height_);
+    const double scx = double(width_) / (xmax_ - xmin_), scy = double(height_) / (ymax_ - ymin_);
+    const size_t base = size_t(child_) * n;
+    auto quant = [](float c) {
+        const float c0 = c > 0.0f ? c : 0.0f, c1 = c0 < 1.0f ? c0 : 1.0f; // NaN -> 0
+        return uint64_t(std::int32_t(c1 * float(fp::colour_scale) + 0.5f));
+    };
+    uint64_t drawn = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double x = last.x[base + i], y = last.y[base + i];
+        if (!(x >= xmin_ && x < xmax_ && y > ymin_ && y <= ymax_)) continue;
+        const auto ix = std::min(uint32_t((x - xmin_) * scx), uint32_t(width_ - 1));
+        const auto iy = std::min(uint32_t((ymax_ - y) * scy), uint32_t(height_ - 1));
+        fp::HistBin& bin = hist.bins[size_t(iy) * size_t(width_) + ix];
+        ++bin.hits;
+        if (colour_) {
+            bin.r += quant(last.r[base + i]);
+            bin.g += quant(last.g[base + i]);
+            bin.b += quant(last.b[base + i]);
+        }
+        ++drawn;
+    }
+    stats.samples = n;
+    stats.drawn = drawn;
+    stats.unit = "points";
+
+    fp::Image img;
+    img.width = width_;
+    img.height = height_;
+    img.channels = 3;
+    img.pixels.assign(size_t(width_) * size_t(height_) * 3, 0.0f);
+    colourer_->resolve(hist, background_, img.pixels.data());
+    return img;
+}
+
+// ---------------------------------------------------------------- schema
+constexpr fp::ParamSpec map_item_params[] = {
+    fp::param::integer("ifs", "the IFS the map belongs to (0, 1, ...; the IFSs are the distinct indices, "
+                              "each needs at least one map)")
+        .def("0")
+        .min(0)
+        .max(65535),
+    fp::param::colour("colour",
+                      "colour of the points the map produces (default: a built-in palette by index)")
+        .opt(),
+};
+
+constexpr fp::ParamSpec params[] = {
+    fp::param::integer("width", "image width in pixels").def("512").min(1).max(65536),
+    fp::param::integer("height", "image height in pixels").def("512").min(1).max(65536),
+    fp::param::reals("view", "the plotted region [xmin, xmax, ymin, ymax]").def("[0, 1, 0, 1]").len(4),
+    fp::param::integer("seed", "seed of the random choices of IFSs and buffers and of the start points")
+        .def("1")
+        .min(0),
+    fp::param::integer("steps", "steps of the buffer algorithm (each makes every buffer anew)")
+        .def("30")
+        .min(0)
+        .max(1000000),
+    fp::param::integer("points_per_buffer",
+                       "points in each buffer (the child is drawn with this many points)")
+        .def("100000")
+        .min(1)
+        .max(1e10),
+    fp::param::integer("buffers", "number of buffers (V of V-variable; the paper's L and R are 2)")
+        .def("2")
+        .min(1)
+        .max(65536),
+    fp::param::objects("maps", fp::Kind::Transform,
+                       "the maps of all IFSs, each with the index of its IFS (`ifs`) and a colour")
+        .min_len(1)
+        .items(map_item_params),
+    fp::param::reals("ifs_probabilities", "probability of choosing each IFS, one per IFS, summing to 1 "
+                                          "(refused otherwise, not normalised; default: equal)")
+        .min(0)
+        .opt(),
+    fp::param::reals("buffer_probabilities",
+                     "probability of choosing each buffer as a source, one per buffer, "
+                     "summing to 1 (refused otherwise, not normalised; default: equal)")
+        .min(0)
+        .opt(),
+    fp::param::integer("child", "the buffer rendered (0 to buffers - 1)").def("0").min(0),
+    fp::param::reals("start_box", "[xmin, xmax, ymin, ymax]: the start points are random points of this box "
+                                  "(default: the view)")
+        .len(4)
+        .opt(),
+    fp::param::object("colourer", fp::Kind::Colourer, "how points are coloured and the histogram tone-mapped")
+        .def("{type: map-colour}"),
+    fp::param::colour("background", "colour of pixels no point reached").def("[0, 0, 0]"),
+};
+
+} // namespace
+
+FIXPOINT_PLUGIN(
+    fp::describe<Superfractal>(
+        fp::Kind::Renderer, "superfractal",
+        "Barnsley's V-variable superfractal algorithm with buffers (paper 03, Sec. III)", params)
+        .with_example("{maps: [{type: affine, coefficients: [0.5, 0.375, 0.5, -0.375, -0.0625, 0.5625]}, "
+                      "{type: affine, coefficients: [0.5, -0.375, -0.5, -0.375, 0.5625, 1.0625]}, "
+                      "{type: affine, coefficients: [0.5, 0.375, -0.5, 0.375, -0.0625, 0.4375], ifs: 1}, "
+                      "{type: affine, coefficients: [0.5, -0.375, 0.5, 0.375, 0.5625, -0.0625], ifs: 1}], "
+                      "width: 64, height: 64, points_per_buffer: 4000, steps: 20}"))
