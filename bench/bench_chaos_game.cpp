@@ -1,6 +1,8 @@
 // Chaos game through the full plugin pipeline (YAML -> plugins -> renderer -> histogram ->
 // colourer), on the reference kernel's work (bench/circles.yaml), beside an inline scalar
-// loop of the same work as a second yardstick.
+// loop of the same work as a second yardstick. Two colourers: density (hits only, the
+// reference's work) and map-colour (a colour per point, accumulated in the histogram); float
+// and double chains; 1 and 2 threads.
 //
 //   fixpoint_bench [--benchmark_filter=...]    FIXPOINT_BENCH_POINTS overrides the 1e8 points
 #include <fixpoint/host/pipeline.hpp>
@@ -20,13 +22,14 @@ std::uint64_t bench_points() {
     return env ? std::uint64_t(std::atof(env)) : 100000000ull;
 }
 
-void chaos_game(benchmark::State& state, const char* precision) {
+void chaos_game(benchmark::State& state, const char* precision, const char* colourer) {
     fp::host::Registry reg;
     for (const auto& d : fp::host::Registry::default_dirs()) reg.load_dir(d);
     const std::uint64_t n = bench_points();
-    const auto p = fp::host::load_pipeline(
-        reg, FIXPOINT_BENCH_DIR "/circles.yaml",
-        {"renderer.points=" + std::to_string(n), std::string("renderer.precision=") + precision});
+    const auto p = fp::host::load_pipeline(reg, FIXPOINT_BENCH_DIR "/circles.yaml",
+                                           {"renderer.points=" + std::to_string(n),
+                                            std::string("renderer.precision=") + precision,
+                                            std::string("renderer.colourer={type: ") + colourer + "}"});
     const unsigned threads = unsigned(state.range(0));
     fp::host::Runtime rt(threads, nullptr);
     std::uint64_t restarts = 0;
@@ -74,13 +77,25 @@ void inline_scalar(benchmark::State& state) {
 
 } // namespace
 
-BENCHMARK_CAPTURE(chaos_game, float, "float")
+BENCHMARK_CAPTURE(chaos_game, density_float, "float", "density")
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(3);
-BENCHMARK_CAPTURE(chaos_game, double, "double")
+BENCHMARK_CAPTURE(chaos_game, density_double, "double", "density")
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+BENCHMARK_CAPTURE(chaos_game, map_colour_float, "float", "map-colour")
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+BENCHMARK_CAPTURE(chaos_game, map_colour_double, "double", "map-colour")
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)

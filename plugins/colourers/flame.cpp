@@ -28,13 +28,8 @@ public:
 
     void update(const std::uint32_t* map, fp::ColourState s, const fp::Rgb* map_colours,
                 const unsigned char* mask) const override {
-        for (std::size_t i = 0; i < s.n; ++i) {
-            if (mask && !mask[i]) continue; // its map index need not be valid
-            const fp::Rgb c = map_colours[map[i]];
-            s.r[i] = (s.r[i] + c.r) * 0.5f;
-            s.g[i] = (s.g[i] + c.g) * 0.5f;
-            s.b[i] = (s.b[i] + c.b) * 0.5f;
-        }
+        fp_colourers::update_colours(map, s.r, s.g, s.b, s.n, map_colours, mask,
+                                     [](float old, float c) { return (old + c) * 0.5f; });
     }
 
     void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {

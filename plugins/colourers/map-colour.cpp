@@ -30,13 +30,8 @@ public:
 
     void update(const std::uint32_t* map, fp::ColourState s, const fp::Rgb* map_colours,
                 const unsigned char* mask) const override {
-        for (std::size_t i = 0; i < s.n; ++i) {
-            if (mask && !mask[i]) continue;
-            const fp::Rgb c = map_colours[map[i]];
-            s.r[i] = c.r;
-            s.g[i] = c.g;
-            s.b[i] = c.b;
-        }
+        fp_colourers::update_colours(map, s.r, s.g, s.b, s.n, map_colours, mask,
+                                     [](float, float c) { return c; });
     }
 
     void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {

@@ -28,10 +28,12 @@
 //   3. grouping by map: each map's chains compressed into its own staging segment (AVX-512
 //      vcompress, up to 16 maps; a scalar counting sort otherwise), one IterationScheme::step
 //      call per map on its segment, expanded back in place;
-//   4. one Colourer::update call for the block;
+//   4. one Colourer::update call for the block (skipped when the colourer needs no colour);
 //   5. bookkeeping (finite?, plotted?, age, points left), bin indices and colours packed
-//      {1, r, g, b} in 16 bits each, in one pass (AVX-512, float) or a few vectorised loops;
-//   6. the deposit: one 4 x 32-bit add per point into the worker's own histogram.
+//      {1, r, g, b} in 16 bits each (not when the colourer needs no colour), in one pass
+//      (AVX-512, float) or a few vectorised loops;
+//   6. the deposit: one 4 x 32-bit add per point into the worker's own histogram, or one
+//      32-bit increment when counting hits only.
 // So a step costs 2k + 1 virtual calls per block (k maps), none per point; nothing is
 // allocated, looked up, thrown or logged per point. Block buffers are allocated once per
 // worker and stay in L1/L2 (about 100 bytes per chain, k more for the tests, 8 k for the
@@ -42,13 +44,19 @@
 // stay in cache); a bin spills into a list of 64-bit bins when its hits reach 65536, before
 // its colour sums (at most 65535 per point) can overflow. They live in 2 MiB-aligned memory
 // advised for transparent huge pages (no TLB miss per deposit). At the end they and the
-// spills are summed into one fp::Histogram, which the colourer resolves.
+// spills are summed into one fp::Histogram, which the colourer resolves. A colourer whose
+// needs_colour() is false (density) reads hit counts only: then the chains carry no colour
+// and the workers count hits alone in 4-byte counters (as the reference kernels do: four
+// times as many bins per cache line), flushed whole into 64-bit counters every 2^31
+// deposits of a worker, before any can overflow; the fp::Histogram gets hits and zero
+// colour sums.
 //
-// Where the time goes (bench/circles.yaml: 6 circles, 1024 x 1024, map-colour; one core of
-// the 2-core AVX-512 machine): about a third in the deposit (random 16-byte read-modify-
-// writes over a 16 MiB histogram: ~12 cycles each in isolation, against ~5 for the
-// reference kernel's 4-byte counters), an eighth in grouping by map, the rest spread over
-// the inside tests, the transforms, the colourer, the draw and the bookkeeping.
+// Where the time goes (bench/circles.yaml: 6 circles, 1024 x 1024; one core of the 2-core
+// AVX-512 machine; bench/README.md has the figures). Hits only (density): grouping by map
+// about 23%, the deposit 20% (random 4-byte increments over a 4 MiB histogram), the draw
+// 19%, the 6 inside tests 14%, the bookkeeping 11%, the inversions 9%. With colour
+// (map-colour) the deposit grows to about 38% (random 16-byte read-modify-writes over a
+// 16 MiB histogram) and the colour update adds 10%.
 //
 // Precision
 // ---------
@@ -226,22 +234,43 @@ constexpr size_t max_compress_maps = 16;
 /// A map's staging segment: room for a whole block plus one full vector stored past its end.
 constexpr size_t seg_stride = block_size + 16;
 
+/// Hits-only histograms (a colourer that needs no colour) are flushed into 64 bits after this
+/// many deposits, before any 32-bit counter can overflow (a step deposits at most a block).
+constexpr uint64_t hits_flush = uint64_t(1) << 31;
+
 /// A worker's histogram: 32-bit bins (one more, the last, takes the points not plotted) and
-/// the list of bins spilled into 64 bits. Made by the worker on its first task.
+/// the list of bins spilled into 64 bits; or, when the colourer needs no colour, 32-bit hit
+/// counters alone (4 bytes a bin, as the reference kernels: four times as many bins per
+/// cache line), flushed whole into 64-bit counters every hits_flush deposits. Made by the
+/// worker on its first task.
 struct WorkerHist {
     HugeBuf<Cnt4> bins;
     std::vector<std::pair<uint32_t, Bin4>> spills;
+    HugeBuf<uint32_t> hits;
+    std::vector<uint64_t> wide; ///< hits flushed out of `hits` (empty until the first flush)
+    uint64_t since = 0;         ///< deposits into `hits` since the last flush
     uint32_t dummy = 0;
 
-    void alloc(size_t px) {
-        bins.alloc(px + 1);
-        spills.reserve(256);
+    void alloc(size_t px, bool colour) {
+        if (colour) {
+            bins.alloc(px + 1);
+            spills.reserve(256);
+        } else {
+            hits.alloc(px + 1);
+        }
         dummy = uint32_t(px);
     }
     [[gnu::noinline, gnu::cold]] void spill(uint32_t i) {
         Cnt4& b = bins.get()[i];
         if (i != dummy) spills.emplace_back(i, Bin4{b[0], b[1], b[2], b[3]});
         b = Cnt4{0, 0, 0, 0};
+    }
+    [[gnu::noinline, gnu::cold]] void flush() {
+        if (wide.empty()) wide.assign(dummy, 0);
+        uint32_t* h = hits.get();
+        for (size_t i = 0; i < dummy; ++i) wide[i] += h[i];
+        std::memset(static_cast<void*>(h), 0, (size_t(dummy) + 1) * sizeof(uint32_t));
+        since = 0;
     }
 };
 
@@ -269,6 +298,7 @@ struct Scratch {
     Buf<uint32_t> rnd, tot, cum, chosen, perm, idx, restart, plotf, cnt;
     Buf<uint64_t> dep; // packed {1, r, g, b} of each chain's point
     Buf<unsigned char> moved;
+    Buf<std::uint16_t> okm; // the allowed-map masks of one vector of chains, one per map
     Buf<T> gx, gy;
     // start points
     Buf<T> sx, sy;
@@ -283,7 +313,7 @@ struct Scratch {
         rnd.alloc(B), tot.alloc(B), cum.alloc(B), chosen.alloc(B), perm.alloc(B), idx.alloc(B),
             restart.alloc(B);
         plotf.alloc(B), cnt.alloc(k + 1), dep.alloc(B);
-        moved.alloc(B), gx.alloc(staging(k)), gy.alloc(staging(k));
+        moved.alloc(B), okm.alloc(k), gx.alloc(staging(k)), gy.alloc(staging(k));
         sx.alloc(B), sy.alloc(B), pend.alloc(B), hit.alloc(B), any.alloc(B);
     }
 
@@ -293,7 +323,7 @@ struct Scratch {
     static uint64_t bytes(size_t k) {
         const uint64_t B = block_size;
         return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + k + 9 * 4 + 8 + 1 + 4 + 2) +
-               2 * sizeof(T) * staging(k) + 12 * (k + 2) + 64 * 40;
+               2 * sizeof(T) * staging(k) + 12 * (k + 2) + 2 * k + 64 * 40;
     }
 };
 
@@ -314,8 +344,9 @@ public:
 
 private:
     template <class T>
-    void render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total) const;
-    template <class T, bool Rules>
+    void render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
+                  std::vector<float>& pixels) const;
+    template <class T, bool Rules, bool Colour>
     void run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
                    fp::RenderContext& ctx) const;
     template <class T>
@@ -332,7 +363,7 @@ private:
     uint64_t points_ = 1000000, seed_ = 1, skip_ = 20, chains_ = 4096;
     bool has_start_ = false;
     fp::Vec2 start_;
-    bool rules_ = true, double_ = false;
+    bool rules_ = true, double_ = false, colour_ = true;
     fp::Rgb background_;
 
     std::vector<std::shared_ptr<const fp::Transform>> maps_;
@@ -368,6 +399,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     double_ = p.string("precision") == "double";
     iteration_ = p.object<fp::IterationScheme>("iteration");
     colourer_ = p.object<fp::Colourer>("colourer");
+    colour_ = colourer_->needs_colour();
 
     const auto& items = p.objects("maps");
     if (items.empty()) throw fp::ParamError("maps", "the list of maps is empty");
@@ -439,9 +471,14 @@ uint64_t ChaosGame::work_units() const {
 uint64_t ChaosGame::memory_bytes(unsigned workers) const {
     const uint64_t px = uint64_t(width_) * uint64_t(height_);
     // The workers' 32-bit histograms, the total, the spill lists (at most one entry per
-    // 65536 points).
-    const uint64_t hist = uint64_t(workers) * ((px + 1) * sizeof(Cnt4) + (2u << 20)) +
-                          px * sizeof(fp::HistBin) + (points_ / spill_hits + uint64_t(workers) * 256) * 48;
+    // 65536 points); hits only: 32-bit counters, and 64-bit ones once a worker could
+    // have deposited hits_flush points.
+    const uint64_t deposits = points_ + std::min(chains_, points_) * skip_;
+    const uint64_t hist =
+        colour_ ? uint64_t(workers) * ((px + 1) * sizeof(Cnt4) + (2u << 20)) + px * sizeof(fp::HistBin) +
+                      (points_ / spill_hits + uint64_t(workers) * 256) * 48
+                : uint64_t(workers) * ((px + 1) * 4 + (2u << 20) + (deposits >= hits_flush ? px * 8 : 0)) +
+                      px * sizeof(fp::HistBin);
     const uint64_t image = px * 3 * sizeof(float);
     const uint64_t scratch = uint64_t(workers) * (double_ ? Scratch<double>::bytes(maps_.size())
                                                           : Scratch<float>::bytes(maps_.size()));
@@ -451,22 +488,22 @@ uint64_t ChaosGame::memory_bytes(unsigned workers) const {
 fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     stats = fp::RenderStats{};
     fp::Histogram total;
-    if (double_)
-        render_t<double>(ctx, stats, total);
-    else
-        render_t<float>(ctx, stats, total);
-    if (ctx.cancelled()) throw fp::Cancelled();
     fp::Image img;
     img.width = width_;
     img.height = height_;
     img.channels = 3;
-    img.pixels.assign(size_t(width_) * size_t(height_) * 3, 0.0f);
+    if (double_)
+        render_t<double>(ctx, stats, total, img.pixels);
+    else
+        render_t<float>(ctx, stats, total, img.pixels);
+    if (ctx.cancelled()) throw fp::Cancelled();
     colourer_->resolve(total, background_, img.pixels.data());
     return img;
 }
 
 template <class T>
-void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total) const {
+void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
+                         std::vector<float>& pixels) const {
     const unsigned workers = std::max(1u, ctx.workers());
     const size_t px = size_t(width_) * size_t(height_);
     const size_t blocks = size_t((chains_ + block_size - 1) / block_size);
@@ -476,15 +513,28 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
     std::vector<WorkerHist> hists(workers);
     std::vector<BlockResult> results(blocks);
 
-    ctx.parallel_for(blocks, [&](size_t b, unsigned w) {
+    // Task 0 allocates the total histogram and the image (tens of MiB of fresh pages: page
+    // faults and zeroing, serial work that would otherwise follow the chains on one thread);
+    // tasks 1.. run the blocks.
+    ctx.parallel_for(blocks + 1, [&](size_t task, unsigned w) {
         if (ctx.cancelled()) throw fp::Cancelled();
         if (w >= workers) throw fp::InternalError("chaos-game: worker index out of range");
+        if (task == 0) {
+            total.resize(width_, height_);
+            pixels.assign(px * 3, 0.0f);
+            return;
+        }
+        const size_t b = task - 1;
         if (!scratch[w]) scratch[w] = std::make_unique<Scratch<T>>(maps_.size());
-        if (!hists[w].bins.get()) hists[w].alloc(px);
-        if (rules_)
-            run_block<T, true>(b, *scratch[w], hists[w], results[b], ctx);
+        if (!hists[w].bins.get() && !hists[w].hits.get()) hists[w].alloc(px, colour_);
+        if (rules_ && colour_)
+            run_block<T, true, true>(b, *scratch[w], hists[w], results[b], ctx);
+        else if (rules_)
+            run_block<T, true, false>(b, *scratch[w], hists[w], results[b], ctx);
+        else if (colour_)
+            run_block<T, false, true>(b, *scratch[w], hists[w], results[b], ctx);
         else
-            run_block<T, false>(b, *scratch[w], hists[w], results[b], ctx);
+            run_block<T, false, false>(b, *scratch[w], hists[w], results[b], ctx);
     });
     scratch.clear();
 
@@ -496,7 +546,6 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
     stats.unit = "points";
 
     // Sum the workers' histograms (exact integer sums; rows in parallel).
-    total.resize(width_, height_);
     const size_t rows_per_task = 16;
     const size_t tasks = (size_t(height_) + rows_per_task - 1) / rows_per_task;
     ctx.parallel_for(tasks, [&](size_t t, unsigned) {
@@ -504,6 +553,12 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
         const size_t b1 = std::min(px, b0 + rows_per_task * size_t(width_));
         fp::HistBin* out = total.bins.data();
         for (const auto& h : hists) {
+            if (const uint32_t* in = h.hits.get()) {
+                for (size_t i = b0; i < b1; ++i) out[i].hits += in[i];
+                if (!h.wide.empty())
+                    for (size_t i = b0; i < b1; ++i) out[i].hits += h.wide[i];
+                continue;
+            }
             const Cnt4* in = h.bins.get();
             if (!in) continue;
             for (size_t i = b0; i < b1; ++i) {
@@ -553,9 +608,10 @@ void ChaosGame::choose_rules(Scratch<T>& s, size_t nb) const {
     for (size_t i = 0; i < nb; ++i) rnd[i] = pcg_next(rs[i], ri[i]);
 #if FP_CHAOS_AVX512
     {
-        typedef unsigned long long U64x8 __attribute__((vector_size(64)));
         // 16 chains per vector, the per-map tests as mask registers: two short loops over
-        // the maps per vector, nothing stored but the results.
+        // the maps per vector (the first keeps the masks for the second), nothing stored
+        // but the results.
+        std::uint16_t* __restrict okm = s.okm.get();
         const __m512i one = _mm512_set1_epi32(1), vnone = _mm512_set1_epi32(int(k));
         const __m128i zero8 = _mm_setzero_si128();
         for (size_t i = 0; i < nb; i += 16) {
@@ -566,21 +622,23 @@ void ChaosGame::choose_rules(Scratch<T>& s, size_t nb) const {
                 const __mmask16 out = _mm_cmpeq_epi8_mask(
                     _mm_loadu_si128(reinterpret_cast<const __m128i*>(inside + j * block_size + i)), zero8);
                 const __mmask16 ok = out & _mm512_cmpneq_epi32_mask(p, _mm512_set1_epi32(int(j)));
+                okm[j] = ok;
                 t = _mm512_mask_add_epi32(t, ok, t, _mm512_set1_epi32(int(q_[j])));
             }
             const __m512i r = _mm512_maskz_loadu_epi32(live, rnd + i);
             // u = high 32 bits of r * t, lane by lane (the even lanes' products shifted down,
-            // the odd lanes' products have theirs in place). Vector extensions rather than
-            // _mm512_mul_epu32, which trips GCC 12's -Wmaybe-uninitialized.
-            const U64x8 r64 = U64x8(r), t64 = U64x8(t), low32 = U64x8{} + 0xffffffffu;
-            const auto lo = __m512i(((r64 & low32) * (t64 & low32)) >> 32);
-            const auto hi = __m512i((r64 >> 32) * (t64 >> 32));
+            // the odd lanes' products have theirs in place): two 32 x 32 -> 64-bit multiplies
+            // (vpmuludq; the vector-extension form of this compiled to vpmullq, three times
+            // the work). GCC 12's -Wmaybe-uninitialized misfires inside _mm512_mul_epu32.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+            const __m512i lo = _mm512_srli_epi64(_mm512_mul_epu32(r, t), 32);
+            const __m512i hi = _mm512_mul_epu32(_mm512_srli_epi64(r, 32), _mm512_srli_epi64(t, 32));
+#pragma GCC diagnostic pop
             const __m512i u = _mm512_mask_blend_epi32(__mmask16(0xaaaa), lo, hi);
             __m512i cumv = _mm512_setzero_si512(), c = _mm512_setzero_si512();
             for (size_t j = 0; j < k; ++j) {
-                const __mmask16 out = _mm_cmpeq_epi8_mask(
-                    _mm_loadu_si128(reinterpret_cast<const __m128i*>(inside + j * block_size + i)), zero8);
-                const __mmask16 ok = out & _mm512_cmpneq_epi32_mask(p, _mm512_set1_epi32(int(j)));
+                const __mmask16 ok = okm[j];
                 cumv = _mm512_mask_add_epi32(cumv, ok, cumv, _mm512_set1_epi32(int(q_[j])));
                 c = _mm512_mask_add_epi32(c, _mm512_cmple_epu32_mask(cumv, u), c, one);
             }
@@ -662,11 +720,14 @@ struct Lanes<float> {
     }
     static M eq(I c, uint32_t j) { return _mm512_cmpeq_epi32_mask(c, _mm512_set1_epi32(int(j))); }
     static V load(const float* p, M live) { return _mm512_maskz_loadu_ps(live, p); }
-    static V loadu(const float* p) { return _mm512_loadu_ps(p); }
     static void store(float* p, M live, V v) { _mm512_mask_storeu_ps(p, live, v); }
     static void storeu(float* p, V v) { _mm512_storeu_ps(p, v); }
     static V compress(M m, V v) { return _mm512_maskz_compress_ps(m, v); }
-    static V expand(V old, M m, V v) { return _mm512_mask_expand_ps(old, m, v); }
+    static V expandz(M m, const float* p) { return _mm512_maskz_expandloadu_ps(m, p); }
+    static V zero() { return _mm512_setzero_ps(); }
+    static V orv(V a, V b) { // bitwise (AVX-512F has no vorps)
+        return _mm512_castsi512_ps(_mm512_or_si512(_mm512_castps_si512(a), _mm512_castps_si512(b)));
+    }
     static unsigned count(M m) { return unsigned(__builtin_popcount(unsigned(m))); }
 };
 template <>
@@ -681,11 +742,14 @@ struct Lanes<double> {
     }
     static M eq(I c, uint32_t j) { return _mm256_cmpeq_epi32_mask(c, _mm256_set1_epi32(int(j))); }
     static V load(const double* p, M live) { return _mm512_maskz_loadu_pd(live, p); }
-    static V loadu(const double* p) { return _mm512_loadu_pd(p); }
     static void store(double* p, M live, V v) { _mm512_mask_storeu_pd(p, live, v); }
     static void storeu(double* p, V v) { _mm512_storeu_pd(p, v); }
     static V compress(M m, V v) { return _mm512_maskz_compress_pd(m, v); }
-    static V expand(V old, M m, V v) { return _mm512_mask_expand_pd(old, m, v); }
+    static V expandz(M m, const double* p) { return _mm512_maskz_expandloadu_pd(m, p); }
+    static V zero() { return _mm512_setzero_pd(); }
+    static V orv(V a, V b) {
+        return _mm512_castsi512_pd(_mm512_or_si512(_mm512_castpd_si512(a), _mm512_castpd_si512(b)));
+    }
     static unsigned count(M m) { return unsigned(__builtin_popcount(unsigned(m))); }
 };
 #endif
@@ -705,38 +769,43 @@ void ChaosGame::move_chains(Scratch<T>& s, size_t nb, uint64_t n) const {
 #if FP_CHAOS_COMPRESS
     if (k <= max_compress_maps) {
         // Compress each map's lanes into its own segment (a full vector store: what lies past
-        // the segment's end is overwritten by the next store or never read).
+        // the segment's end is overwritten by the next store or never read). The counts live
+        // in a local array, which the stores cannot alias (no reload after each store).
         using V = Lanes<T>;
-        for (size_t j = 0; j < k; ++j) cnt[j] = 0;
+        uint32_t c0[max_compress_maps] = {};
         for (size_t i = 0; i < nb; i += V::L) {
             const auto live = V::live(nb - i);
             const auto c = V::maps(chosen + i, live, none);
             const auto vx = V::load(x + i, live), vy = V::load(y + i, live);
             for (size_t j = 0; j < k; ++j) {
                 const auto m = V::eq(c, uint32_t(j));
-                V::storeu(gx + j * seg_stride + cnt[j], V::compress(m, vx));
-                V::storeu(gy + j * seg_stride + cnt[j], V::compress(m, vy));
-                cnt[j] += V::count(m);
+                V::storeu(gx + j * seg_stride + c0[j], V::compress(m, vx));
+                V::storeu(gy + j * seg_stride + c0[j], V::compress(m, vy));
+                c0[j] += V::count(m);
             }
         }
         for (size_t j = 0; j < k; ++j)
-            if (cnt[j])
-                iteration_->step(*maps_[j], fp::Points<T>{gx + j * seg_stride, gy + j * seg_stride, cnt[j]},
+            if (c0[j])
+                iteration_->step(*maps_[j], fp::Points<T>{gx + j * seg_stride, gy + j * seg_stride, c0[j]},
                                  nullptr, n);
-        // Expand back: the inverse permutation, lane by lane in the same order.
-        for (size_t j = 0; j < k; ++j) cnt[j] = 0;
+        // Expand back: the inverse permutation, lane by lane in the same order. Each map's
+        // lanes are expanded into zeros and the (disjoint) results or-ed together, so that the
+        // expansions do not wait on each other; the chains that did not move keep their point.
+        uint32_t c1[max_compress_maps] = {};
         for (size_t i = 0; i < nb; i += V::L) {
             const auto live = V::live(nb - i);
             const auto c = V::maps(chosen + i, live, none);
-            auto vx = V::load(x + i, live), vy = V::load(y + i, live);
+            auto ex = V::zero(), ey = V::zero();
+            typename V::M moved = 0;
             for (size_t j = 0; j < k; ++j) {
                 const auto m = V::eq(c, uint32_t(j));
-                vx = V::expand(vx, m, V::loadu(gx + j * seg_stride + cnt[j]));
-                vy = V::expand(vy, m, V::loadu(gy + j * seg_stride + cnt[j]));
-                cnt[j] += V::count(m);
+                ex = V::orv(ex, V::expandz(m, gx + j * seg_stride + c1[j]));
+                ey = V::orv(ey, V::expandz(m, gy + j * seg_stride + c1[j]));
+                c1[j] += V::count(m);
+                moved |= m;
             }
-            V::store(x + i, live, vx);
-            V::store(y + i, live, vy);
+            V::store(x + i, typename V::M(live & moved), ex);
+            V::store(y + i, typename V::M(live & moved), ey);
         }
         return;
     }
@@ -839,7 +908,7 @@ constexpr float cscale = float(fp::colour_scale);
 // indices clamped in case the products round up to width or height); and its colour packed
 // {1, r, g, b} in 16 bits each (round(c * colour_scale), c clamped to [0, 1], NaN to 0).
 // The generic loops keep 0/1 integer masks of one width per loop, so that they vectorise.
-template <class T>
+template <bool Colour, class T>
 StepCounts bookkeep_generic(Scratch<T>& s, size_t nb, const BinView<T>& v) {
     const T* __restrict x = s.x.get();
     const T* __restrict y = s.y.get();
@@ -892,6 +961,7 @@ StepCounts bookkeep_generic(Scratch<T>& s, size_t nb, const BinView<T>& v) {
         active[i] = act;
         n.still += act;
     }
+    if (!Colour) return n;
     FP_IVDEP
     for (size_t i = 0; i < nb; ++i) {
         const float r0 = cr[i] > 0.0f ? cr[i] : 0.0f, r = r0 < 1.0f ? r0 : 1.0f;
@@ -905,16 +975,16 @@ StepCounts bookkeep_generic(Scratch<T>& s, size_t nb, const BinView<T>& v) {
     return n;
 }
 
-template <class T>
+template <bool Colour, class T>
 StepCounts bookkeep(Scratch<T>& s, size_t nb, const BinView<T>& v) {
-    return bookkeep_generic(s, nb, v);
+    return bookkeep_generic<Colour>(s, nb, v);
 }
 
 #if FP_CHAOS_AVX512
 // The same for float chains, 16 at a time in registers (one pass instead of five); the same
 // IEEE operations in the same order, so the same bits.
-template <>
-StepCounts bookkeep<float>(Scratch<float>& s, size_t nb, const BinView<float>& v) {
+template <bool Colour>
+StepCounts bookkeep(Scratch<float>& s, size_t nb, const BinView<float>& v) {
     StepCounts n;
     // (Masked forms with all lanes on: the unmasked ones trip GCC 12's -Wmaybe-uninitialized.)
     constexpr __mmask16 all = 0xffff;
@@ -981,6 +1051,7 @@ StepCounts bookkeep<float>(Scratch<float>& s, size_t nb, const BinView<float>& v
                                        live, _mm512_maskz_loadu_epi32(live, s.active.get() + i), zero);
         _mm512_mask_storeu_epi32(s.active.get() + i, live, _mm512_maskz_mov_epi32(act, one));
         n.still += unsigned(__builtin_popcount(unsigned(act)));
+        if (!Colour) continue;
 
         // colour, packed {1, r, g, b}: max(c, 0) then min(., 1) sends NaN to 0 (maxps returns
         // its second operand when the first is NaN), as the generic loop does.
@@ -1000,7 +1071,7 @@ StepCounts bookkeep<float>(Scratch<float>& s, size_t nb, const BinView<float>& v
 #endif
 
 // ---------------------------------------------------------------- one block of chains
-template <class T, bool Rules>
+template <class T, bool Rules, bool Colour>
 void ChaosGame::run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
                           fp::RenderContext& ctx) const {
     const size_t k = maps_.size();
@@ -1051,6 +1122,7 @@ void ChaosGame::run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockRe
     uint32_t* __restrict restart = s.restart.get();
     const uint64_t* __restrict dep = s.dep.get();
     Cnt4* const bins = hist.bins.get();
+    uint32_t* const hits = hist.hits.get();
     uint64_t* __restrict left = s.left.get();
     uint32_t* __restrict active = s.active.get();
     unsigned char* __restrict moved = s.moved.get();
@@ -1077,19 +1149,28 @@ void ChaosGame::run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockRe
         // 3. Group the chains by map, one step call per map, back in place.
         move_chains(s, nb, n);
 
-        // 4. Colours.
-        FP_IVDEP
-        for (size_t i = 0; i < nb; ++i) moved[i] = chosen[i] < none ? 1 : 0;
-        colourer_->update(chosen, fp::ColourState{cr, cg, cb, nb}, colours_.data(), moved);
+        // 4. Colours (not when the colourer needs none).
+        if constexpr (Colour) {
+            FP_IVDEP
+            for (size_t i = 0; i < nb; ++i) moved[i] = chosen[i] < none ? 1 : 0;
+            colourer_->update(chosen, fp::ColourState{cr, cg, cb, nb}, colours_.data(), moved);
+        }
 
         // 5. Bookkeeping, bin indices and colour values, branch-free over the block.
-        const StepCounts sc = bookkeep(s, nb, bv);
+        const StepCounts sc = bookkeep<Colour>(s, nb, bv);
 
-        // 6. Deposit: one 4 x 32-bit add per chain (the unplotted land in the last bin).
-        for (size_t i = 0; i < nb; ++i) {
-            Cnt4& b = bins[idx[i]];
-            b += widen(dep[i]);
-            if (__builtin_expect(b[0] == spill_hits, 0)) hist.spill(idx[i]);
+        // 6. Deposit: one 4 x 32-bit add per chain, or one 32-bit increment when counting
+        // hits only (the unplotted land in the last bin).
+        if constexpr (Colour) {
+            for (size_t i = 0; i < nb; ++i) {
+                Cnt4& b = bins[idx[i]];
+                b += widen(dep[i]);
+                if (__builtin_expect(b[0] == spill_hits, 0)) hist.spill(idx[i]);
+            }
+        } else {
+            for (size_t i = 0; i < nb; ++i) ++hits[idx[i]];
+            hist.since += nb;
+            if (__builtin_expect(hist.since >= hits_flush, 0)) hist.flush();
         }
 
         res.plotted += sc.plotted;

@@ -1,0 +1,130 @@
+// centroid-distance — each pixel coloured by its distance from the pattern's centre of mass
+// (paper 03, Sec. V and Fig. 6: "points of fractals can be easily coloured by a colour
+// depending e.g. on their distance from a chosen point of fractal (centre of its mass)").
+//
+// resolve:
+//   centroid  c = sum_i H_i p_i / sum_i H_i over the bins, p_i the bin's pixel centre and H_i
+//             its hits: the hit-weighted mean position, the centre of mass of the plotted
+//             points to within a pixel. The sums are integers (128-bit), so the centroid is
+//             exact and independent of the order in which the histogram was filled.
+//   distance  t_i = |p_i - c| / max_j |p_j - c|, the maximum over the bins with hits, so t
+//             runs over [0, 1] on every pattern whatever its size (t = 0 when all hits fall
+//             in one bin).
+//   colour    inner at t = 0, outer at t = 1, linear in RGB between them; with `middle`
+//             given, inner -> middle on [0, 1/2] and middle -> outer on [1/2, 1].
+//   pixel     clamp(colour * brightness * (log2(1 + H) / log2(1 + max H))^(1/gamma), 0, 1)
+//             with density `log` (the log-density shading of paper 02 eq. (28), so density
+//             still shows); with `flat` every hit pixel shows its full colour.
+//   Empty bins take the background. Distances are in pixels (the view's aspect is the
+//   image's).
+//
+// It reads only the hit counts (needs_colour() is false): the colour is a function of the
+// position, not of the maps a chain used, so update() has nothing to carry and the renderer
+// may skip the colour sums.
+#include <fixpoint/fixpoint.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+namespace {
+
+__extension__ typedef unsigned __int128 u128;
+
+constexpr fp::ParamSpec params[] = {
+    fp::param::colour("inner", "colour at the centre of mass (t = 0)").def("\"#ffe066\""),
+    fp::param::colour("middle", "colour halfway out (t = 1/2); default: none, inner to outer directly").opt(),
+    fp::param::colour("outer", "colour at the farthest hit pixel (t = 1)").def("\"#3a0ca3\""),
+    fp::param::string("density", "how hit counts shade the pixels: flat (full colour wherever hit) or log "
+                                 "(log-density, paper 02 eq. (28))")
+        .def("log")
+        .one_of("flat|log"),
+    fp::param::real("gamma", "gamma of the log-density shading (ignored with density: flat)")
+        .def("2.2")
+        .above(0),
+    fp::param::real("brightness", "factor on the final colour (clamped to [0, 1] afterwards)")
+        .def("1")
+        .above(0),
+};
+
+class CentroidDistance final : public fp::Colourer {
+public:
+    explicit CentroidDistance(const fp::ParamBag& p)
+        : inner_(p.colour("inner")), outer_(p.colour("outer")), has_middle_(p.has("middle")),
+          log_(p.string("density") == "log"), gamma_(p.real("gamma")), brightness_(p.real("brightness")) {
+        middle_ = has_middle_ ? p.colour("middle") : inner_;
+    }
+
+    void update(const std::uint32_t*, fp::ColourState, const fp::Rgb*, const unsigned char*) const override {}
+
+    bool needs_colour() const override { return false; }
+
+    void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
+        const std::size_t W = std::size_t(h.width);
+        // Centroid: integer sums of hits, hits * column, hits * row (pixel centres add 1/2).
+        u128 sw = 0, sx = 0, sy = 0;
+        std::uint64_t max_hits = 0;
+        for (std::size_t i = 0; i < h.bins.size(); ++i) {
+            const std::uint64_t hits = h.bins[i].hits;
+            if (!hits) continue;
+            sw += hits;
+            sx += u128(hits) * (i % W);
+            sy += u128(hits) * (i / W);
+            max_hits = std::max(max_hits, hits);
+        }
+        const double cx = sw ? double(sx) / double(sw) + 0.5 : 0;
+        const double cy = sw ? double(sy) / double(sw) + 0.5 : 0;
+        auto dist2 = [&](std::size_t i) {
+            const double dx = double(i % W) + 0.5 - cx, dy = double(i / W) + 0.5 - cy;
+            return dx * dx + dy * dy;
+        };
+        double dmax2 = 0;
+        for (std::size_t i = 0; i < h.bins.size(); ++i)
+            if (h.bins[i].hits) dmax2 = std::max(dmax2, dist2(i));
+        const double inv_dmax = dmax2 > 0 ? 1.0 / std::sqrt(dmax2) : 0.0;
+        const double inv_log_max = max_hits > 0 ? 1.0 / std::log2(1.0 + double(max_hits)) : 0.0;
+        const double inv_gamma = 1.0 / gamma_;
+        auto clamp01 = [](double v) { return float(std::clamp(v, 0.0, 1.0)); };
+        for (std::size_t i = 0; i < h.bins.size(); ++i) {
+            const std::uint64_t hits = h.bins[i].hits;
+            float* px = rgb + 3 * i;
+            if (hits == 0) {
+                px[0] = background.r;
+                px[1] = background.g;
+                px[2] = background.b;
+                continue;
+            }
+            const fp::Rgb c = colour_at(std::min(1.0, std::sqrt(dist2(i)) * inv_dmax));
+            double k = brightness_;
+            if (log_) k *= std::pow(std::log2(1.0 + double(hits)) * inv_log_max, inv_gamma);
+            px[0] = clamp01(double(c.r) * k);
+            px[1] = clamp01(double(c.g) * k);
+            px[2] = clamp01(double(c.b) * k);
+        }
+    }
+
+    /// The colour map at t in [0, 1]: inner -> (middle ->) outer, linear in RGB.
+    fp::Rgb colour_at(double t) const {
+        if (!has_middle_) return lerp(inner_, outer_, t);
+        return t < 0.5 ? lerp(inner_, middle_, 2 * t) : lerp(middle_, outer_, 2 * t - 1);
+    }
+
+private:
+    static fp::Rgb lerp(fp::Rgb a, fp::Rgb b, double t) {
+        return {float(a.r + (b.r - a.r) * t), float(a.g + (b.g - a.g) * t), float(a.b + (b.b - a.b) * t)};
+    }
+
+    fp::Rgb inner_, outer_, middle_;
+    bool has_middle_, log_;
+    double gamma_, brightness_;
+};
+
+} // namespace
+
+FIXPOINT_PLUGIN(
+    fp::describe<CentroidDistance>(fp::Kind::Colourer, "centroid-distance",
+                                   "colour by distance from the pattern's centre of mass through a "
+                                   "colour map (paper 03 Fig. 6)",
+                                   params)
+        .with_example("{inner: \"#ffffff\", middle: \"#ff8800\", outer: \"#2040ff\"}"))

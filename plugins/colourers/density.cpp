@@ -1,0 +1,63 @@
+// density — one colour shaded by the log-density of hits (paper 02, eq. (28), without the
+// per-map colour): the plain histogram image of a chaos game.
+//
+// update: nothing (a chain carries no colour).
+// resolve: pixel = colour * (log2(1 + H) / log2(1 + max H))^(1/gamma), H the bin's hits;
+// empty bins take the background.
+//
+// It reads only the hit counts (needs_colour() is false), so a renderer may skip the colour
+// state and the colour sums and deposit hit counts alone: the cheapest histogram, the same
+// work as the reference kernels.
+#include "tone_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+namespace {
+
+constexpr fp::ParamSpec params[] = {
+    fp::param::colour("colour", "colour of the densest bins").def("[1, 1, 1]"),
+    fp::param::real("gamma", "gamma of the log-density shading, eq. (28)").def("2.2").above(0),
+};
+
+class Density final : public fp::Colourer {
+public:
+    explicit Density(const fp::ParamBag& p) : colour_(p.colour("colour")), gamma_(p.real("gamma")) {}
+
+    void update(const std::uint32_t*, fp::ColourState, const fp::Rgb*, const unsigned char*) const override {}
+
+    bool needs_colour() const override { return false; }
+
+    void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
+        std::uint64_t max_hits = 0;
+        for (const auto& b : h.bins) max_hits = std::max(max_hits, b.hits);
+        const fp_colourers::LogDensity density(max_hits, gamma_);
+        auto clamp01 = [](double v) { return float(std::clamp(v, 0.0, 1.0)); };
+        for (std::size_t i = 0; i < h.bins.size(); ++i) {
+            const std::uint64_t hits = h.bins[i].hits;
+            float* px = rgb + 3 * i;
+            if (hits == 0) {
+                px[0] = background.r;
+                px[1] = background.g;
+                px[2] = background.b;
+                continue;
+            }
+            const double k = density(hits);
+            px[0] = clamp01(double(colour_.r) * k);
+            px[1] = clamp01(double(colour_.g) * k);
+            px[2] = clamp01(double(colour_.b) * k);
+        }
+    }
+
+private:
+    fp::Rgb colour_;
+    double gamma_;
+};
+
+} // namespace
+
+FIXPOINT_PLUGIN(fp::describe<Density>(fp::Kind::Colourer, "density",
+                                      "one colour shaded by the log-density of hits (no colour per point)",
+                                      params))
