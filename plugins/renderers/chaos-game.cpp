@@ -93,6 +93,8 @@
 // Errors (ParamError, by parameter): "view": "the view must be [xmin, xmax, ymin, ymax] with
 // xmin < xmax" (or "... with ymin < ymax"); "maps": "the list of maps is empty"; "height":
 // "the image is too large: width * height must be below 4294967295 pixels".
+#include "fit_view.hpp"
+
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
@@ -363,6 +365,7 @@ private:
     uint64_t points_ = 1000000, seed_ = 1, skip_ = 20, chains_ = 4096;
     bool has_start_ = false;
     fp::Vec2 start_;
+    fp::Box start_box_; ///< where random start points are drawn (the view unless start_box)
     bool rules_ = true, double_ = false, colour_ = true;
     fp::Rgb background_;
 
@@ -395,6 +398,15 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     chains_ = uint64_t(p.integer("chains"));
     has_start_ = p.has("start");
     if (has_start_) start_ = p.vec2("start");
+    start_box_ = {xmin_, xmax_, ymin_, ymax_};
+    if (p.has("start_box")) {
+        const auto& sb = p.reals("start_box");
+        if (!(sb[0] < sb[1]) || !(sb[2] < sb[3]))
+            throw fp::ParamError("start_box",
+                                 "the start box must be [xmin, xmax, ymin, ymax] with xmin < xmax "
+                                 "and ymin < ymax");
+        start_box_ = {sb[0], sb[1], sb[2], sb[3]};
+    }
     background_ = p.colour("background");
     double_ = p.string("precision") == "double";
     iteration_ = p.object<fp::IterationScheme>("iteration");
@@ -430,6 +442,20 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
 
     const std::string& rules = p.string("inversion_rules");
     rules_ = rules == "on" || (rules == "auto" && region_maps_.size() == k);
+
+    if (p.boolean("fit_view")) {
+        fp_render::FitSetup f;
+        f.maps = &maps_;
+        f.weights = w;
+        f.rules = rules_;
+        f.iteration = iteration_.get();
+        if (has_start_) f.start = start_;
+        f.start_box = start_box_;
+        f.seed = seed_, f.skip = skip_, f.chains = chains_, f.points = points_;
+        f.width = width_, f.height = height_;
+        const fp::Box v = fp_render::fit_view(f);
+        xmin_ = v.xmin, xmax_ = v.xmax, ymin_ = v.ymin, ymax_ = v.ymax;
+    }
 
     // Integer weights for the draw among the allowed maps: sum below 2^32, each at least 1.
     double sum = 0;
@@ -578,6 +604,9 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
             o.b += v[3];
         }
     }
+    // The histogram holds exactly the points that landed in the image.
+    stats.drawn = 0;
+    for (const auto& bin : total.bins) stats.drawn += bin.hits;
 }
 
 // ---------------------------------------------------------------- map choice
@@ -840,9 +869,9 @@ void ChaosGame::move_chains(Scratch<T>& s, size_t nb, uint64_t n) const {
 
 // ---------------------------------------------------------------- start points
 // For the m chains list[0..m): a start point. With `start` given, that point; else a uniform
-// point of the view outside every map's set, drawn from the chain's own stream (at most
-// start_tries candidates, the last one taken whatever it is). Batched: one contains call per
-// map with a set per round, over all pending chains.
+// point of the start box (the view unless `start_box`) outside every map's set, drawn from
+// the chain's own stream (at most start_tries candidates, the last one taken whatever it is).
+// Batched: one contains call per map with a set per round, over all pending chains.
 template <class T>
 void ChaosGame::new_starts(Scratch<T>& s, const uint32_t* list, size_t m) const {
     T* x = s.x.get();
@@ -863,8 +892,8 @@ void ChaosGame::new_starts(Scratch<T>& s, const uint32_t* list, size_t m) const 
             const uint32_t i = pend[t];
             const double ux = pcg_uniform(s.rs.get()[i], s.ri.get()[i]);
             const double uy = pcg_uniform(s.rs.get()[i], s.ri.get()[i]);
-            sx[t] = T(xmin_ + (xmax_ - xmin_) * ux);
-            sy[t] = T(ymin_ + (ymax_ - ymin_) * uy);
+            sx[t] = T(start_box_.xmin + (start_box_.xmax - start_box_.xmin) * ux);
+            sy[t] = T(start_box_.ymin + (start_box_.ymax - start_box_.ymin) * uy);
             any[t] = 0;
         }
         if (tr + 1 < start_tries) {
@@ -1224,8 +1253,16 @@ constexpr fp::ParamSpec params[] = {
         .min(0)
         .max(1e9),
     fp::param::vec2("start",
-                    "start point of every chain (default: a random point of the view outside every set)")
+                    "start point of every chain (default: a random point of the start box outside every set)")
         .opt(),
+    fp::param::reals("start_box",
+                     "where random start points are drawn [xmin, xmax, ymin, ymax] (default: the view)")
+        .len(4)
+        .opt(),
+    fp::param::boolean("fit_view",
+                       "fit the view to the orbits with a short pre-run (0.1%-99.9% quantiles, 5% margin, "
+                       "square pixels); `view` is then ignored")
+        .def("false"),
     fp::param::integer("chains", "independent chains (fixed whatever the thread count)")
         .def("4096")
         .min(1)

@@ -122,6 +122,10 @@ std::vector<Case> cases() {
          "bad.yaml:7:34: renderer.iteration.alpha: 0.5+0.5q is a q-system number, but the scheme computes in "
          "the real "
          "numbers (set numbers: {type: q-system, A: ..., B: ...})"},
+        {"nothing_drawn", replace(b, "  height: 64\n", "  height: 64\n  view: [10, 11, 10, 11]\n"),
+         "bad.yaml:2:3: renderer: nothing was drawn (0 of 20000 points landed in the image; 0 restarted "
+         "chains, 0 bad "
+         "values (points escaping to infinity or NaN)); check the view and the parameters"},
         {"set_unknown_parameter",
          b,
          "--set renderer.widht=10: renderer: unknown parameter 'widht' for chaos-game (did you mean "

@@ -250,3 +250,39 @@ TEST(GumowskiMira, SuperfractalWithOneMapIsThePlainOrbit) {
 }
 
 } // namespace
+
+namespace {
+
+// fit_view: a pre-run fits the view to the orbits, so (almost) every point lands in the image
+// and the pattern fills it; the fit is part of the recipe, hence deterministic.
+TEST(GumowskiMira, FitViewHoldsTheOrbits) {
+    const std::string yaml =
+        "{type: chaos-game, width: 120, height: 90, points: 400000, chains: 64, skip: 100, fit_view: true, "
+        "start_box: [-0.1, 0.1, 0.4, 0.6], precision: double, colourer: {type: density}, "
+        "maps: [{type: gumowski-mira, alpha: 0, mu: -0.31}]}";
+    auto r = host().make<fp::Renderer>(yaml);
+    fp::host::Runtime rt(2, nullptr);
+    fp::RenderStats st;
+    const fp::Image a = r->render(rt, st);
+    EXPECT_GT(double(st.drawn), 0.995 * double(st.samples));
+    std::size_t lit = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); i += 3) lit += a.pixels[i] > 0;
+    EXPECT_GT(double(lit), 0.15 * 120 * 90); // the pattern fills the frame, not a corner of it
+    fp::host::Runtime rt1(1, nullptr);
+    fp::RenderStats st1;
+    EXPECT_EQ(host().make<fp::Renderer>(yaml)->render(rt1, st1).pixels, a.pixels);
+}
+
+TEST(GumowskiMira, BadStartBox) {
+    try {
+        host().make<fp::Renderer>(
+            "{type: chaos-game, start_box: [1, 0, 0, 1], maps: [{type: gumowski-mira}]}");
+        FAIL() << "accepted";
+    } catch (const fp::InputError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "<string>:1:31: renderer.start_box: the start box must be [xmin, xmax, ymin, "
+                  "ymax] with xmin < xmax and ymin < ymax");
+    }
+}
+
+} // namespace
