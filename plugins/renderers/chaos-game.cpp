@@ -95,6 +95,8 @@
 // "the image is too large: width * height must be below 4294967295 pixels".
 #include "fit_view.hpp"
 
+#include "palette.hpp"
+
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
@@ -276,16 +278,6 @@ struct WorkerHist {
     }
 };
 
-/// Built-in palette (Tableau 10), by map index, for maps without a `colour`.
-constexpr fp::Rgb palette[] = {
-    {0x4e / 255.f, 0x79 / 255.f, 0xa7 / 255.f}, {0xf2 / 255.f, 0x8e / 255.f, 0x2b / 255.f},
-    {0xe1 / 255.f, 0x57 / 255.f, 0x59 / 255.f}, {0x76 / 255.f, 0xb7 / 255.f, 0xb2 / 255.f},
-    {0x59 / 255.f, 0xa1 / 255.f, 0x4f / 255.f}, {0xed / 255.f, 0xc9 / 255.f, 0x48 / 255.f},
-    {0xb0 / 255.f, 0x7a / 255.f, 0xa1 / 255.f}, {0xff / 255.f, 0x9d / 255.f, 0xa7 / 255.f},
-    {0x9c / 255.f, 0x75 / 255.f, 0x5f / 255.f}, {0xba / 255.f, 0xb0 / 255.f, 0xac / 255.f},
-};
-constexpr size_t palette_size = sizeof(palette) / sizeof(palette[0]);
-
 // ---------------------------------------------------------------- per-worker block state
 template <class T>
 struct Scratch {
@@ -420,7 +412,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     for (size_t j = 0; j < k; ++j) {
         auto m = fp::as<fp::Transform>(items[j]);
         if (!m) throw fp::InternalError("chaos-game: maps[" + std::to_string(j) + "] is not a transform");
-        fp::Rgb c = palette[j % palette_size];
+        fp::Rgb c = fp_render::palette_colour(j);
         if (items[j].extras) {
             w[j] = items[j].extras->real("weight");
             if (items[j].extras->has("colour")) c = items[j].extras->colour("colour");

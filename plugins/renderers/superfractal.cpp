@@ -95,6 +95,8 @@
 // empty list of maps ("the list of transforms is empty"), a negative probability
 // ("ifs_probabilities[1]: must be >= 0, got -0.5"), zero buffers ("buffers: must be in
 // [1, 65536], got 0").
+#include "palette.hpp"
+
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
@@ -120,16 +122,6 @@ constexpr size_t chunk_points = 16384;
 constexpr size_t batch_points = 512;
 /// Tolerance on the sum of the probabilities.
 constexpr double sum_tolerance = 1e-6;
-
-/// Built-in palette (Tableau 10), by map index, for maps without a `colour` (as chaos-game).
-constexpr fp::Rgb palette[] = {
-    {0x4e / 255.f, 0x79 / 255.f, 0xa7 / 255.f}, {0xf2 / 255.f, 0x8e / 255.f, 0x2b / 255.f},
-    {0xe1 / 255.f, 0x57 / 255.f, 0x59 / 255.f}, {0x76 / 255.f, 0xb7 / 255.f, 0xb2 / 255.f},
-    {0x59 / 255.f, 0xa1 / 255.f, 0x4f / 255.f}, {0xed / 255.f, 0xc9 / 255.f, 0x48 / 255.f},
-    {0xb0 / 255.f, 0x7a / 255.f, 0xa1 / 255.f}, {0xff / 255.f, 0x9d / 255.f, 0xa7 / 255.f},
-    {0x9c / 255.f, 0x75 / 255.f, 0x5f / 255.f}, {0xba / 255.f, 0xb0 / 255.f, 0xac / 255.f},
-};
-constexpr size_t palette_size = sizeof(palette) / sizeof(palette[0]);
 
 /// Shortest decimal that reads back as v (for messages).
 std::string real_text(double v) {
@@ -264,7 +256,7 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
     for (size_t j = 0; j < items.size(); ++j) {
         auto m = fp::as<fp::Transform>(items[j]);
         if (!m) throw fp::InternalError("superfractal: maps[" + std::to_string(j) + "] is not a transform");
-        fp::Rgb c = palette[j % palette_size];
+        fp::Rgb c = fp_render::palette_colour(j);
         if (items[j].extras) {
             ifs_of[j] = uint32_t(items[j].extras->integer("ifs"));
             if (items[j].extras->has("colour")) c = items[j].extras->colour("colour");
