@@ -94,7 +94,6 @@
 // xmin < xmax" (or "... with ymin < ymax"); "maps": "the list of maps is empty"; "height":
 // "the image is too large: width * height must be below 4294967295 pixels".
 #include "fit_view.hpp"
-
 #include "palette.hpp"
 
 #include <fixpoint/fixpoint.hpp>
