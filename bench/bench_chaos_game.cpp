@@ -2,7 +2,9 @@
 // colourer), on the reference kernel's work (bench/circles.yaml), beside an inline scalar
 // loop of the same work as a second yardstick. Two colourers: density (hits only, the
 // reference's work) and map-colour (a colour per point, accumulated in the histogram); float
-// and double chains; 1 and 2 threads.
+// and double chains; 1 and 2 threads. The `iteration/...` lines run the density/float render
+// with other iteration schemes in place of the Picard step (issue 3): Picard, the S-iteration in
+// the reals and in a q-system, Mann.
 //
 //   fixpoint_bench [--benchmark_filter=...]    FIXPOINT_BENCH_POINTS overrides the 1e8 points
 #include <fixpoint/host/pipeline.hpp>
@@ -13,6 +15,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 namespace {
@@ -22,14 +25,18 @@ std::uint64_t bench_points() {
     return env ? std::uint64_t(std::atof(env)) : 100000000ull;
 }
 
-void chaos_game(benchmark::State& state, const char* precision, const char* colourer) {
+// The render of bench/circles.yaml with `precision`, `colourer` and, if given, `iteration` (a
+// YAML flow mapping: the iteration scheme replacing the default Picard step).
+void chaos_game_with(benchmark::State& state, const char* precision, const char* colourer,
+                     const char* iteration) {
     fp::host::Registry reg;
     for (const auto& d : fp::host::Registry::default_dirs()) reg.load_dir(d);
     const std::uint64_t n = bench_points();
-    const auto p = fp::host::load_pipeline(reg, FIXPOINT_BENCH_DIR "/circles.yaml",
-                                           {"renderer.points=" + std::to_string(n),
-                                            std::string("renderer.precision=") + precision,
-                                            std::string("renderer.colourer={type: ") + colourer + "}"});
+    std::vector<std::string> sets = {"renderer.points=" + std::to_string(n),
+                                     std::string("renderer.precision=") + precision,
+                                     std::string("renderer.colourer={type: ") + colourer + "}"};
+    if (iteration) sets.push_back(std::string("renderer.iteration=") + iteration);
+    const auto p = fp::host::load_pipeline(reg, FIXPOINT_BENCH_DIR "/circles.yaml", sets);
     const unsigned threads = unsigned(state.range(0));
     fp::host::Runtime rt(threads, nullptr);
     std::uint64_t restarts = 0;
@@ -41,6 +48,19 @@ void chaos_game(benchmark::State& state, const char* precision, const char* colo
     }
     state.SetItemsProcessed(std::int64_t(state.iterations() * n));
     state.counters["restarts"] = double(restarts);
+}
+
+void chaos_game(benchmark::State& state, const char* precision, const char* colourer) {
+    chaos_game_with(state, precision, colourer, nullptr);
+}
+
+// Issue 3, section 9: the same six circles (density, float) with other iteration schemes in
+// place of the Picard step p <- T(p). `picard` is the baseline (the default, named here);
+// `s_real` the S-iteration in the reals (two applications of T per step); `s_qsystem` the
+// S-iteration computing in the q-system Q_{-1.5, 0.2}; `mann_real` the Mann iteration (one
+// application of T and one combination per step).
+void iteration(benchmark::State& state, const char* scheme) {
+    chaos_game_with(state, "float", "density", scheme);
 }
 
 // The same work as a plain scalar loop (double, one orbit, uniform choice among the other
@@ -98,6 +118,30 @@ BENCHMARK_CAPTURE(chaos_game, map_colour_float, "float", "map-colour")
 BENCHMARK_CAPTURE(chaos_game, map_colour_double, "double", "map-colour")
     ->Arg(1)
     ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+BENCHMARK_CAPTURE(iteration, picard, "{type: picard}")
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+BENCHMARK_CAPTURE(iteration, s_real, "{type: s-iteration, alpha: 0.7, beta: 0.5}")
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+BENCHMARK_CAPTURE(
+    iteration, s_qsystem,
+    "{type: s-iteration, numbers: {type: q-system, A: -1.5, B: 0.2}, alpha: 0.9+0.9q, beta: 0.2+0.2q}")
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+BENCHMARK_CAPTURE(iteration, mann_real, "{type: mann, alpha: 0.7}")
+    ->Arg(1)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(3);
