@@ -365,3 +365,19 @@ TEST(Collection, BadVaryIsRefusedBeforeRendering) {
 }
 
 } // namespace
+
+namespace {
+
+// The README's example config is what users copy first: it must stay valid.
+TEST(Readme, ExampleConfigValidates) {
+    const std::string readme = read_file(fp::test::source_dir() + "/README.md");
+    const auto begin = readme.find("# Three circles and a star");
+    ASSERT_NE(begin, std::string::npos);
+    const auto end = readme.find("```", begin);
+    const auto dir = scratch_dir("readme");
+    write_file(dir + "/example.yaml", readme.substr(begin, end - begin));
+    const auto r = run_cli({"validate", "--quiet", dir + "/example.yaml", "-o", dir + "/x.png"});
+    EXPECT_EQ(r.rc, 0) << r.err;
+}
+
+} // namespace
