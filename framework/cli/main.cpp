@@ -91,6 +91,29 @@ void check_drawn(const Pipeline& p, const RenderStats& st) {
         spdlog::warn("warning: only {} of {} {} landed in the image; {}", st.drawn, st.samples, st.unit, why);
 }
 
+// Render one pipeline with a progress bar; the image is checked (not empty, not interrupted)
+// but not written. Errors a plugin raises during the render get the renderer's position.
+Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStats& stats, double& secs) {
+    Runtime rt(threads, &g_interrupted);
+    Image img;
+    const auto t0 = std::chrono::steady_clock::now();
+    {
+        ProgressBar bar(
+            p.renderer->work_units(), [&rt] { return rt.done(); }, !quiet && ::isatty(2));
+        try {
+            img = p.renderer->render(rt, stats);
+        } catch (const InputError& e) {
+            // Refused during the render (a plugin that can only tell at run time): point at
+            // the renderer, the one place we know.
+            throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
+        }
+    }
+    secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (g_interrupted.load()) throw Cancelled();
+    check_drawn(p, stats);
+    return img;
+}
+
 // --vary PATH=V1,V2,... or PATH=A..B (integers): the values, split at top-level commas.
 std::pair<std::string, std::vector<std::string>> parse_vary(const std::string& spec) {
     const auto eq = spec.find('=');
@@ -151,37 +174,33 @@ int cmd_collection(const Options& o, bool validate_only) {
         return 0;
     }
 
+    // Every child is rendered and checked before anything is written: a failing child
+    // leaves no files behind.
     install_sigint();
     std::vector<Image> children;
     std::vector<std::string> captions;
-    const auto t0 = std::chrono::steady_clock::now();
+    double total = 0;
     for (std::size_t k = 0; k < pipes.size(); ++k) {
-        const Pipeline& p = pipes[k];
-        Runtime rt(threads, &g_interrupted);
         RenderStats stats;
-        Image img;
-        {
-            ProgressBar bar(
-                p.renderer->work_units(), [&rt] { return rt.done(); }, !o.quiet && ::isatty(2));
-            img = p.renderer->render(rt, stats);
-        }
-        if (g_interrupted.load()) throw Cancelled();
-        check_drawn(p, stats);
-        write_image(img, child_path(out, k + 1), p.bit_depth, p.recipe);
+        double secs = 0;
+        children.push_back(render_checked(pipes[k], threads, o.quiet, stats, secs));
+        total += secs;
         if (!o.quiet)
-            spdlog::info("{}: {}={}: {} {}, {} restarted chains", child_path(out, k + 1), path, values[k],
-                         stats.samples, stats.unit, stats.restarts);
-        children.push_back(std::move(img));
+            spdlog::info("{}={}: {} {} in {:.2f} s, {} restarted chains", path, values[k], stats.samples,
+                         stats.unit, secs, stats.restarts);
         captions.push_back(path.substr(path.rfind('.') + 1) + " = " + values[k]);
     }
+    for (std::size_t k = 0; k < pipes.size(); ++k)
+        write_image(children[k], child_path(out, k + 1), pipes[k].bit_depth, pipes[k].recipe);
     bool text = true;
     const Image sheet = contact_sheet(children, captions, o.columns, &text);
     if (!text) spdlog::warn("warning: no font found for the captions (install fonts-dejavu-core)");
     write_image(sheet, out, pipes[0].bit_depth,
                 "# contact sheet: --vary " + o.vary + "; children " + child_path(out, 1) + " ... " +
                     child_path(out, pipes.size()) + "\n# the recipe of the first child:\n" + pipes[0].recipe);
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!o.quiet) spdlog::info("{}: contact sheet of {} children in {:.2f} s", out, pipes.size(), secs);
+    if (!o.quiet)
+        spdlog::info("{}: contact sheet of {} children ({} ... {}) in {:.2f} s", out, pipes.size(),
+                     child_path(out, 1), child_path(out, pipes.size()), total);
     return 0;
 }
 
@@ -203,24 +222,9 @@ int cmd_render(const Options& o, bool validate_only) {
     }
 
     install_sigint();
-    Runtime rt(threads, &g_interrupted);
     RenderStats stats;
-    Image img;
-    const auto t0 = std::chrono::steady_clock::now();
-    {
-        ProgressBar bar(
-            p.renderer->work_units(), [&rt] { return rt.done(); }, !o.quiet && ::isatty(2));
-        try {
-            img = p.renderer->render(rt, stats);
-        } catch (const InputError& e) {
-            // Refused during the render (a plugin that can only tell at run time): point at
-            // the renderer, the one place we know.
-            throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
-        }
-    }
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (g_interrupted.load()) throw Cancelled();
-    check_drawn(p, stats);
+    double secs = 0;
+    const Image img = render_checked(p, threads, o.quiet, stats, secs);
     write_image(img, out, p.bit_depth, p.recipe);
     if (!o.quiet)
         spdlog::info("{}: {} {} in {:.2f} s ({:.3g} {}/s, {} thread{}), {} restarted chain{}, {} bad value{}",

@@ -432,7 +432,14 @@ std::shared_ptr<const Object> build(const Registry& reg, const TObject& t) {
     } catch (const std::exception& e) {
         throw InternalError(t.path + ": plugin '" + d.name + "' failed: " + e.what());
     }
-    const auto unread = bag.unread();
+    auto unread = bag.unread();
+    for (const auto& p : t.params) {
+        if (p.spec->type != ParamType::Objects) continue;
+        for (const auto& it : bag.objects(p.spec->name))
+            if (it.extras)
+                for (const auto& u : it.extras->unread())
+                    unread.push_back(std::string(p.spec->name) + "[]." + u);
+    }
     if (!unread.empty())
         throw InternalError("plugin '" + std::string(d.name) + "' (" + t.plugin->file.string() +
                             ") declares parameter '" + unread.front() + "' but never reads it");
@@ -489,7 +496,18 @@ CNode value_node(const TParam& p) {
         CNode operator()(const Sequence& q) const {
             if (q.values.size() == 1 && !q.bare_pair) return qnumber(q.values[0]);
             CNode s = seq_node();
-            for (Vec2 v : q.values) s.items.push_back(qnumber(v));
+            // Two plain numbers would read back as a bare pair (one q-number in a q-system):
+            // a periodic list of two is written with its elements as pairs [a, b].
+            const bool as_pairs = !q.bare_pair && q.values.size() == 2;
+            for (Vec2 v : q.values) {
+                if (!as_pairs) {
+                    s.items.push_back(qnumber(v));
+                    continue;
+                }
+                CNode pair = seq_node();
+                pair.items = {scalar_node(format_real(v.x)), scalar_node(format_real(v.y))};
+                s.items.push_back(std::move(pair));
+            }
             return s;
         }
         CNode operator()(const std::shared_ptr<const Object>&) const { return {}; }

@@ -5,6 +5,7 @@
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
+#include <charconv>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -239,7 +240,11 @@ void apply_override(CNode& root, const std::string& assignment, const std::strin
             const std::string num = path.substr(i + 1, close - i - 1);
             if (num.empty() || num.find_first_not_of("0123456789") != std::string::npos)
                 throw InputError(where + ": bad index '" + num + "' in path");
-            steps.push_back({"", std::stol(num)});
+            long index = 0;
+            const auto [end, ec] = std::from_chars(num.data(), num.data() + num.size(), index);
+            if (ec != std::errc() || end != num.data() + num.size() || index > 1000000000)
+                throw InputError(where + ": index '" + num + "' is too large");
+            steps.push_back({"", index});
             i = close + 1;
             if (i < path.size() && path[i] == '.') ++i;
         } else {

@@ -25,8 +25,10 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace fp_iter {
@@ -113,6 +115,8 @@ class SchemeBase : public fp::IterationScheme {
 public:
     /// Reads `numbers` and the sequences named in D::sequences (in that order: k[0], k[1], ...).
     explicit SchemeBase(const fp::ParamBag& p) : numbers_(p.object<fp::NumberSystem>("numbers")) {
+        static_assert(std::size(D::sequences) <= std::tuple_size_v<Coefs>,
+                      "Coefs holds at most 8 parameters");
         const bool real = numbers_->is_real();
         for (const char* name : D::sequences) {
             seqs_.push_back(p.sequence(name).resolve(real));

@@ -381,3 +381,32 @@ TEST(Readme, ExampleConfigValidates) {
 }
 
 } // namespace
+
+namespace {
+
+TEST(Collection, AFailingChildLeavesNoFiles) {
+    const auto dir = scratch_dir("collection_failing_child");
+    write_file(dir + "/cfg.yaml", three_circles);
+    const auto r = run_cli({"render", "--quiet", dir + "/cfg.yaml", "-o", dir + "/s.png", "--vary",
+                            "renderer.view=[-1.5, 1.5, -1.5, 1.5],[100, 101, 100, 101]"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename(), "cfg.yaml") << e.path();
+}
+
+// A periodic list of two q-numbers survives the recipe (two plain numbers would read back as
+// one q-number in a q-system).
+TEST(Render, RecipeKeepsPeriodicListsOfQNumbers) {
+    const auto dir = scratch_dir("recipe_qlist");
+    write_file(dir + "/cfg.yaml",
+               std::string(three_circles) +
+                   "  iteration: {type: mann, numbers: {type: complex}, alpha: [[0.7, 0], [0.9, 0]]}\n");
+    render(dir, "a.png");
+    const auto rec = run_cli({"recipe", dir + "/a.png"});
+    write_file(dir + "/again.yaml", rec.out);
+    const auto r = run_cli({"render", "--quiet", dir + "/again.yaml", "-o", dir + "/b.png"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_TRUE(read_file(dir + "/a.png") == read_file(dir + "/b.png")) << rec.out;
+}
+
+} // namespace

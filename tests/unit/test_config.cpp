@@ -56,6 +56,8 @@ TEST(Config, OverridesReplaceAndAdd) {
               "--set r.maps[2].w=1: index 2 out of range ('r.maps' has 2 items)");
     EXPECT_EQ(error_of([&] { apply_override(n, "r.s.x=1"); }), "--set r.s.x=1: 'r.s' is not a mapping");
     EXPECT_EQ(error_of([&] { apply_override(n, "novalue"); }), "--set novalue: expected path.to.param=value");
+    EXPECT_EQ(error_of([&] { apply_override(n, "r.maps[99999999999999999999].w=1"); }),
+              "--set r.maps[99999999999999999999].w=1: index '99999999999999999999' is too large");
     EXPECT_EQ(error_of([&] { apply_override(n, "r.s=[1, "); }).rfind("--set r.s=[1, : ", 0), 0u);
 }
 
