@@ -54,11 +54,7 @@ public:
             if (compositions % 2 == 0) return; // T^{n+1} = id: p_{n+1} = p_n
             compositions = 1;                  // T^{n+1} = T: a Mann step
         } else if (compositions > max_compositions_) {
-            throw fp::InputError(
-                "schu: step n = " + std::to_string(n) + " needs T composed " + std::to_string(compositions) +
-                " times, above max_compositions = " + std::to_string(max_compositions_) +
-                " (the map is not an involution, so a chain of N steps costs N(N+1)/2 applications of T); "
-                "use shorter chains (more chains, fewer points), raise max_compositions, or use mann");
+            too_long(n);
         }
         fp_iter::Buf<T> tp;
         c.t(tp, c.p);
@@ -66,7 +62,19 @@ public:
         c.lin(c.p, fp_iter::identity - k[0], c.p, k[0], tp);
     }
 
+    void check_steps(const fp::Transform& t, std::uint64_t last_n) const override {
+        if (!t.is_involution() && last_n + 1 > max_compositions_) too_long(last_n);
+    }
+
 private:
+    [[noreturn]] void too_long(std::uint64_t n) const {
+        throw fp::InputError(
+            "schu: step n = " + std::to_string(n) + " needs T composed " + std::to_string(n + 1) +
+            " times, above max_compositions = " + std::to_string(max_compositions_) +
+            " (the map is not an involution, so a chain of N steps costs N(N+1)/2 applications of T); "
+            "use shorter chains (more chains, fewer points), raise max_compositions, or use mann");
+    }
+
     std::uint64_t max_compositions_;
 };
 

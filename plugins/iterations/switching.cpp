@@ -50,6 +50,10 @@ public:
     }
 
     /// The most any child takes (a bound on the cost per step).
+    void check_steps(const fp::Transform& t, std::uint64_t last_n) const override {
+        for (const auto& s : schemes_) s->check_steps(t, last_n);
+    }
+
     unsigned applications() const override {
         unsigned most = 0;
         for (const auto& s : schemes_) most = std::max(most, s->applications());

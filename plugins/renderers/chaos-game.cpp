@@ -431,6 +431,18 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         initial_colour_.b += colours_[j].b / float(k);
     }
 
+    // Schemes whose cost grows with the step index refuse here, before anything runs.
+    const uint64_t last_n = skip_ + (points_ + chains_ - 1) / chains_ - 1;
+    for (const auto& m : maps_) {
+        try {
+            iteration_->check_steps(*m, last_n);
+        } catch (const fp::ParamError&) {
+            throw;
+        } catch (const fp::InputError& e) {
+            throw fp::ParamError("iteration", e.what());
+        }
+    }
+
     const std::string& rules = p.string("inversion_rules");
     rules_ = rules == "on" || (rules == "auto" && region_maps_.size() == k);
 

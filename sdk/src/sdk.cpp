@@ -46,6 +46,7 @@ bool Transform::is_involution() const { return false; }
 Box Transform::sample_domain() const { return {-2, 2, -2, 2}; }
 
 unsigned IterationScheme::applications() const { return 1; }
+void IterationScheme::check_steps(const Transform&, std::uint64_t) const {}
 bool NumberSystem::is_real() const { return false; }
 
 bool Colourer::needs_colour() const { return true; }

@@ -126,6 +126,14 @@ std::vector<Case> cases() {
          "bad.yaml:2:3: renderer: nothing was drawn (0 of 20000 points landed in the image; 0 restarted "
          "chains, 0 bad "
          "values (points escaping to infinity or NaN)); check the view and the parameters"},
+        {"schu_unbounded",
+         "renderer:\n  type: chaos-game\n  points: 5000000\n  iteration: {type: schu, alpha: 0.5}\n  maps:\n"
+         "    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}\n"
+         "    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0]}\n",
+         "bad.yaml:4:14: renderer.iteration: schu: step n = 1240 needs T composed 1241 times, above "
+         "max_compositions = 1000 (the map is not an involution, so a chain of N steps costs N(N+1)/2 "
+         "applications "
+         "of T); use shorter chains (more chains, fewer points), raise max_compositions, or use mann"},
         {"set_unknown_parameter",
          b,
          "--set renderer.widht=10: renderer: unknown parameter 'widht' for chaos-game (did you mean "

@@ -21,6 +21,12 @@ public:
 
     /// Applications of T per step (the cost relative to Picard).
     virtual unsigned applications() const;
+
+    /// Called by renderers before they start, for each map, with the largest step index a
+    /// render will reach when nothing restarts: a scheme whose cost grows with n (Schu on maps
+    /// that are not involutions) throws fp::InputError here, so that `validate` refuses what
+    /// the render would. The default accepts everything.
+    virtual void check_steps(const Transform& t, std::uint64_t last_n) const;
 };
 
 } // namespace fp
