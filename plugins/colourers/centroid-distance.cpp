@@ -21,6 +21,8 @@
 // It reads only the hit counts (needs_colour() is false): the colour is a function of the
 // position, not of the maps a chain used, so update() has nothing to carry and the renderer
 // may skip the colour sums.
+#include "tone_map.hpp"
+
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
@@ -83,8 +85,7 @@ public:
         for (std::size_t i = 0; i < h.bins.size(); ++i)
             if (h.bins[i].hits) dmax2 = std::max(dmax2, dist2(i));
         const double inv_dmax = dmax2 > 0 ? 1.0 / std::sqrt(dmax2) : 0.0;
-        const double inv_log_max = max_hits > 0 ? 1.0 / std::log2(1.0 + double(max_hits)) : 0.0;
-        const double inv_gamma = 1.0 / gamma_;
+        const fp_colourers::LogDensity density(max_hits, gamma_);
         auto clamp01 = [](double v) { return float(std::clamp(v, 0.0, 1.0)); };
         for (std::size_t i = 0; i < h.bins.size(); ++i) {
             const std::uint64_t hits = h.bins[i].hits;
@@ -97,7 +98,7 @@ public:
             }
             const fp::Rgb c = colour_at(std::min(1.0, std::sqrt(dist2(i)) * inv_dmax));
             double k = brightness_;
-            if (log_) k *= std::pow(std::log2(1.0 + double(hits)) * inv_log_max, inv_gamma);
+            if (log_) k *= density(hits);
             px[0] = clamp01(double(c.r) * k);
             px[1] = clamp01(double(c.g) * k);
             px[2] = clamp01(double(c.b) * k);
