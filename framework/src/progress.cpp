@@ -10,7 +10,7 @@ ProgressBar::ProgressBar(std::uint64_t total, std::function<std::uint64_t()> don
     if (!enabled_) return;
     thread_ = std::thread([this] {
         while (!stop_.load()) {
-            draw(false);
+            draw();
             for (int i = 0; i < 10 && !stop_.load(); ++i)
                 std::this_thread::sleep_for(std::chrono::milliseconds(10));
         }
@@ -25,7 +25,7 @@ ProgressBar::~ProgressBar() {
     std::fflush(stderr);
 }
 
-void ProgressBar::draw(bool) {
+void ProgressBar::draw() {
     const double f = std::min(1.0, double(done_()) / double(total_));
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     constexpr int width = 30;

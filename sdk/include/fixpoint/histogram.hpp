@@ -25,14 +25,6 @@ struct Histogram {
         height = h;
         bins.assign(std::size_t(w) * std::size_t(h), HistBin{});
     }
-    void add(const Histogram& o) {
-        for (std::size_t i = 0; i < bins.size(); ++i) {
-            bins[i].hits += o.bins[i].hits;
-            bins[i].r += o.bins[i].r;
-            bins[i].g += o.bins[i].g;
-            bins[i].b += o.bins[i].b;
-        }
-    }
 };
 
 } // namespace fp

@@ -17,7 +17,7 @@ public:
     ~ProgressBar(); ///< stops and clears the line
 
 private:
-    void draw(bool final);
+    void draw();
     std::uint64_t total_;
     std::function<std::uint64_t()> done_;
     bool enabled_;
