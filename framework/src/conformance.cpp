@@ -52,6 +52,28 @@ bool bit_equal(const std::vector<T>& a, const std::vector<T>& b) {
     return true;
 }
 
+// An in-place map of the plane (a transform, one step of a scheme) evaluated on the whole
+// batch, and point by point; both as [x..., y...].
+struct MapResults {
+    std::vector<double> batch, pointwise;
+};
+template <class F>
+MapResults map_batch_and_pointwise(const std::vector<double>& x0, const std::vector<double>& y0, F map) {
+    const std::size_t n = x0.size();
+    MapResults r;
+    std::vector<double> x = x0, y = y0;
+    map(Points<double>{x.data(), y.data(), n});
+    r.batch = x;
+    r.batch.insert(r.batch.end(), y.begin(), y.end());
+    r.pointwise.resize(2 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+        double px = x0[i], py = y0[i];
+        map(Points<double>{&px, &py, 1});
+        r.pointwise[i] = px, r.pointwise[n + i] = py;
+    }
+    return r;
+}
+
 // ------------------------------------------------------------------ Shape
 void check_shape(const Shape& s, Findings& f) {
     const Box b = s.bounds();
@@ -131,21 +153,12 @@ void check_transform(const Transform& t, Findings& f) {
         x0[i] = smp.in(b.xmin, b.xmax);
         y0[i] = smp.in(b.ymin, b.ymax);
     }
-    auto batch = [&] {
-        std::vector<double> x = x0, y = y0;
-        t.apply(Points<double>{x.data(), y.data(), n}, nullptr);
-        x.insert(x.end(), y.begin(), y.end());
-        return x;
-    };
-    const auto r = batch();
-    std::vector<double> r1(2 * n);
-    for (std::size_t i = 0; i < n; ++i) {
-        double x = x0[i], y = y0[i];
-        t.apply(Points<double>{&x, &y, 1}, nullptr);
-        r1[i] = x;
-        r1[n + i] = y;
-    }
-    if (!bit_equal(r, r1)) f.push_back("transform: apply() on a batch differs from point-by-point");
+    auto apply = [&](Points<double> p) { t.apply(p, nullptr); };
+    auto batch = [&] { return map_batch_and_pointwise(x0, y0, apply).batch; };
+    const MapResults res = map_batch_and_pointwise(x0, y0, apply);
+    const std::vector<double>& r = res.batch;
+    if (!bit_equal(r, res.pointwise))
+        f.push_back("transform: apply() on a batch differs from point-by-point");
     if (!same_on_two_threads(batch))
         f.push_back("transform: results differ when evaluated from two threads at once");
     std::size_t nonfinite = 0;
@@ -208,20 +221,10 @@ void check_scheme(const IterationScheme& s, Findings& f) {
     std::vector<double> x0(n), y0(n);
     for (std::size_t i = 0; i < n; ++i) x0[i] = smp.in(-1, 1), y0[i] = smp.in(-1, 1);
     for (std::uint64_t step : {0ull, 1ull, 7ull}) {
-        auto batch = [&] {
-            std::vector<double> x = x0, y = y0;
-            s.step(t, Points<double>{x.data(), y.data(), n}, nullptr, step);
-            x.insert(x.end(), y.begin(), y.end());
-            return x;
-        };
-        const auto r = batch();
-        std::vector<double> r1(2 * n);
-        for (std::size_t i = 0; i < n; ++i) {
-            double x = x0[i], y = y0[i];
-            s.step(t, Points<double>{&x, &y, 1}, nullptr, step);
-            r1[i] = x, r1[n + i] = y;
-        }
-        if (!bit_equal(r, r1)) {
+        auto one_step = [&](Points<double> p) { s.step(t, p, nullptr, step); };
+        auto batch = [&] { return map_batch_and_pointwise(x0, y0, one_step).batch; };
+        const MapResults res = map_batch_and_pointwise(x0, y0, one_step);
+        if (!bit_equal(res.batch, res.pointwise)) {
             f.push_back("iteration-scheme: step() on a batch differs from point-by-point");
             return;
         }

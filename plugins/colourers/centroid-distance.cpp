@@ -38,13 +38,8 @@ constexpr fp::ParamSpec params[] = {
     fp::param::colour("inner", "colour at the centre of mass (t = 0)").def("\"#ffe066\""),
     fp::param::colour("middle", "colour halfway out (t = 1/2); default: none, inner to outer directly").opt(),
     fp::param::colour("outer", "colour at the farthest hit pixel (t = 1)").def("\"#3a0ca3\""),
-    fp::param::string("density", "how hit counts shade the pixels: flat (full colour wherever hit) or log "
-                                 "(log-density, paper 02 eq. (28))")
-        .def("log")
-        .one_of("flat|log"),
-    fp::param::real("gamma", "gamma of the log-density shading (ignored with density: flat)")
-        .def("2.2")
-        .above(0),
+    fp_colourers::density_param,
+    fp_colourers::gamma_param,
     fp::param::real("brightness", "factor on the final colour (clamped to [0, 1] afterwards)")
         .def("1")
         .above(0),

@@ -15,13 +15,8 @@
 namespace {
 
 constexpr fp::ParamSpec params[] = {
-    fp::param::string("density", "how hit counts shade the pixels: flat (full colour wherever hit) or log "
-                                 "(log-density, paper 02 eq. (28))")
-        .def("log")
-        .one_of("flat|log"),
-    fp::param::real("gamma", "gamma of the log-density shading (ignored with density: flat)")
-        .def("2.2")
-        .above(0),
+    fp_colourers::density_param,
+    fp_colourers::gamma_param,
 };
 
 class MapColour final : public fp::Colourer {

@@ -45,6 +45,17 @@ inline void update_colours(const std::uint32_t* __restrict map, float* __restric
 /// The log-density shading of paper 02, eq. (28): (log2(1 + h) / log2(1 + max h))^(1/gamma).
 /// The values for small h (most bins) come from a table filled once per resolve with the same
 /// expression, so they are the same bits, for a fraction of the pow() calls.
+/// The shading parameters every density-shaded colourer shares.
+constexpr fp::ParamSpec density_param =
+    fp::param::string("density", "how hit counts shade the pixels: flat (full colour wherever hit) or log "
+                                 "(log-density, paper 02 eq. (28))")
+        .def("log")
+        .one_of("flat|log");
+constexpr fp::ParamSpec gamma_param =
+    fp::param::real("gamma", "gamma of the log-density shading (ignored with density: flat)")
+        .def("2.2")
+        .above(0);
+
 class LogDensity {
 public:
     LogDensity(std::uint64_t max_hits, double gamma)

@@ -4,6 +4,8 @@
 //     x' = y + alpha (1 - 0.05 y^2) y + f(x),   y' = -x + f(x').
 // Orbits computed by hand (exact fractions where they stay short), the alpha term, the float
 // path, the mask; the colourer's centroid and its colours at the centre and the rim.
+#include "host.hpp"
+
 #include <fixpoint/host/host.hpp>
 
 #include <gtest/gtest.h>
@@ -18,10 +20,7 @@ using fp::Colourer;
 using fp::Transform;
 using fp::Vec2;
 
-const fp::host::Host& host() {
-    static const fp::host::Host h;
-    return h;
-}
+using fp::test::host;
 
 std::shared_ptr<const Transform> gm(const std::string& params) {
     const std::string yaml = "{type: gumowski-mira, " + params + "}";

@@ -2,6 +2,8 @@
 //     p' = o + t_b^2 (p - o),   b = o + t_b (p - o) on the boundary.
 // Hand-computed points, the reduction to circle inversion (eq. (2)), the involution law on
 // every shape, the kernel check of the centre, and the mask.
+#include "host.hpp"
+
 #include <fixpoint/host/host.hpp>
 
 #include <gtest/gtest.h>
@@ -16,10 +18,7 @@ namespace {
 using fp::Transform;
 using fp::Vec2;
 
-const fp::host::Host& host() {
-    static const fp::host::Host h;
-    return h;
-}
+using fp::test::host;
 
 std::shared_ptr<const Transform> inversion(const std::string& shape, const std::string& centre = "") {
     const std::string yaml =

@@ -1,6 +1,8 @@
 // Unit tests of the number systems of paper 02 Sec. 4: the q-system numbers Q_{A,B}
 // (q^2 = A + 2B q, eq. (11)) with multiplication eq. (14) and division eq. (15), and `complex`,
 // which is Q_{-1,0}. The plugins are built through the host, as a config builds them.
+#include "host.hpp"
+
 #include <fixpoint/host/host.hpp>
 
 #include <gtest/gtest.h>
@@ -18,10 +20,7 @@ namespace {
 using fp::NumberSystem;
 using fp::Vec2;
 
-const fp::host::Host& host() {
-    static const fp::host::Host h;
-    return h;
-}
+using fp::test::host;
 
 std::shared_ptr<const NumberSystem> numbers(const std::string& yaml) {
     auto ns = host().make<NumberSystem>(yaml);

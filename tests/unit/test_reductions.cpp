@@ -10,6 +10,8 @@
 // the reduction needs (1 - c) x + c x = x (S with beta = 0, Picard-S with gamma = 0), the sum
 // rounds, and the comparison allows a few ulps of the point's scale (times the local expansion
 // of the map, for Picard-S, where T is applied after the rounding).
+#include "host.hpp"
+
 #include <fixpoint/host/host.hpp>
 #include <fixpoint/transform_base.hpp>
 
@@ -28,10 +30,7 @@ namespace {
 using fp::IterationScheme;
 using fp::Transform;
 
-const fp::host::Host& host() {
-    static const fp::host::Host h;
-    return h;
-}
+using fp::test::host;
 
 std::shared_ptr<const IterationScheme> scheme(const std::string& yaml) {
     auto s = host().make<IterationScheme>(yaml);

@@ -9,7 +9,9 @@
 // separate weights).
 #include "cli.hpp"
 
+#include "host.hpp"
 #include <fixpoint/fixpoint.hpp>
+
 #include <fixpoint/host/host.hpp>
 #include <fixpoint/host/image_io.hpp>
 
@@ -27,10 +29,7 @@ using fp::IterationScheme;
 using fp::Transform;
 using fp::Vec2;
 
-const fp::host::Host& host() {
-    static const fp::host::Host h;
-    return h;
-}
+using fp::test::host;
 
 std::shared_ptr<const IterationScheme> scheme(const std::string& yaml) {
     auto s = host().make<IterationScheme>(yaml);

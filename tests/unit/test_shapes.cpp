@@ -1,6 +1,8 @@
 // Unit tests of the shape plugins: circle, polygon, star-polygon, superformula (paper 01,
 // Sec. 3). Hand-computed ray exits, the inside test's vertex cases, the kernel, and the
 // exact error messages of refused shapes.
+#include "host.hpp"
+
 #include <fixpoint/host/host.hpp>
 
 #include <gtest/gtest.h>
@@ -16,10 +18,7 @@ namespace {
 using fp::Shape;
 using fp::Vec2;
 
-const fp::host::Host& host() {
-    static const fp::host::Host h;
-    return h;
-}
+using fp::test::host;
 
 std::shared_ptr<const Shape> shape(const std::string& yaml) {
     auto s = host().make<Shape>(yaml);
