@@ -5,6 +5,7 @@
 #include <fixpoint/host/runtime.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <thread>
 
@@ -272,23 +273,40 @@ void check_trap(const Trap& t, Findings& f) {
     Sampler smp;
     constexpr std::size_t n = 1000;
     std::vector<double> x(n), y(n);
-    for (std::size_t i = 0; i < n; ++i) x[i] = smp.in(-4, 4), y[i] = smp.in(-4, 4);
+    for (std::size_t i = 0; i < n; ++i) x[i] = smp.in(-8, 8), y[i] = smp.in(-8, 8);
+    struct Result {
+        std::vector<std::int32_t> trap;
+        std::vector<double> ratio;
+        bool operator==(const Result& o) const {
+            if (trap != o.trap) return false;
+            for (std::size_t i = 0; i < trap.size(); ++i)
+                if (trap[i] >= 0 && std::memcmp(&ratio[i], &o.ratio[i], sizeof(double)) != 0) return false;
+            return true;
+        }
+    };
     auto batch = [&] {
-        std::vector<std::int32_t> out(n);
-        t.test(Points<const double>{x.data(), y.data(), n}, out.data());
-        return out;
+        Result r{std::vector<std::int32_t>(n), std::vector<double>(n)};
+        t.test(Points<const double>{x.data(), y.data(), n}, r.trap.data(), r.ratio.data());
+        return r;
     };
     const auto r = batch();
-    std::vector<std::int32_t> r1(n);
-    for (std::size_t i = 0; i < n; ++i) t.test(Points<const double>{&x[i], &y[i], 1}, &r1[i]);
-    if (r != r1) f.push_back("trap: test() on a batch differs from point-by-point");
+    Result r1{std::vector<std::int32_t>(n), std::vector<double>(n)};
+    for (std::size_t i = 0; i < n; ++i)
+        t.test(Points<const double>{&x[i], &y[i], 1}, &r1.trap[i], &r1.ratio[i]);
+    if (!(r == r1)) f.push_back("trap: test() on a batch differs from point-by-point");
     if (!same_on_two_threads(batch))
         f.push_back("trap: results differ when evaluated from two threads at once");
-    for (auto v : r)
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto v = r.trap[i];
         if (v < -1 || v >= std::int32_t(t.count())) {
             f.push_back("trap: index out of range");
             break;
         }
+        if (v >= 0 && !(r.ratio[i] >= 0 && r.ratio[i] < 1)) {
+            f.push_back("trap: ratio d/r of a trapped point outside [0, 1)");
+            break;
+        }
+    }
 }
 
 // ------------------------------------------------------------------ NumberSystem

@@ -50,5 +50,10 @@ void IterationScheme::check_steps(const Transform&, std::uint64_t) const {}
 bool NumberSystem::is_real() const { return false; }
 
 bool Colourer::needs_colour() const { return true; }
+bool Colourer::colours_trap_hits() const { return false; }
+void Colourer::colour_hits(const std::int32_t*, const float*, const std::uint32_t*, std::size_t, Rgb,
+                           float*) const {
+    throw Error("this colourer cannot colour orbit-trap hits");
+}
 
 } // namespace fp

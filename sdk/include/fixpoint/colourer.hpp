@@ -39,6 +39,17 @@ public:
     /// all be 0): a renderer may then skip update() and the colour sums altogether and count
     /// hits only. The default is true.
     virtual bool needs_colour() const;
+
+    /// True when the colourer can colour orbit-trap hits (colour_hits); the default is false,
+    /// and an orbit-trap renderer refuses such a colourer when it is built.
+    virtual bool colours_trap_hits() const;
+
+    /// Orbit traps (paper 04): for each of n samples, trap[i] is the index of the trap that
+    /// caught the orbit (-1: never trapped), ratio[i] = d / r at the catch, in [0, 1), and
+    /// iteration[i] the step (from 1) at which it was caught. Writes 3 floats per sample to
+    /// rgb; never-trapped samples get `background`. Called per batch, never per point.
+    virtual void colour_hits(const std::int32_t* trap, const float* ratio, const std::uint32_t* iteration,
+                             std::size_t n, Rgb background, float* rgb) const;
 };
 
 } // namespace fp
