@@ -51,7 +51,7 @@ bool NumberSystem::is_real() const { return false; }
 
 bool Colourer::needs_colour() const { return true; }
 bool Colourer::colours_trap_hits() const { return false; }
-void Colourer::colour_hits(const std::int32_t*, const float*, const std::uint32_t*, std::size_t, Rgb,
+void Colourer::colour_hits(const std::int32_t*, const float*, const std::uint32_t*, std::size_t, const Rgb*,
                            float*) const {
     throw Error("this colourer cannot colour orbit-trap hits");
 }

@@ -47,9 +47,10 @@ public:
     /// Orbit traps (paper 04): for each of n samples, trap[i] is the index of the trap that
     /// caught the orbit (-1: never trapped), ratio[i] = d / r at the catch, in [0, 1), and
     /// iteration[i] the step (from 1) at which it was caught. Writes 3 floats per sample to
-    /// rgb; never-trapped samples get `background`. Called per batch, never per point.
+    /// rgb; never-trapped samples get *background, or the colourer's own choice when it is null
+    /// (paper 04's Algorithm 3: the last colour of the table). Called per batch, never per point.
     virtual void colour_hits(const std::int32_t* trap, const float* ratio, const std::uint32_t* iteration,
-                             std::size_t n, Rgb background, float* rgb) const;
+                             std::size_t n, const Rgb* background, float* rgb) const;
 };
 
 } // namespace fp
