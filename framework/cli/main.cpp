@@ -52,6 +52,7 @@ struct Options {
     unsigned threads = 0;
     bool quiet = false;
     long long steps = 1;
+    long long level = -1;
 };
 
 Registry make_registry(const Options& o) {
@@ -114,6 +115,40 @@ Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStat
     return img;
 }
 
+// The vector document of a renderer with vector output (SVG, PDF), checked like an image.
+std::string render_vector_checked(const Pipeline& p, unsigned threads, Format f, RenderStats& stats,
+                                  double& secs) {
+    Runtime rt(threads, &g_interrupted);
+    std::string doc;
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+        doc = p.renderer->render_vector(rt, stats, f == Format::Svg ? VectorFormat::Svg : VectorFormat::Pdf,
+                                        p.recipe);
+    } catch (const InputError& e) {
+        throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
+    }
+    secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (g_interrupted.load()) throw Cancelled();
+    check_drawn(p, stats);
+    return doc;
+}
+
+// Paper 05's Algorithm 1: the addresses of a renderer's polygons at a level, one per line.
+int cmd_addresses(const Options& o) {
+    const Registry reg = make_registry(o);
+    const Pipeline p = load_pipeline(reg, o.config, o.sets);
+    std::vector<std::string> lines;
+    try {
+        lines = p.renderer->polygon_addresses(o.level);
+    } catch (const InputError& e) {
+        throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
+    } catch (const Error& e) {
+        throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
+    }
+    for (const auto& l : lines) std::printf("%s\n", l.c_str());
+    return 0;
+}
+
 // --vary PATH=V1,V2,... or PATH=A..B (integers): the values, split at top-level commas.
 std::pair<std::string, std::vector<std::string>> parse_vary(const std::string& spec) {
     const auto eq = spec.find('=');
@@ -167,6 +202,10 @@ int cmd_collection(const Options& o, bool validate_only) {
                             : !pipes[0].output_path.empty() ? pipes[0].output_path
                                                             : default_output(o.config);
     check_output(out);
+    if (is_vector(format_for(out)))
+        throw InputError("--vary: '" + out +
+                         "': a collection is written as PNG, EXR or TIFF images and a contact "
+                         "sheet, not as SVG or PDF");
     for (std::size_t k = 0; k < pipes.size(); ++k) check_output(child_path(out, k + 1));
     if (validate_only) {
         if (!o.quiet)
@@ -214,6 +253,10 @@ int cmd_render(const Options& o, bool validate_only) {
                             : !p.output_path.empty() ? p.output_path
                                                      : default_output(o.config);
     check_output(out);
+    const bool vector = is_vector(format_for(out));
+    if (vector && !p.renderer->has_vector_output())
+        throw InputError(p.renderer_mark.str() + ": renderer: this renderer has no vector output: write '" +
+                         out + "' as .png, .exr or .tif instead");
     if (validate_only) {
         if (!o.quiet)
             spdlog::info("{}: valid: a {}x{} render to {}", o.config, p.renderer->width(),
@@ -224,8 +267,13 @@ int cmd_render(const Options& o, bool validate_only) {
     install_sigint();
     RenderStats stats;
     double secs = 0;
-    const Image img = render_checked(p, threads, o.quiet, stats, secs);
-    write_image(img, out, p.bit_depth, p.recipe);
+    if (vector) {
+        const std::string doc = render_vector_checked(p, threads, format_for(out), stats, secs);
+        write_bytes(doc, out);
+    } else {
+        const Image img = render_checked(p, threads, o.quiet, stats, secs);
+        write_image(img, out, p.bit_depth, p.recipe);
+    }
     if (!o.quiet)
         spdlog::info("{}: {} {} in {:.2f} s ({:.3g} {}/s, {} thread{}), {} restarted chain{}, {} bad value{}",
                      out, stats.samples, stats.unit, secs, double(stats.samples) / std::max(secs, 1e-9),
@@ -386,7 +434,8 @@ int main(int argc, char** argv) {
     auto* render = app.add_subcommand("render", "Render a pipeline to an image");
     render->add_option("config", o.config, "Pipeline file (YAML)")->required();
     render->add_option("-o,--output", o.out,
-                       "Output image (.png, .exr, .tif); default: the config's output.path or <config>.png");
+                       "Output image (.png, .exr, .tif; .svg or .pdf for renderers with vector output); "
+                       "default: the config's output.path or <config>.png");
     render->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
     render
         ->add_option("--threads", o.threads,
@@ -426,6 +475,13 @@ int main(int argc, char** argv) {
     auto* recipe = app.add_subcommand("recipe", "Print the recipe embedded in an image");
     recipe->add_option("image", o.image, "Image written by fixpoint")->required();
 
+    auto* addresses = app.add_subcommand(
+        "addresses", "List the addresses of a renderer's polygons at a level (paper 05, Algorithm 1)");
+    addresses->add_option("config", o.config, "Pipeline file (YAML)")->required();
+    addresses->add_option("--level", o.level, "Level to list (default: the last)")
+        ->check(CLI::Range(0LL, 1000LL));
+    addresses->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
+
     auto* conformance = app.add_subcommand("conformance", "Run the plugin conformance suite");
     conformance->add_option("files", o.files, "Plugin files (default: every plugin found)");
 
@@ -450,6 +506,7 @@ int main(int argc, char** argv) {
         if (*eval) return cmd_eval(o);
         if (*recipe) return cmd_recipe(o);
         if (*conformance) return cmd_conformance(o);
+        if (*addresses) return cmd_addresses(o);
     } catch (const Cancelled&) {
         std::fprintf(stderr, "fixpoint: interrupted; no image written\n");
         return 130;

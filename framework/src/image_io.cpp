@@ -13,6 +13,8 @@
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -26,8 +28,10 @@ Format format_for(const std::string& path) {
     if (ext == ".png") return Format::Png;
     if (ext == ".exr") return Format::Exr;
     if (ext == ".tif" || ext == ".tiff") return Format::Tiff;
+    if (ext == ".svg") return Format::Svg;
+    if (ext == ".pdf") return Format::Pdf;
     throw InputError("'" + path + "': unknown output format '" + (ext.empty() ? "(no extension)" : ext) +
-                     "' (use .png, .exr, .tif or .tiff)");
+                     "' (use .png, .exr, .tif, .tiff, .svg or .pdf)");
 }
 
 static fs::path temp_path_for(const fs::path& target) {
@@ -54,6 +58,10 @@ void check_output(const std::string& path) {
 
 void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe) {
     const Format f = format_for(path);
+    if (is_vector(f))
+        throw InputError("'" + path +
+                         "': SVG and PDF are written only by renderers with vector output (use .png, "
+                         ".exr, .tif or .tiff)");
     const char* oiio_format = f == Format::Png ? "png" : f == Format::Exr ? "openexr" : "tiff";
     OIIO::TypeDesc type = f == Format::Exr  ? OIIO::TypeDesc::FLOAT
                           : bit_depth == 16 ? OIIO::TypeDesc::UINT16
@@ -86,7 +94,61 @@ void write_image(const Image& img, const std::string& path, int bit_depth, const
     }
 }
 
+// The recipe an mfs SVG carries in <metadata id="fixpoint-recipe"> (see plugins/renderers/mfs_draw.hpp).
+static std::string read_svg_recipe(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError("cannot read '" + path + "': " + std::strerror(errno));
+    const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string open = "<metadata id=\"fixpoint-recipe\"><![CDATA[\n", close = "]]></metadata>";
+    const auto a = doc.find(open);
+    const auto b = a == std::string::npos ? a : doc.find(close, a);
+    if (b == std::string::npos)
+        throw InputError("'" + path + "' holds no fixpoint recipe (it was not written by fixpoint)");
+    std::string r = doc.substr(a + open.size(), b - a - open.size());
+    for (std::size_t at; (at = r.find("]]]]><![CDATA[>")) != std::string::npos;) r.replace(at, 15, "]]>");
+    return r;
+}
+
+static Format format_for_or_png(const std::string& path) {
+    try {
+        return format_for(path);
+    } catch (const InputError&) {
+        return Format::Png; // anything OpenImageIO reads
+    }
+}
+
+void write_bytes(const std::string& bytes, const std::string& path) {
+    const fs::path target(path);
+    const fs::path tmp = temp_path_for(target);
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0) throw InputError("cannot write '" + path + "': " + std::strerror(errno));
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t w = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) {
+            const std::string err = std::strerror(errno);
+            ::close(fd);
+            ::unlink(tmp.c_str());
+            throw InputError("cannot write '" + path + "': " + err);
+        }
+        done += std::size_t(w);
+    }
+    if (::close(fd) != 0) {
+        const std::string err = std::strerror(errno);
+        ::unlink(tmp.c_str());
+        throw InputError("cannot write '" + path + "': " + err);
+    }
+    std::error_code ec;
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw InputError("cannot write '" + path + "': " + ec.message());
+    }
+}
+
 std::string read_recipe(const std::string& path) {
+    if (format_for_or_png(path) == Format::Svg) return read_svg_recipe(path);
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw InputError("cannot read '" + path + "': " + OIIO::geterror());
     const std::string desc = in->spec().get_string_attribute("ImageDescription");

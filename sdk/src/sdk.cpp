@@ -1,6 +1,7 @@
 // Key functions of the SDK's classes: their vtables and type information live in this one
 // shared library, so dynamic_cast and exceptions work across plugins loaded with RTLD_LOCAL.
 #include <fixpoint/fixpoint.hpp>
+#include <fixpoint/vertex_map.hpp>
 
 namespace fp {
 
@@ -13,6 +14,7 @@ Cancelled::~Cancelled() = default;
 Object::~Object() = default;
 Shape::~Shape() = default;
 Transform::~Transform() = default;
+VertexMap::~VertexMap() = default;
 IterationScheme::~IterationScheme() = default;
 NumberSystem::~NumberSystem() = default;
 Metric::~Metric() = default;
@@ -48,6 +50,14 @@ Box Transform::sample_domain() const { return {-2, 2, -2, 2}; }
 unsigned IterationScheme::applications() const { return 1; }
 void IterationScheme::check_steps(const Transform&, std::uint64_t) const {}
 bool NumberSystem::is_real() const { return false; }
+
+bool Renderer::has_vector_output() const { return false; }
+std::string Renderer::render_vector(RenderContext&, RenderStats&, VectorFormat, const std::string&) const {
+    throw Error("this renderer has no vector output");
+}
+std::vector<std::string> Renderer::polygon_addresses(std::int64_t) const {
+    throw Error("this renderer has no polygon addresses");
+}
 
 bool Colourer::needs_colour() const { return true; }
 bool Colourer::colours_trap_hits() const { return false; }

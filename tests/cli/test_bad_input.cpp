@@ -96,7 +96,7 @@ std::vector<Case> cases() {
          {}}, // message depends on the machine's memory: checked by prefix below
         {"unknown_format",
          b,
-         "'out.bmp': unknown output format '.bmp' (use .png, .exr, .tif or .tiff)",
+         "'out.bmp': unknown output format '.bmp' (use .png, .exr, .tif, .tiff, .svg or .pdf)",
          {"-o", "out.bmp"}},
         {"unwritable",
          b,

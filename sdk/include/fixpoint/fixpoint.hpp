@@ -19,3 +19,4 @@
 #include <fixpoint/transform_base.hpp>
 #include <fixpoint/trap.hpp>
 #include <fixpoint/types.hpp>
+#include <fixpoint/vertex_map.hpp>

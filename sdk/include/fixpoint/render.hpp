@@ -46,6 +46,9 @@ public:
     virtual bool cancelled() const = 0;
 };
 
+/// Vector formats a renderer may write (Renderer::render_vector).
+enum class VectorFormat { Svg, Pdf };
+
 class Renderer : public Object {
 public:
     ~Renderer() override;
@@ -57,6 +60,19 @@ public:
     /// Units of work reported through RenderContext::progress over a whole render.
     virtual std::uint64_t work_units() const = 0;
     virtual Image render(RenderContext& ctx, RenderStats& stats) const = 0;
+
+    // Optional abilities (defaults: none). Added for paper 05's mfs renderer.
+
+    /// Whether render_vector works; the host checks it before rendering to .svg or .pdf.
+    virtual bool has_vector_output() const;
+    /// The picture as a whole SVG or PDF document (its bytes), with `recipe` embedded where
+    /// the format allows. The host writes it atomically. Default: throws fp::Error.
+    virtual std::string render_vector(RenderContext& ctx, RenderStats& stats, VectorFormat format,
+                                      const std::string& recipe) const;
+    /// Paper 05's Algorithm 1: one line per polygon at `level` (-1: the last level), its
+    /// address first. Throws fp::ParamError for a level that does not exist; default: throws
+    /// fp::Error (the renderer draws no addressed polygons).
+    virtual std::vector<std::string> polygon_addresses(std::int64_t level) const;
 };
 
 } // namespace fp

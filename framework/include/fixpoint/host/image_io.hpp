@@ -9,9 +9,12 @@
 
 namespace fp::host {
 
-enum class Format { Png, Exr, Tiff };
+enum class Format { Png, Exr, Tiff, Svg, Pdf };
 
-/// The format for an output path's extension (.png, .exr, .tif, .tiff; any case).
+/// SVG and PDF: written by renderers with vector output (Renderer::render_vector).
+inline bool is_vector(Format f) { return f == Format::Svg || f == Format::Pdf; }
+
+/// The format for an output path's extension (.png, .exr, .tif, .tiff, .svg, .pdf; any case).
 /// Throws fp::InputError for anything else.
 Format format_for(const std::string& path);
 
@@ -23,6 +26,9 @@ void check_output(const std::string& path);
 /// leaves a partial file at `path`. PNG and TIFF take `bit_depth` 8 or 16; EXR is float.
 /// `recipe` goes into the ImageDescription metadata.
 void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe);
+
+/// Write a whole file (a vector document) atomically, as write_image does. Throws fp::InputError.
+void write_bytes(const std::string& bytes, const std::string& path);
 
 /// The recipe embedded in an image written by fixpoint. Throws fp::InputError.
 std::string read_recipe(const std::string& path);
