@@ -45,3 +45,27 @@ for c in density map_colour; do
     done
 done
 echo "reference simd 2/1 = $(ratio "${rate[ref_simd_2]}" "${rate[ref_simd_1]}"), scalar 2/1 = $(ratio "${rate[ref_scalar_2]}" "${rate[ref_scalar_1]}")"
+
+# ---------------------------------------------------------------- orbit trap (paper 04, issue 6)
+# The orbit-trap renderer on the work of ../shared/perf-reference/wallpaper.cpp (p4m-like map,
+# four circle traps, 1024^2, M = 100), and a 1920x1080, 8-sample render of Fig. 8(d).
+cmake --build "$build" --target fixpoint_bench_orbit_trap -j"$(nproc)" >/dev/null
+g++ -O3 -march=native -fopenmp -o "$out/wallpaper" "$ref/wallpaper.cpp"
+echo "== reference: $ref/wallpaper.cpp (reps=5, median; M useful pixel-iterations/s)"
+for variant in simd scalar; do
+    for t in 1 2; do
+        line=$("$out/wallpaper" variant=$variant threads=$t reps=5 | grep '^SUMMARY')
+        r=$(echo "$line" | tr ' ' '\n' | sed -n 's/^median_rate=//p')
+        c=$(echo "$line" | tr ' ' '\n' | sed -n 's/^cpu_per_wall=//p')
+        rate[wall_${variant}_$t]=$(awk -v r="$r" 'BEGIN {printf "%.1f", r / 1e6}')
+        printf "reference %-6s threads=%d  %7.1f M it/s  (cpu/wall %s)\n" $variant $t "${rate[wall_${variant}_$t]}" "$c"
+    done
+done
+echo "== fixpoint: $build/bin/fixpoint_bench_orbit_trap"
+"$build/bin/fixpoint_bench_orbit_trap" | tee "$out/orbit_trap.txt"
+for t in 1 2; do
+    r=$(sed -n "s#^reference_work/$t/.*items_per_second=\([0-9.]*\)M/s.*#\1#p" "$out/orbit_trap.txt")
+    printf "orbit-trap threads=%d  %7.1f M it/s = %s x reference simd %d thread(s)\n" $t "${r:-0}" \
+        "$(ratio "${r:-0}" "${rate[wall_simd_$t]}")" $t
+done
+echo "(target: orbit-trap 1 thread >= 0.5 x reference simd 1 thread)"

@@ -266,6 +266,28 @@ void check_metric(const Metric& m, Findings& f) {
         m.distance(Points<const double>{&x[j], &y[j], 1}, {x[0], y[0]}, &d1[j]);
     if (!bit_equal(d1, std::vector<double>(d.begin(), d.begin() + n)))
         f.push_back("metric: distance() on a batch differs from point-by-point");
+    // The float path: batch equals point-by-point, and agrees with double.
+    std::vector<float> xf(x.begin(), x.end()), yf(y.begin(), y.end()), df(n), df1(n);
+    m.distance(Points<const float>{xf.data(), yf.data(), n}, {x[0], y[0]}, df.data());
+    for (std::size_t j = 0; j < n; ++j)
+        m.distance(Points<const float>{&xf[j], &yf[j], 1}, {x[0], y[0]}, &df1[j]);
+    if (!bit_equal(df, df1)) f.push_back("metric: float distance() on a batch differs from point-by-point");
+    std::size_t far = 0;
+    for (std::size_t j = 0; j < n; ++j) far += !(std::fabs(double(df[j]) - d[j]) <= 1e-5 * (1 + d[j]));
+    if (far) f.push_back("metric: float and double distances disagree on " + std::to_string(far) + " points");
+    // Keys (comparisons without the expensive part): from_key(distance_key(p)) is distance(p)
+    // bit for bit, in float and double; key() is increasing and the key of 0 is 0.
+    std::vector<double> kd(n);
+    m.distance_key(Points<const double>{x.data(), y.data(), n}, {x[0], y[0]}, kd.data());
+    m.from_key(kd.data(), n);
+    std::vector<float> kf(n);
+    m.distance_key(Points<const float>{xf.data(), yf.data(), n}, {x[0], y[0]}, kf.data());
+    m.from_key(kf.data(), n);
+    if (!bit_equal(kd, std::vector<double>(d.begin(), d.begin() + n)) || !bit_equal(kf, df))
+        f.push_back("metric: from_key(distance_key(p)) differs from distance(p)");
+    bool increasing = m.key(0) == 0;
+    for (double r = 0.01; r < 100; r *= 1.7) increasing = increasing && m.key(r) < m.key(r * 1.7);
+    if (!increasing) f.push_back("metric: key() is not increasing from key(0) = 0");
 }
 
 // ------------------------------------------------------------------ Trap
@@ -294,6 +316,20 @@ void check_trap(const Trap& t, Findings& f) {
     for (std::size_t i = 0; i < n; ++i)
         t.test(Points<const double>{&x[i], &y[i], 1}, &r1.trap[i], &r1.ratio[i]);
     if (!(r == r1)) f.push_back("trap: test() on a batch differs from point-by-point");
+    {
+        std::vector<float> xf(x.begin(), x.end()), yf(y.begin(), y.end()), rf(n), rf1(n);
+        std::vector<std::int32_t> tf(n), tf1(n);
+        t.test(Points<const float>{xf.data(), yf.data(), n}, tf.data(), rf.data());
+        for (std::size_t i = 0; i < n; ++i) t.test(Points<const float>{&xf[i], &yf[i], 1}, &tf1[i], &rf1[i]);
+        bool same = tf == tf1;
+        for (std::size_t i = 0; i < n && same; ++i) same = tf[i] < 0 || rf[i] == rf1[i];
+        if (!same) f.push_back("trap: float test() on a batch differs from point-by-point");
+        for (std::size_t i = 0; i < n; ++i)
+            if (tf[i] >= 0 && !(rf[i] >= 0 && rf[i] < 1)) {
+                f.push_back("trap: float ratio d/r of a trapped point outside [0, 1)");
+                break;
+            }
+    }
     if (!same_on_two_threads(batch))
         f.push_back("trap: results differ when evaluated from two threads at once");
     for (std::size_t i = 0; i < n; ++i) {
@@ -332,6 +368,43 @@ void check_numbers(const NumberSystem& ns, Findings& f) {
 }
 
 // ------------------------------------------------------------------ Colourer
+// Orbit-trap colouring (paper 04): batch == point by point, values in [0, 1], untrapped samples
+// take the given background exactly, the same on two threads.
+void check_trap_colours(const Colourer& c, Findings& f) {
+    constexpr std::size_t n = 301;
+    Sampler smp;
+    std::vector<std::int32_t> trap(n);
+    std::vector<float> ratio(n);
+    std::vector<std::uint32_t> it(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        trap[i] = std::int32_t(i % 5) - 1;
+        ratio[i] = i % 7 == 0 ? 0.0f : float(smp.in(0, 1));
+        if (ratio[i] >= 1) ratio[i] = 0.5f;
+        it[i] = std::uint32_t(1 + i % 100);
+    }
+    const Rgb bg{0.1f, 0.2f, 0.3f};
+    auto batch = [&](const Rgb* background) {
+        std::vector<float> rgb(3 * n, -1.0f);
+        c.colour_hits(trap.data(), ratio.data(), it.data(), n, background, rgb.data());
+        return rgb;
+    };
+    const auto all = batch(&bg), own = batch(nullptr);
+    std::vector<float> one(3 * n);
+    for (std::size_t i = 0; i < n; ++i) c.colour_hits(&trap[i], &ratio[i], &it[i], 1, &bg, &one[3 * i]);
+    if (all != one) f.push_back("colourer: colour_hits() on a batch differs from point-by-point");
+    std::size_t bad = 0, background = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) bad += !(all[3 * i + k] >= 0 && all[3 * i + k] <= 1);
+        for (int k = 0; k < 3; ++k) bad += !(own[3 * i + k] >= 0 && own[3 * i + k] <= 1);
+        if (trap[i] < 0)
+            background += !(all[3 * i] == bg.r && all[3 * i + 1] == bg.g && all[3 * i + 2] == bg.b);
+    }
+    if (bad) f.push_back("colourer: colour_hits() gives values outside [0, 1]");
+    if (background) f.push_back("colourer: colour_hits() does not give untrapped samples the background");
+    if (!same_on_two_threads([&] { return batch(&bg); }))
+        f.push_back("colourer: colour_hits() differs when evaluated from two threads at once");
+}
+
 void check_colourer(const Colourer& c, Findings& f) {
     constexpr std::size_t n = 257;
     const Rgb maps[3] = {{1, 0, 0}, {0, 1, 0}, {0.2f, 0.3f, 1}};
@@ -379,6 +452,7 @@ void check_colourer(const Colourer& c, Findings& f) {
         f.push_back("colourer: an empty bin does not take the background");
     if (!same_on_two_threads(resolve))
         f.push_back("colourer: resolve() differs when evaluated from two threads at once");
+    if (c.colours_trap_hits()) check_trap_colours(c, f);
 }
 
 // ------------------------------------------------------------------ Renderer

@@ -1,0 +1,208 @@
+// colour-map — the exponential colour maps of Lu et al. (paper 04, Algorithm 1 and Table 1)
+// and their index rule for orbit traps (Algorithm 3, lines 16-17).
+//
+// The table (built once, at construction)
+// ---------------------------------------
+// Base colours b_0..b_N with colour ratios q_0 < q_1 < ... < q_N in [0, 1], Nc entries,
+// exponent E. Entry i is the colour of the ratio q = (i / (1 + i))^E, linearly interpolated
+// between the two base colours whose ratios bracket q (Algorithm 1):
+//     k = 1; for i = 0 .. Nc - 1: q = (i / (1 + i))^E; while q > q_k: k = k + 1;
+//            t = (q_k - q) / (q_k - q_{k-1}); table[i] = t b_{k-1} + (1 - t) b_k.
+// Line 4, q = (i / (1 + i))^E, is not damage: it is the inverse of the index rule below
+// (index = v / (1 - v) with v = (d / r)^(1 / E) solves to d / r = (i / (1 + i))^E), so entry i
+// is the colour of the trap ratio d / r that lands on it, and q runs over [0, 1) as i grows.
+// The paper's loop leaves two cases open, decided here: the while loop stops at k = N (q never
+// reaches 1, but q_N may be below 1), and t is clamped to [0, 1], so a q below q_0 takes b_0 and
+// one above q_N takes b_N (no extrapolation).
+//
+// Base colours are written as in Table 1: numbers in [0, 255], a flat list of r, g, b triples
+// (`colours: [0, 0, 0,  255, 0, 0, ...]`), divided by 255 (the image is written without a
+// transfer curve, so these are the display values of the paper). Presets fig-4a..fig-4d are the
+// four maps of Table 1 (Fig. 4); E = 16 and Nc = 3000 are the defaults, as in all the paper's
+// examples.
+//
+// Orbit-trap hits (colour_hits)
+// -----------------------------
+// v = 10^(log10(d / r) / E) = (d / r)^(1 / E), index = min(v / (1 - v), Nc - 1), integer part
+// (computed in double: v / (1 - v) only for v < 1; d = 0 gives index 0; v >= 1 or NaN the last
+// entry). A sample never trapped takes the renderer's background, or the last entry of the table
+// when there is none (Algorithm 3, line 21).
+//
+// Histograms (resolve), for point-plotting renderers: a bin's log-density
+// (log2(1 + h) / log2(1 + max h))^(1 / gamma) (paper 02, eq. (28)) is read as the ratio above
+// and coloured by the same index rule, so the densest bins take the last colour; empty bins
+// take the background.
+//
+// Errors: preset together with colours/ratios; neither; colours not r, g, b triples; fewer than
+// two base colours; ratios not one per base colour or not strictly increasing. The schema
+// refuses E <= 0, Nc < 2, ratios outside [0, 1] and colour values outside [0, 255].
+#include "tone_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace {
+
+std::string real_text(double v) {
+    char buf[32];
+    for (int prec = 1; prec <= 17; ++prec) {
+        std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+        if (std::strtod(buf, nullptr) == v) break;
+    }
+    return buf;
+}
+
+struct Map {
+    std::vector<double> colours; // r, g, b triples in [0, 255]
+    std::vector<double> ratios;
+};
+
+// Table 1 of paper 04.
+Map preset(const std::string& name) {
+    if (name == "fig-4a")
+        return {{0, 0, 0, 255, 0, 0, 255, 128, 0, 0, 0, 0, 255, 128, 0, 255, 255, 255, 26, 0, 0},
+                {0.0, 0.7, 0.75, 0.8, 0.85, 0.9, 1.0}};
+    if (name == "fig-4b")
+        return {
+            {0, 0, 0, 0, 0, 150, 161, 202, 241, 243, 195, 0, 0, 0, 0, 243, 195, 0, 255, 255, 255, 26, 0, 0},
+            {0.0, 0.5, 0.7, 0.75, 0.8, 0.85, 0.9, 1.0}};
+    if (name == "fig-4c")
+        return {{0, 0, 0, 6, 204, 2, 0, 0, 0, 19, 158, 245, 200, 200, 200, 115, 106, 55},
+                {0.0, 0.6, 0.8, 0.85, 0.9, 1.0}};
+    if (name == "fig-4d")
+        return {{0, 0, 0, 254, 0, 0, 0, 255, 0, 255, 255, 127, 25, 0, 0, 255, 52, 0, 0, 128, 255, 25, 0, 0},
+                {0.0, 0.25, 0.3, 0.47, 0.6, 0.7, 0.85, 1.0}};
+    throw fp::InternalError("colour-map: unknown preset " + name); // the schema lists the choices
+}
+
+constexpr fp::ParamSpec params[] = {
+    fp::param::string("preset", "one of the colour maps of Table 1 (Fig. 4): fig-4a, fig-4b, fig-4c, fig-4d")
+        .one_of("fig-4a|fig-4b|fig-4c|fig-4d")
+        .opt(),
+    fp::param::reals("colours",
+                     "base colours b_0..b_N as in Table 1: r, g, b triples of numbers in [0, 255], "
+                     "one flat list")
+        .min(0)
+        .max(255)
+        .opt(),
+    fp::param::reals("ratios", "colour ratios q_0 < q_1 < ... < q_N in [0, 1], one per base colour")
+        .min(0)
+        .max(1)
+        .opt(),
+    fp::param::integer("Nc", "number of colours in the table").def("3000").min(2).max(16777216),
+    fp::param::real("E", "exponent E of Algorithm 1 and of the index rule").def("16").above(0),
+    fp_colourers::gamma_param,
+};
+
+class ColourMap final : public fp::Colourer {
+public:
+    explicit ColourMap(const fp::ParamBag& p) : inv_e_(1.0 / p.real("E")), gamma_(p.real("gamma")) {
+        const bool has_preset = p.has("preset"), has_c = p.has("colours"), has_q = p.has("ratios");
+        Map m;
+        if (has_preset && (has_c || has_q))
+            throw fp::ParamError(has_c ? "colours" : "ratios",
+                                 "give either a preset or colours and ratios, not both");
+        if (has_preset) {
+            m = preset(p.string("preset"));
+        } else {
+            if (!has_c && !has_q)
+                throw fp::ParamError(
+                    "no colours: give colours and ratios, or a preset (fig-4a, fig-4b, fig-4c, "
+                    "fig-4d)");
+            if (!has_c) throw fp::ParamError("ratios", "ratios without colours: give the base colours too");
+            if (!has_q)
+                throw fp::ParamError("colours", "colours without ratios: give one ratio per base colour");
+            m = {p.reals("colours"), p.reals("ratios")};
+            if (m.colours.size() % 3 != 0)
+                throw fp::ParamError("colours", "expected r, g, b triples (a multiple of 3 numbers), got " +
+                                                    std::to_string(m.colours.size()) + " numbers");
+            const std::size_t nb = m.colours.size() / 3;
+            if (nb < 2)
+                throw fp::ParamError("colours",
+                                     "a colour map needs at least 2 base colours, got " + std::to_string(nb));
+            if (m.ratios.size() != nb)
+                throw fp::ParamError("ratios", "expected " + std::to_string(nb) +
+                                                   " ratios (one per base colour), got " +
+                                                   std::to_string(m.ratios.size()));
+            for (std::size_t i = 1; i < nb; ++i)
+                if (!(m.ratios[i] > m.ratios[i - 1]))
+                    throw fp::ParamError("ratios", "the ratios must increase strictly: ratios[" +
+                                                       std::to_string(i) + "] = " + real_text(m.ratios[i]) +
+                                                       " is not above ratios[" + std::to_string(i - 1) +
+                                                       "] = " + real_text(m.ratios[i - 1]));
+        }
+        build(m, std::size_t(p.integer("Nc")), p.real("E"));
+    }
+
+    void update(const std::uint32_t*, fp::ColourState, const fp::Rgb*, const unsigned char*) const override {}
+    bool needs_colour() const override { return false; }
+    bool colours_trap_hits() const override { return true; }
+
+    void colour_hits(const std::int32_t* trap, const float* ratio, const std::uint32_t*, std::size_t n,
+                     const fp::Rgb* background, float* rgb) const override {
+        const fp::Rgb bg = background ? *background : table_.back();
+        for (std::size_t i = 0; i < n; ++i) {
+            const fp::Rgb c = trap[i] < 0 ? bg : table_[index(ratio[i])];
+            rgb[3 * i] = c.r;
+            rgb[3 * i + 1] = c.g;
+            rgb[3 * i + 2] = c.b;
+        }
+    }
+
+    void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
+        std::uint64_t max_hits = 0;
+        for (const auto& b : h.bins) max_hits = std::max(max_hits, b.hits);
+        const fp_colourers::LogDensity density(max_hits, gamma_);
+        for (std::size_t i = 0; i < h.bins.size(); ++i) {
+            const fp::Rgb c = h.bins[i].hits == 0 ? background : table_[index(density(h.bins[i].hits))];
+            rgb[3 * i] = c.r;
+            rgb[3 * i + 1] = c.g;
+            rgb[3 * i + 2] = c.b;
+        }
+    }
+
+    const std::vector<fp::Rgb>& table() const { return table_; }
+
+private:
+    // Algorithm 1, with the loop bound and the clamp of t described above.
+    void build(const Map& m, std::size_t nc, double e) {
+        const std::size_t last = m.ratios.size() - 1;
+        auto base = [&](std::size_t j, int ch) { return m.colours[3 * j + std::size_t(ch)] / 255.0; };
+        table_.resize(nc);
+        std::size_t k = 1;
+        for (std::size_t i = 0; i < nc; ++i) {
+            const double q = std::pow(double(i) / double(1 + i), e);
+            while (k < last && q > m.ratios[k]) ++k;
+            const double t = std::clamp((m.ratios[k] - q) / (m.ratios[k] - m.ratios[k - 1]), 0.0, 1.0);
+            auto mix = [&](int ch) { return float(t * base(k - 1, ch) + (1 - t) * base(k, ch)); };
+            table_[i] = {mix(0), mix(1), mix(2)};
+        }
+    }
+
+    // Algorithm 3, lines 16-17.
+    std::size_t index(double ratio) const {
+        const std::size_t last = table_.size() - 1;
+        const double v = std::pow(ratio, inv_e_);
+        if (!(v < 1)) return last;
+        const double f = v / (1 - v);
+        return f >= double(last) ? last : std::size_t(f);
+    }
+
+    double inv_e_, gamma_;
+    std::vector<fp::Rgb> table_;
+};
+
+} // namespace
+
+FIXPOINT_PLUGIN(
+    fp::describe<ColourMap>(fp::Kind::Colourer, "colour-map",
+                            "Lu et al.'s exponential colour maps (paper 04, Algorithm 1, Table 1), "
+                            "coloured by the trap ratio d/r",
+                            params)
+        .with_example("{preset: fig-4a}"))

@@ -1,0 +1,402 @@
+// orbit-trap: the modified orbit trap method of paper 04 (Algorithm 3; Lu et al.'s Algorithm 2
+// with the Picard step replaced by any iteration scheme and the circles by any Trap).
+//
+// What it computes
+// ----------------
+// For every pixel sample p_0, iterate p_{k+1} = S(p_k) reduced mod 2 pi, k = 0 .. M - 1, where
+// S is one step of `iteration` (default Picard: p <- f(p); the S-iteration of eq. (13) is
+// `{type: s-iteration, numbers: {type: complex}, alpha: [1.1, 0.5], beta: [0.5, 0]}`, whose
+// product is the complex one: eq. (12)'s second component "x1 y2 + y1 x1" is a misprint for
+// x1 y2 + y1 x2) and f the `mapping`. After every step the traps are tested; the first step
+// whose point some trap holds stops the orbit, and the colourer colours the sample by that trap's
+// ratio d / r (colour-map: Algorithm 3, lines 16-17). A sample never trapped takes `background`,
+// or the colourer's own colour when there is none (colour-map: the last colour of its table,
+// line 21). The pixel is the mean of its samples.
+//
+// The reduction (`reduction`, after every scheme step): eq. (13) reduces the S-iteration's
+// combination mod 2 pi again, since (1 - alpha) f(p) + alpha f(u) leaves the period cell. The
+// default is C's fmod (symmetric about 0; the wallpaper transform's default too): a floor-based
+// mod into [0, 2 pi) makes the traps at negative coordinates unreachable and breaks the
+// symmetry. For Picard the step's own reduction already did it, and fmod / centred are
+// idempotent (exactly: orbit_trap_reduce.hpp). `none` for maps that are not periodic.
+//
+// Pixel coordinates
+// -----------------
+// As Algorithm 3 (pixel 0 at xmin, pixel W - 1 at xmax, y flipped), in a form exactly symmetric
+// about the area's centre: sample (dx, dy) of pixel (i, j) (offsets in pixels) is at
+//     x0 = cx + hx (((2 i - (W - 1)) + 2 dx) * (1 / (W - 1))),
+//     y0 = cy - hy (((2 j - (H - 1)) + 2 dy) * (1 / (H - 1)))
+// with (cx, cy) the centre and (hx, hy) the half sizes of the area, in double, then rounded to
+// the lanes' precision. So for an area centred at 0, the mirrored pixel's mirrored sample is
+// exactly the negated point, and for a square area with W = H the transposed one exactly the
+// swapped point. (W = 1 or H = 1: that axis is sampled at the centre.)
+//
+// Samples: 1 is the pixel's own point (as the paper's algorithm); 8 is the pattern
+// (+-1/8, +-3/8), (+-3/8, +-1/8) (eight rooks, one per row and column of an 8 x 8 grid of the
+// pixel); s^2 (4, 9, 16, ...) a centred s x s grid. Each pattern is closed under the square's
+// eight symmetries, and a pixel's colour is the mean of its samples' colours summed in
+// integers (each channel rounded to 24 fractional bits), so the sum does not depend on the
+// order: symmetric patterns render to symmetric images with supersampling too. Other counts are
+// refused.
+//
+// Performance
+// -----------
+// Tiles of consecutive pixels (about 1024 samples each: the batch's arrays stay in L1) over
+// RenderContext::parallel_for; a tile's samples form one batch (structure of arrays) that all
+// start together, so every lane of the batch is at the same step k (a scheme's parameter
+// sequences are indexed by k, so lanes at different steps could not share a call). Per step:
+// one IterationScheme::step call on the batch (which calls the transform per chunk), the
+// reduction (a vectorised scan first: values already in range, as after Picard with a map that
+// reduces the same way, are left alone), one Trap::test call, then the caught samples are
+// recorded and the survivors compacted to the front (AVX-512 compress stores where available),
+// so that the next step works on live lanes only: no idle lanes and no masks, and the work is
+// the sum of the samples' iteration counts plus a constant per step. Lanes are not refilled with
+// new samples (that would mix step indices); the cost of the shrinking batch is only the
+// per-call overhead of its last steps. bench/README.md has the figures.
+// Scratch space is per worker, allocated before the render; nothing is allocated, looked up or
+// logged per point. Cancellation is polled per tile, progress reported per tile (units: pixels).
+//
+// Determinism: a sample's orbit depends only on its own start point, and a pixel's colour on its
+// samples (summed in integers), so the image is the same on any number of threads and with any
+// tiling.
+//
+// RenderStats: samples = pixel samples, drawn = the samples some trap caught (the CLI refuses a
+// render where none was caught), bad_values = samples whose orbit ended on NaN or infinity;
+// unit "pixel samples".
+//
+// Errors (ParamError): "area": "the area must be [xmin, xmax, ymin, ymax] with xmin < xmax" (or
+// ymin < ymax); "samples": "expected 1, 8 or a square number (4, 9, 16, ...) of samples: patterns
+// closed under the square's symmetries, got 3"; "colourer": "this colourer cannot colour
+// orbit-trap hits (use colour-map)"; "height": the image is too large.
+#include "orbit_trap_reduce.hpp"
+
+#include <fixpoint/fixpoint.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
+namespace {
+
+using fp_orbit_trap::Reduction;
+using std::size_t;
+using std::uint32_t;
+using std::uint64_t;
+
+/// Samples per tile: the batch of one task (a few hundred microseconds of work).
+constexpr size_t tile_samples = 1024;
+/// Fixed-point scale of the per-pixel colour sums (24 fractional bits).
+constexpr double sum_scale = 16777216.0;
+
+struct Offset {
+    double x, y;
+};
+
+// The sample pattern for `n` samples, or empty when n is not a supported count.
+std::vector<Offset> pattern(int64_t n) {
+    if (n == 1) return {{0, 0}};
+    if (n == 8) {
+        const double a = 0.125, b = 0.375;
+        return {{-b, -a}, {-a, b}, {a, -b}, {b, a}, {-b, a}, {-a, -b}, {a, b}, {b, -a}};
+    }
+    const auto s = int64_t(std::llround(std::sqrt(double(n))));
+    if (s * s != n) return {};
+    std::vector<Offset> out;
+    for (int64_t j = 0; j < s; ++j)
+        for (int64_t i = 0; i < s; ++i)
+            out.push_back({double(2 * i + 1 - s) / double(2 * s), double(2 * j + 1 - s) / double(2 * s)});
+    return out;
+}
+
+template <class T>
+struct Scratch {
+    std::vector<T> x, y, ratio;
+    std::vector<uint32_t> id;
+    std::vector<std::int32_t> caught;
+    // Results per sample of the tile.
+    std::vector<std::int32_t> trap;
+    std::vector<float> ratio_out;
+    std::vector<uint32_t> iteration;
+    std::vector<float> rgb;
+
+    void resize(size_t n) {
+        x.resize(n), y.resize(n), ratio.resize(n), id.resize(n), caught.resize(n);
+        trap.resize(n), ratio_out.resize(n), iteration.resize(n), rgb.resize(3 * n);
+    }
+};
+
+struct TileStats {
+    uint64_t drawn = 0, bad = 0;
+};
+
+// After a step: record the samples some trap caught (trap, ratio, iteration) and move the
+// others to the front, keeping their order; returns how many are left. With AVX-512 (float
+// lanes) 16 lanes at a time: a mask of the caught, the caught recorded bit by bit (a few per
+// step), the survivors written with compress stores (in place is safe: a block is loaded before
+// anything at or after its start is written). Otherwise a scalar loop without branches for the
+// compaction (every lane is copied; the write position advances past survivors only). Both give
+// the same result.
+template <class T>
+size_t retire(Scratch<T>& s, size_t live, uint32_t iteration) {
+    T* __restrict x = s.x.data();
+    T* __restrict y = s.y.data();
+    uint32_t* __restrict ids = s.id.data();
+    const std::int32_t* __restrict caught = s.caught.data();
+    auto record = [&](size_t i) {
+        const uint32_t id = ids[i];
+        s.trap[id] = caught[i];
+        s.ratio_out[id] = float(s.ratio[i]);
+        s.iteration[id] = iteration;
+    };
+    size_t i = 0, keep = 0;
+#if defined(__AVX512F__)
+    if constexpr (std::is_same_v<T, float>) {
+        const __m512i zero = _mm512_setzero_si512();
+        for (; i + 16 <= live; i += 16) {
+            const __m512i c = _mm512_loadu_si512(caught + i);
+            const __mmask16 out = _mm512_cmpge_epi32_mask(c, zero);
+            if (out == 0xffff) {
+                for (size_t k = 0; k < 16; ++k) record(i + k);
+                continue;
+            }
+            for (unsigned m = out; m; m &= m - 1) record(i + size_t(__builtin_ctz(m)));
+            const __mmask16 stay = __mmask16(~out);
+            const __m512 vx = _mm512_loadu_ps(x + i), vy = _mm512_loadu_ps(y + i);
+            const __m512i vid = _mm512_loadu_si512(ids + i);
+            _mm512_mask_compressstoreu_ps(x + keep, stay, vx);
+            _mm512_mask_compressstoreu_ps(y + keep, stay, vy);
+            _mm512_mask_compressstoreu_epi32(ids + keep, stay, vid);
+            keep += size_t(__builtin_popcount(unsigned(stay)));
+        }
+    }
+#endif
+    for (size_t j = i; j < live; ++j)
+        if (caught[j] >= 0) record(j);
+    for (; i < live; ++i) {
+        x[keep] = x[i];
+        y[keep] = y[i];
+        ids[keep] = ids[i];
+        keep += caught[i] < 0 ? 1 : 0;
+    }
+    return keep;
+}
+
+class OrbitTrap final : public fp::Renderer {
+public:
+    explicit OrbitTrap(const fp::ParamBag& p);
+
+    int width() const override { return width_; }
+    int height() const override { return height_; }
+    uint64_t memory_bytes(unsigned workers) const override;
+    uint64_t work_units() const override { return uint64_t(width_) * uint64_t(height_); }
+    fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
+
+private:
+    template <class T>
+    fp::Image run(fp::RenderContext& ctx, fp::RenderStats& stats) const;
+    template <class T>
+    TileStats tile(size_t t, Scratch<T>& s, float* image) const;
+
+    int width_ = 512, height_ = 512;
+    double cx_ = 0, cy_ = 0, hx_ = 1, hy_ = 1;
+    uint32_t max_iterations_ = 100;
+    std::vector<Offset> offsets_;
+    size_t tile_pixels_ = 1;
+    bool double_ = false, has_background_ = false;
+    fp::Rgb background_;
+    Reduction reduction_ = Reduction::fmod;
+    std::shared_ptr<const fp::Transform> mapping_;
+    std::shared_ptr<const fp::IterationScheme> iteration_;
+    std::shared_ptr<const fp::Trap> traps_;
+    std::shared_ptr<const fp::Colourer> colourer_;
+};
+
+OrbitTrap::OrbitTrap(const fp::ParamBag& p) {
+    width_ = int(p.integer("width"));
+    height_ = int(p.integer("height"));
+    if (uint64_t(width_) * uint64_t(height_) >= 0xffffffffull)
+        throw fp::ParamError("height",
+                             "the image is too large: width * height must be below 4294967295 pixels");
+    const auto& a = p.reals("area");
+    if (!(a[0] < a[1]))
+        throw fp::ParamError("area", "the area must be [xmin, xmax, ymin, ymax] with xmin < xmax");
+    if (!(a[2] < a[3]))
+        throw fp::ParamError("area", "the area must be [xmin, xmax, ymin, ymax] with ymin < ymax");
+    cx_ = (a[0] + a[1]) / 2, hx_ = (a[1] - a[0]) / 2;
+    cy_ = (a[2] + a[3]) / 2, hy_ = (a[3] - a[2]) / 2;
+    max_iterations_ = uint32_t(p.integer("max_iterations"));
+    const auto n = p.integer("samples");
+    offsets_ = pattern(n);
+    if (offsets_.empty())
+        throw fp::ParamError("samples",
+                             "expected 1, 8 or a square number (4, 9, 16, ...) of samples: patterns "
+                             "closed under the square's symmetries, got " +
+                                 std::to_string(n));
+    tile_pixels_ = std::max<size_t>(1, tile_samples / offsets_.size());
+    mapping_ = p.object<fp::Transform>("mapping");
+    iteration_ = p.object<fp::IterationScheme>("iteration");
+    traps_ = p.object<fp::Trap>("traps");
+    colourer_ = p.object<fp::Colourer>("colourer");
+    if (!colourer_->colours_trap_hits())
+        throw fp::ParamError("colourer", "this colourer cannot colour orbit-trap hits (use colour-map)");
+    if (p.has("background")) {
+        has_background_ = true;
+        background_ = p.colour("background");
+    }
+    const std::string& r = p.string("reduction");
+    reduction_ = r == "fmod"      ? Reduction::fmod
+                 : r == "centred" ? Reduction::centred
+                 : r == "floor"   ? Reduction::floor
+                                  : Reduction::none;
+    double_ = p.string("precision") == "double";
+    iteration_->check_steps(*mapping_, max_iterations_);
+}
+
+uint64_t OrbitTrap::memory_bytes(unsigned workers) const {
+    const uint64_t image = uint64_t(width_) * uint64_t(height_) * 3 * sizeof(float);
+    const uint64_t per_sample = 3 * (double_ ? 8 : 4) + 4 * 4 + 4 + 4 * 3;
+    return image + uint64_t(std::max(1u, workers)) * tile_samples * per_sample;
+}
+
+// One tile: pixels [t * tile_pixels, ...) in row-major order, all their samples in one batch.
+template <class T>
+TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image) const {
+    const size_t npix = size_t(width_) * size_t(height_);
+    const size_t p0 = t * tile_pixels_, p1 = std::min(npix, p0 + tile_pixels_);
+    const size_t ns = offsets_.size(), b = (p1 - p0) * ns;
+    // 1 / (W - 1) as a factor: a product is as symmetric under negation as a quotient, and the
+    // same expression serves x and y, so the symmetry of the start points is exact either way.
+    const double iw = 1.0 / double(std::max(width_ - 1, 1)), ih = 1.0 / double(std::max(height_ - 1, 1));
+    const double w1 = double(width_ - 1), h1 = double(height_ - 1);
+    for (size_t pix = p0, k = 0; pix < p1; ++pix) {
+        const double i = double(pix % size_t(width_)), j = double(pix / size_t(width_));
+        const double u = 2 * i - w1, v = 2 * j - h1;
+        for (size_t q = 0; q < ns; ++q, ++k) {
+            s.x[k] = T(cx_ + hx_ * ((u + 2 * offsets_[q].x) * iw));
+            s.y[k] = T(cy_ - hy_ * ((v + 2 * offsets_[q].y) * ih));
+            s.id[k] = uint32_t(k);
+            s.trap[k] = -1;
+            s.ratio_out[k] = 0;
+            s.iteration[k] = max_iterations_;
+        }
+    }
+    size_t live = b;
+    for (uint32_t step = 0; step < max_iterations_ && live > 0; ++step) {
+        iteration_->step(*mapping_, fp::Points<T>{s.x.data(), s.y.data(), live}, nullptr, step);
+        fp_orbit_trap::reduce(s.x.data(), live, reduction_);
+        fp_orbit_trap::reduce(s.y.data(), live, reduction_);
+        traps_->test(fp::Points<const T>{s.x.data(), s.y.data(), live}, s.caught.data(), s.ratio.data());
+        live = retire(s, live, step + 1);
+    }
+    TileStats st;
+    for (size_t i = 0; i < live; ++i) st.bad += !(std::isfinite(s.x[i]) && std::isfinite(s.y[i]));
+    for (size_t k = 0; k < b; ++k) st.drawn += s.trap[k] >= 0;
+
+    colourer_->colour_hits(s.trap.data(), s.ratio_out.data(), s.iteration.data(), b,
+                           has_background_ ? &background_ : nullptr, s.rgb.data());
+    // The mean of each pixel's samples, summed in integers (order-independent).
+    const double inv = 1.0 / (sum_scale * double(ns));
+    for (size_t px = p0; px < p1; ++px) {
+        const float* c = s.rgb.data() + 3 * (px - p0) * ns;
+        for (int ch = 0; ch < 3; ++ch) {
+            uint64_t sum = 0;
+            for (size_t k = 0; k < ns; ++k) {
+                const float v = c[3 * k + size_t(ch)];
+                const float v01 = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; // NaN -> 0
+                // Rounded to nearest (halves up; llround's rule for v >= 0), exactly: v * 2^24
+                // and the + 0.5 are exact in double. A conversion, not a call: it vectorises.
+                sum += uint64_t(double(v01) * sum_scale + 0.5);
+            }
+            image[3 * px + size_t(ch)] = float(double(sum) * inv);
+        }
+    }
+    return st;
+}
+
+template <class T>
+fp::Image OrbitTrap::run(fp::RenderContext& ctx, fp::RenderStats& stats) const {
+    const size_t npix = size_t(width_) * size_t(height_);
+    const size_t tiles = (npix + tile_pixels_ - 1) / tile_pixels_;
+    fp::Image img;
+    img.width = width_;
+    img.height = height_;
+    img.channels = 3;
+    img.pixels.assign(npix * 3, 0.0f);
+    std::vector<Scratch<T>> scratch(std::max(1u, ctx.workers()));
+    for (auto& s : scratch) s.resize(tile_pixels_ * offsets_.size());
+    std::vector<TileStats> per_tile(tiles);
+    ctx.parallel_for(tiles, [&](size_t t, unsigned worker) {
+        if (ctx.cancelled()) throw fp::Cancelled();
+        per_tile[t] = tile<T>(t, scratch[worker], img.pixels.data());
+        const size_t p0 = t * tile_pixels_;
+        ctx.progress(std::min(npix, p0 + tile_pixels_) - p0);
+    });
+    if (ctx.cancelled()) throw fp::Cancelled();
+    stats = fp::RenderStats{};
+    stats.samples = uint64_t(npix) * offsets_.size();
+    stats.drawn = 0;
+    for (const auto& st : per_tile) stats.drawn += st.drawn, stats.bad_values += st.bad;
+    stats.unit = "pixel samples";
+    return img;
+}
+
+fp::Image OrbitTrap::render(fp::RenderContext& ctx, fp::RenderStats& stats) const {
+    return double_ ? run<double>(ctx, stats) : run<float>(ctx, stats);
+}
+
+// ---------------------------------------------------------------- schema
+constexpr fp::ParamSpec params[] = {
+    fp::param::integer("width", "image width W in pixels").def("512").min(1).max(65536),
+    fp::param::integer("height", "image height H in pixels").def("512").min(1).max(65536),
+    fp::param::reals("area", "the drawn area [xmin, xmax, ymin, ymax] (pixel 0 at xmin, pixel W - 1 at xmax; "
+                             "default the paper's [-2 pi, 2 pi]^2)")
+        .def("[-6.283185307179586, 6.283185307179586, -6.283185307179586, 6.283185307179586]")
+        .len(4),
+    fp::param::integer("max_iterations", "M: the most steps of an orbit").def("100").min(1).max(100000000),
+    fp::param::integer("samples",
+                       "samples per pixel: 1 (the pixel's point), 8 (the paper's count) or a square "
+                       "number, on fixed patterns closed under the square's symmetries")
+        .def("8")
+        .min(1)
+        .max(1024),
+    fp::param::object("mapping", fp::Kind::Transform,
+                      "the map f iterated (a wallpaper map for paper 04's patterns)"),
+    fp::param::object(
+        "iteration", fp::Kind::IterationScheme,
+        "the iteration process replacing p <- f(p) (eq. (13): s-iteration with complex numbers)")
+        .def("{type: picard}"),
+    fp::param::object("traps", fp::Kind::Trap, "the orbit traps (circles of a metric)"),
+    fp::param::object("colourer", fp::Kind::Colourer, "colours a caught sample by its trap ratio d / r")
+        .def("{type: colour-map, preset: fig-4a}"),
+    fp::param::colour("background",
+                      "colour of samples never caught (default: the colourer's own, colour-map: "
+                      "the last colour of its table)")
+        .opt(),
+    fp::param::string("reduction", "mod 2 pi after every step (eq. (13)): fmod (C's, symmetric about 0), "
+                                   "centred ([-pi, pi)), floor ([0, 2 pi)) or none")
+        .def("fmod")
+        .one_of("fmod|centred|floor|none"),
+    fp::param::string("precision", "arithmetic of the orbits: float (twice the SIMD width) or double")
+        .def("float")
+        .one_of("float|double"),
+};
+
+} // namespace
+
+FIXPOINT_PLUGIN(
+    fp::describe<OrbitTrap>(fp::Kind::Renderer, "orbit-trap",
+                            "the modified orbit trap method: patterns with wallpaper symmetry (paper 04, "
+                            "Algorithm 3)",
+                            params)
+        .with_example("{mapping: {type: gumowski-mira}, traps: {type: circles, preset: fig-1a}, "
+                      "width: 64, height: 64, samples: 1, max_iterations: 20}"))
