@@ -30,11 +30,7 @@ struct Case {
     std::vector<std::string> extra_args = {};
 };
 
-std::string replace(std::string s, const std::string& from, const std::string& to) {
-    const auto at = s.find(from);
-    if (at == std::string::npos) throw std::runtime_error("test setup: '" + from + "' not in base config");
-    return s.replace(at, from.size(), to);
-}
+using fp::test::replace_once;
 
 std::vector<Case> cases() {
     const std::string b = base;
@@ -42,9 +38,9 @@ std::vector<Case> cases() {
     return {
         {"syntax", "renderer: [1, 2\n", "bad.yaml:2:1: YAML syntax error: end of sequence flow not found"},
         {"lone_comma", ",", "bad.yaml:1:1: YAML syntax error: unexpected ','"},
-        {"duplicate_key", replace(b, "  height: 64\n", "  height: 64\n  width: 32\n"),
+        {"duplicate_key", replace_once(b, "  height: 64\n", "  height: 64\n  width: 32\n"),
          "bad.yaml:5:3: duplicate key 'width'"},
-        {"unquoted_hex_colour", replace(b, "radius: 0.9}}\n", "radius: 0.9}, colour: #ff6b6b}\n"),
+        {"unquoted_hex_colour", replace_once(b, "radius: 0.9}}\n", "radius: 0.9}, colour: #ff6b6b}\n"),
          "bad.yaml:9:5: YAML syntax error: illegal block entry (a '#' after a space starts a comment: quote "
          "colours, as "
          "in \"#ff6b6b\")"},
@@ -54,44 +50,45 @@ std::vector<Case> cases() {
          "bad.yaml:11:1: a second YAML document is not supported (one pipeline per file)"},
         {"nesting", "renderer: " + std::string(80, '[') + std::string(80, ']') + "\n",
          "bad.yaml:1:74: nesting deeper than 64 levels"},
-        {"unknown_plugin", replace(b, "type: circle, centre: [1, 0]", "type: circel, centre: [1, 0]"),
+        {"unknown_plugin", replace_once(b, "type: circle, centre: [1, 0]", "type: circel, centre: [1, 0]"),
          "bad.yaml:8:39: renderer.maps[0].shape.type: unknown shape 'circel' (did you mean 'circle'?)"},
         {"unknown_parameter",
-         replace(b, "radius: 0.9}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]",
-                 "radus: 0.9}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]"),
+         replace_once(b, "radius: 0.9}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]",
+                      "radus: 0.9}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]"),
          "bad.yaml:8:63: renderer.maps[0].shape: unknown parameter 'radus' for circle (did you mean "
          "'radius'?)"},
-        {"missing_parameter", replace(b, "shape: " + circle0, "centre: [0.1, 0]"),
+        {"missing_parameter", replace_once(b, "shape: " + circle0, "centre: [0.1, 0]"),
          "bad.yaml:8:7: renderer.maps[0]: missing required parameter 'shape' for inversion"},
-        {"ill_typed", replace(b, "width: 64", "width: wide"),
+        {"ill_typed", replace_once(b, "width: 64", "width: wide"),
          "bad.yaml:3:10: renderer.width: expected an integer, got 'wide'"},
         {"nan",
-         replace(b, "radius: 0.9}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]",
-                 "radius: .nan}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]"),
+         replace_once(b, "radius: 0.9}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]",
+                      "radius: .nan}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]"),
          "bad.yaml:8:71: renderer.maps[0].shape.radius: must be a finite number, got .nan"},
-        {"infinite", replace(b, "centre: [1, 0]", "centre: [.inf, 0]"),
+        {"infinite", replace_once(b, "centre: [1, 0]", "centre: [.inf, 0]"),
          "bad.yaml:8:56: renderer.maps[0].shape.centre: must be a finite number, got .inf"},
         {"out_of_range",
-         replace(b, "radius: 0.9}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]",
-                 "radius: -1}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]"),
+         replace_once(b, "radius: 0.9}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]",
+                      "radius: -1}}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]"),
          "bad.yaml:8:71: renderer.maps[0].shape.radius: must be > 0, got -1"},
         {"empty_maps", "renderer: {type: chaos-game, maps: []}\n",
          "bad.yaml:1:36: renderer.maps: the list of transforms is empty"},
-        {"wrong_kind", replace(b, "shape: " + circle0, "shape: {type: picard}"),
+        {"wrong_kind", replace_once(b, "shape: " + circle0, "shape: {type: picard}"),
          "bad.yaml:8:39: renderer.maps[0].shape.type: 'picard' is an iteration-scheme, but this slot expects "
          "a shape"},
-        {"polygon_two_vertices", replace(b, circle0, "{type: polygon, vertices: [[0, 0], [1, 0]]}"),
+        {"polygon_two_vertices", replace_once(b, circle0, "{type: polygon, vertices: [[0, 0], [1, 0]]}"),
          "bad.yaml:8:58: renderer.maps[0].shape.vertices: expected at least 3 points, got 2"},
         {"polygon_self_intersecting",
-         replace(b, circle0, "{type: polygon, vertices: [[0, 0], [1, 1], [1, 0], [0, 1]]}"),
+         replace_once(b, circle0, "{type: polygon, vertices: [[0, 0], [1, 1], [1, 0], [0, 1]]}"),
          "bad.yaml:8:58: renderer.maps[0].shape.vertices: polygon self-intersects: edges 0 and 2 cross"},
-        {"centre_outside_kernel", replace(b, "shape: " + circle0, "shape: " + circle0 + ", centre: [2, 0]"),
+        {"centre_outside_kernel",
+         replace_once(b, "shape: " + circle0, "shape: " + circle0 + ", centre: [2, 0]"),
          "bad.yaml:8:85: renderer.maps[0].centre: inversion centre (2, 0) is outside the kernel of the "
          "shape"},
-        {"zero_width", replace(b, "width: 64", "width: 0"),
+        {"zero_width", replace_once(b, "width: 64", "width: 0"),
          "bad.yaml:3:10: renderer.width: must be in [1, 65536], got 0"},
         {"too_large",
-         replace(replace(b, "width: 64", "width: 60000"), "height: 64", "height: 60000"),
+         replace_once(replace_once(b, "width: 64", "width: 60000"), "height: 64", "height: 60000"),
          "",
          {}}, // message depends on the machine's memory: checked by prefix below
         {"unknown_format",
@@ -104,25 +101,25 @@ std::vector<Case> cases() {
          {"-o", "no/such/folder/out.png"}},
         // Iteration processes (paper 02).
         {"qnumber_syntax",
-         replace(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: 0.5+q0.5}\n"),
+         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: 0.5+q0.5}\n"),
          "bad.yaml:7:34: renderer.iteration.alpha: cannot read '0.5+q0.5' as a number or q-system number "
          "(write 0.7, "
          "0.5+0.5q or [0.5, 0.5])"},
         {"qnumber_nan",
-         replace(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: .nan}\n"),
+         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: .nan}\n"),
          "bad.yaml:7:34: renderer.iteration.alpha: must be a finite number, got .nan"},
         {"empty_periodic_list",
-         replace(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: []}\n"),
+         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: []}\n"),
          "bad.yaml:7:34: renderer.iteration.alpha: a periodic list must not be empty"},
         {"empty_switching",
-         replace(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: switching, schemes: []}\n"),
+         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: switching, schemes: []}\n"),
          "bad.yaml:7:41: renderer.iteration.schemes: the list of iteration-schemes is empty"},
         {"qnumber_in_real_scheme",
-         replace(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: 0.5+0.5q}\n"),
+         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: 0.5+0.5q}\n"),
          "bad.yaml:7:34: renderer.iteration.alpha: 0.5+0.5q is a q-system number, but the scheme computes in "
          "the real "
          "numbers (set numbers: {type: q-system, A: ..., B: ...})"},
-        {"nothing_drawn", replace(b, "  height: 64\n", "  height: 64\n  view: [10, 11, 10, 11]\n"),
+        {"nothing_drawn", replace_once(b, "  height: 64\n", "  height: 64\n  view: [10, 11, 10, 11]\n"),
          "bad.yaml:2:3: renderer: nothing was drawn (0 of 20000 points landed in the image; 0 restarted "
          "chains, 0 bad "
          "values (points escaping to infinity or NaN)); check the view and the parameters"},
@@ -152,31 +149,18 @@ class BadInput : public testing::TestWithParam<Case> {};
 
 TEST_P(BadInput, OneLineExitTwoNoOutput) {
     const Case& c = GetParam();
-    const std::string dir = fp::test::scratch_dir(std::string("bad_") + c.name);
-    fp::test::write_file(dir + "/bad.yaml", c.yaml);
     std::vector<std::string> args = {"render", "--quiet", "bad.yaml"};
     bool has_out = false;
     for (const auto& a : c.extra_args) has_out = has_out || a == "-o";
     if (!has_out) args.insert(args.end(), {"-o", "out.png"});
     args.insert(args.end(), c.extra_args.begin(), c.extra_args.end());
-    const auto cwd = std::filesystem::current_path();
-    std::filesystem::current_path(dir);
-    const auto r = run_cli(args);
-    std::filesystem::current_path(cwd);
-    EXPECT_EQ(r.rc, 2) << r.err;
-    ASSERT_FALSE(r.err.empty());
-    EXPECT_EQ(r.err.back(), '\n');
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    const std::string line = r.err.substr(0, r.err.size() - 1);
+    const std::string line = fp::test::run_bad_input(std::string("bad_") + c.name, c.yaml, args);
     if (std::string(c.name) == "too_large") {
         EXPECT_EQ(line.rfind("bad.yaml:2:3: renderer: a 60000x60000 render needs ", 0), 0u) << line;
         EXPECT_NE(line.find(" of memory with "), std::string::npos) << line;
     } else {
         EXPECT_EQ(line, c.expected);
     }
-    // Nothing written: no image and no temporary file.
-    for (const auto& e : std::filesystem::directory_iterator(dir))
-        EXPECT_EQ(e.path().filename(), "bad.yaml") << "left behind: " << e.path();
 }
 
 INSTANTIATE_TEST_SUITE_P(Cli, BadInput, testing::ValuesIn(cases()),

@@ -98,18 +98,7 @@ class MfsBadInput : public testing::TestWithParam<Case> {};
 
 TEST_P(MfsBadInput, OneLineExitTwoNoOutput) {
     const Case& c = GetParam();
-    const std::string dir = fp::test::scratch_dir(std::string("mfs_bad_") + c.name);
-    fp::test::write_file(dir + "/bad.yaml", c.yaml);
-    const auto cwd = std::filesystem::current_path();
-    std::filesystem::current_path(dir);
-    const auto r = run_cli(c.args);
-    std::filesystem::current_path(cwd);
-    EXPECT_EQ(r.rc, 2) << r.err;
-    ASSERT_FALSE(r.err.empty());
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    EXPECT_EQ(r.err.substr(0, r.err.size() - 1), c.expected);
-    for (const auto& e : std::filesystem::directory_iterator(dir))
-        EXPECT_EQ(e.path().filename(), "bad.yaml") << "left behind: " << e.path();
+    EXPECT_EQ(fp::test::run_bad_input(std::string("mfs_bad_") + c.name, c.yaml, c.args), c.expected);
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, MfsBadInput, testing::ValuesIn(cases()),

@@ -26,11 +26,7 @@ const std::string base = R"(renderer:
   colourer: {type: colour-map, preset: fig-4a}
 )";
 
-std::string replace(std::string s, const std::string& from, const std::string& to) {
-    const auto at = s.find(from);
-    if (at == std::string::npos) throw std::runtime_error("test setup: '" + from + "' not in base config");
-    return s.replace(at, from.size(), to);
-}
+using fp::test::replace_once;
 
 struct Case {
     const char* name;
@@ -40,36 +36,39 @@ struct Case {
 
 std::vector<Case> cases() {
     return {
-        {"lp_p_below_one", replace(base, "preset: fig-3b}", "metric: {type: lp, p: 0.5}, preset: fig-3b}"),
+        {"lp_p_below_one",
+         replace_once(base, "preset: fig-3b}", "metric: {type: lp, p: 0.5}, preset: fig-3b}"),
          "bad.yaml:8:48: renderer.traps.metric.p: the lp metric needs p >= 1 (for p < 1 the triangle "
          "inequality "
          "fails), got 0.5"},
         {"rickman_gamma",
-         replace(base, "preset: fig-3b}", "metric: {type: rickman, gamma: 1.5}, preset: fig-3b}"),
+         replace_once(base, "preset: fig-3b}", "metric: {type: rickman, gamma: 1.5}, preset: fig-3b}"),
          "bad.yaml:8:57: renderer.traps.metric.gamma: Rickman's rug metric needs gamma in the open interval "
          "(0, 1), "
          "got 1.5"},
-        {"colour_map_E", replace(base, "preset: fig-4a}", "preset: fig-4a, E: 0}"),
+        {"colour_map_E", replace_once(base, "preset: fig-4a}", "preset: fig-4a, E: 0}"),
          "bad.yaml:9:51: renderer.colourer.E: must be > 0, got 0"},
         {"ratios_not_increasing",
-         replace(base, "preset: fig-4a}", "colours: [0, 0, 0, 255, 0, 0, 9, 9, 9], ratios: [0, 0.8, 0.7]}"),
+         replace_once(base, "preset: fig-4a}",
+                      "colours: [0, 0, 0, 255, 0, 0, 9, 9, 9], ratios: [0, 0.8, 0.7]}"),
          "bad.yaml:9:80: renderer.colourer.ratios: the ratios must increase strictly: ratios[2] = 0.7 is not "
          "above "
          "ratios[1] = 0.8"},
         {"ratio_outside",
-         replace(base, "preset: fig-4a}", "colours: [0, 0, 0, 255, 0, 0], ratios: [0, 1.2]}"),
+         replace_once(base, "preset: fig-4a}", "colours: [0, 0, 0, 255, 0, 0], ratios: [0, 1.2]}"),
          "bad.yaml:9:75: renderer.colourer.ratios[1]: must be in [0, 1], got 1.2"},
-        {"Nc_below_two", replace(base, "preset: fig-4a}", "preset: fig-4a, Nc: 1}"),
+        {"Nc_below_two", replace_once(base, "preset: fig-4a}", "preset: fig-4a, Nc: 1}"),
          "bad.yaml:9:52: renderer.colourer.Nc: must be in [2, 16777216], got 1"},
-        {"no_traps", replace(base, "{type: circles, preset: fig-3b}", "{type: circles}"),
+        {"no_traps", replace_once(base, "{type: circles, preset: fig-3b}", "{type: circles}"),
          "bad.yaml:8:10: renderer.traps: no traps: give centres and radii, or a preset (fig-1a, fig-1b, "
          "fig-1c, "
          "fig-1d, fig-3a, fig-3b, fig-3c)"},
-        {"radius_zero", replace(base, "preset: fig-3b}", "centres: [[0, 0], [1, 1]], radii: [1, 0]}"),
+        {"radius_zero", replace_once(base, "preset: fig-3b}", "centres: [[0, 0], [1, 1]], radii: [1, 0]}"),
          "bad.yaml:8:64: renderer.traps.radii[1]: must be > 0, got 0"},
-        {"colourer_without_traps", replace(base, "{type: colour-map, preset: fig-4a}", "{type: density}"),
+        {"colourer_without_traps",
+         replace_once(base, "{type: colour-map, preset: fig-4a}", "{type: density}"),
          "bad.yaml:9:13: renderer.colourer: this colourer cannot colour orbit-trap hits (use colour-map)"},
-        {"samples_three", replace(base, "samples: 1", "samples: 3"),
+        {"samples_three", replace_once(base, "samples: 1", "samples: 3"),
          "bad.yaml:5:12: renderer.samples: expected 1, 8 or a square number (4, 9, 16, ...) of samples: "
          "patterns "
          "closed under the square's symmetries, got 3"},
@@ -80,19 +79,7 @@ class OrbitTrapBadInput : public testing::TestWithParam<Case> {};
 
 TEST_P(OrbitTrapBadInput, OneLineExitTwoNoOutput) {
     const Case& c = GetParam();
-    const std::string dir = fp::test::scratch_dir(std::string("orbit_trap_bad_") + c.name);
-    fp::test::write_file(dir + "/bad.yaml", c.yaml);
-    const auto r = run_cli({"render", "--quiet", dir + "/bad.yaml", "-o", dir + "/out.png"});
-    EXPECT_EQ(r.rc, 2) << r.err;
-    ASSERT_FALSE(r.err.empty());
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    // The message names the file as given; compare from "bad.yaml".
-    const std::string line = r.err.substr(0, r.err.size() - 1);
-    const auto at = line.find("bad.yaml:");
-    ASSERT_NE(at, std::string::npos) << line;
-    EXPECT_EQ(line.substr(at), c.expected);
-    for (const auto& e : std::filesystem::directory_iterator(dir))
-        EXPECT_EQ(e.path().filename(), "bad.yaml") << "left behind: " << e.path();
+    EXPECT_EQ(fp::test::run_bad_input(std::string("orbit_trap_bad_") + c.name, c.yaml), c.expected);
 }
 
 INSTANTIATE_TEST_SUITE_P(Cli, OrbitTrapBadInput, testing::ValuesIn(cases()),

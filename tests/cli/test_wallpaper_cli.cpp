@@ -67,7 +67,8 @@ std::vector<Case> cases() {
         {"no_coefficients", "      group: cmm\n",
          "bad.yaml:7:7: renderer.maps[0]: give the coefficients (P, or P00 ... P44) or a seed"},
         {"reduction", "      group: p2\n      seed: 1\n      reduction: mod\n",
-         "bad.yaml:10:18: renderer.maps[0].reduction: must be one of 'fmod', 'centred', 'floor' or 'none', got "
+         "bad.yaml:10:18: renderer.maps[0].reduction: must be one of 'fmod', 'centred', 'floor' or 'none', "
+         "got "
          "'mod'"},
     };
 }
@@ -76,18 +77,7 @@ class WallpaperBadInput : public testing::TestWithParam<Case> {};
 
 TEST_P(WallpaperBadInput, OneLineExitTwoNoOutput) {
     const Case& c = GetParam();
-    const std::string dir = fp::test::scratch_dir(std::string("wallpaper_bad_") + c.name);
-    fp::test::write_file(dir + "/bad.yaml", config(c.map));
-    const auto cwd = std::filesystem::current_path();
-    std::filesystem::current_path(dir);
-    const auto r = run_cli({"render", "--quiet", "bad.yaml", "-o", "out.png"});
-    std::filesystem::current_path(cwd);
-    EXPECT_EQ(r.rc, 2) << r.err;
-    ASSERT_FALSE(r.err.empty());
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    EXPECT_EQ(r.err.substr(0, r.err.size() - 1), c.expected);
-    for (const auto& e : std::filesystem::directory_iterator(dir))
-        EXPECT_EQ(e.path().filename(), "bad.yaml") << "left behind: " << e.path();
+    EXPECT_EQ(fp::test::run_bad_input(std::string("wallpaper_bad_") + c.name, config(c.map)), c.expected);
 }
 
 INSTANTIATE_TEST_SUITE_P(Cli, WallpaperBadInput, testing::ValuesIn(cases()),

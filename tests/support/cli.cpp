@@ -1,5 +1,8 @@
 #include "cli.hpp"
 
+#include <gtest/gtest.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <poll.h>
@@ -84,5 +87,31 @@ std::string read_file(const std::string& path) {
 }
 
 std::string source_dir() { return FIXPOINT_SOURCE_DIR; }
+
+std::string run_bad_input(const std::string& name, const std::string& yaml,
+                          const std::vector<std::string>& args) {
+    const std::string dir = scratch_dir(name);
+    write_file(dir + "/bad.yaml", yaml);
+    const auto cwd = std::filesystem::current_path();
+    std::filesystem::current_path(dir);
+    const auto r = run_cli(args);
+    std::filesystem::current_path(cwd);
+    EXPECT_EQ(r.rc, 2) << r.err;
+    EXPECT_FALSE(r.err.empty());
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    if (!r.err.empty()) {
+        EXPECT_EQ(r.err.back(), '\n');
+    }
+    // Nothing written: no output and no temporary file.
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        EXPECT_EQ(e.path().filename(), "bad.yaml") << "left behind: " << e.path();
+    return r.err.empty() ? r.err : r.err.substr(0, r.err.size() - 1);
+}
+
+std::string replace_once(std::string s, const std::string& from, const std::string& to) {
+    const auto at = s.find(from);
+    if (at == std::string::npos) throw std::runtime_error("test setup: '" + from + "' not in the text");
+    return s.replace(at, from.size(), to);
+}
 
 } // namespace fp::test
