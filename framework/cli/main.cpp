@@ -81,15 +81,18 @@ void check_memory(const Pipeline& p, unsigned threads) {
 // drew almost nothing is written with a warning.
 void check_drawn(const Pipeline& p, const RenderStats& st) {
     if (st.drawn == RenderStats::unknown_count) return;
-    const std::string why = std::to_string(st.restarts) + " restarted chain" + (st.restarts == 1 ? "" : "s") +
-                            ", " + std::to_string(st.bad_values) + " bad value" +
-                            (st.bad_values == 1 ? "" : "s") + " (points escaping to infinity or NaN)";
+    // Chains that restart or escape explain an empty image; say so only when there were any.
+    std::string why;
+    if (st.restarts || st.bad_values)
+        why = "; " + std::to_string(st.restarts) + " restarted chain" + (st.restarts == 1 ? "" : "s") + ", " +
+              std::to_string(st.bad_values) + " bad value" + (st.bad_values == 1 ? "" : "s") +
+              " (points escaping to infinity or NaN)";
     if (st.drawn == 0)
         throw InputError(p.renderer_mark.str() + ": renderer: nothing was drawn (0 of " +
-                         std::to_string(st.samples) + " " + st.unit + " landed in the image; " + why +
+                         std::to_string(st.samples) + " " + st.unit + " " + st.drawn_means + why +
                          "); check the view and the parameters");
     if (double(st.drawn) < 0.001 * double(st.samples))
-        spdlog::warn("warning: only {} of {} {} landed in the image; {}", st.drawn, st.samples, st.unit, why);
+        spdlog::warn("warning: only {} of {} {} {}{}", st.drawn, st.samples, st.unit, st.drawn_means, why);
 }
 
 // Render one pipeline with a progress bar; the image is checked (not empty, not interrupted)

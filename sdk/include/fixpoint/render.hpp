@@ -28,6 +28,8 @@ struct RenderStats {
     std::uint64_t drawn = unknown_count;
     static constexpr std::uint64_t unknown_count = ~std::uint64_t(0);
     std::string unit = "points";
+    /// What `drawn` counts, for the CLI's messages ("of 500 points landed in the image").
+    std::string drawn_means = "landed in the image";
 };
 
 /// The host's side of a render. Called per task, never per point.
