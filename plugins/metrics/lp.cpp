@@ -99,6 +99,8 @@ public:
     void from_key(double* k, std::size_t n) const override {
         if (mode_ == Mode::two) sqrt_inplace(k, n);
     }
+    // p = 2: squared() and sqrt_inplace() are exactly Metric::Kind::euclidean's formulas.
+    Kind kind() const override { return mode_ == Mode::two ? Kind::euclidean : Kind::other; }
 
 private:
     enum class Mode { one, two, inf, general };

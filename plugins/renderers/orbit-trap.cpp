@@ -42,17 +42,26 @@
 // Performance
 // -----------
 // Tiles of consecutive pixels (about 1024 samples each: the batch's arrays stay in L1) over
-// RenderContext::parallel_for; a tile's samples form one batch (structure of arrays) that all
-// start together, so every lane of the batch is at the same step k (a scheme's parameter
-// sequences are indexed by k, so lanes at different steps could not share a call). Per step:
-// one IterationScheme::step call on the batch (which calls the transform per chunk), the
-// reduction (a vectorised scan first: values already in range, as after Picard with a map that
-// reduces the same way, are left alone), one Trap::test call, then the caught samples are
-// recorded and the survivors compacted to the front (AVX-512 compress stores where available),
-// so that the next step works on live lanes only: no idle lanes and no masks, and the work is
-// the sum of the samples' iteration counts plus a constant per step. Lanes are not refilled with
-// new samples (that would mix step indices); the cost of the shrinking batch is only the
-// per-call overhead of its last steps. bench/README.md has the figures.
+// RenderContext::parallel_for; a tile's samples form one batch (structure of arrays, sample-major:
+// sample q of the tile's pixel p is lane q * np + p, so the start points and the means are vector
+// loops) that all start together, so every lane of the batch is at the same step k (a scheme's
+// parameter sequences are indexed by k, so lanes at different steps could not share a call).
+// Per step: one IterationScheme::step call on the batch (which calls the transform per chunk),
+// then
+//   - with a known trap (Trap::kernel(): circles of the Euclidean metric, TrapKernel), one fused
+//     pass over the batch, 16 lanes at a time (AVX-512 intrinsics for float lanes, plain code
+//     otherwise): the reduction's range check (the whole batch is reduced first while a step
+//     leaves values outside the range, as the S-iteration does; after Picard with a map that
+//     reduces itself nothing is), the trap test inline, the caught lanes recorded (scatters) and
+//     the survivors compacted (compress stores). No virtual call, no per-circle key array.
+//   - otherwise: the reduction (a vectorised scan first: values already in range are left alone),
+//     one Trap::test call, then the caught samples recorded and the survivors compacted.
+// Both give the same bytes (tests/unit/test_orbit_trap.cpp: FusedAndGeneralPassesAreAlgorithm3
+// checks them against Algorithm 3 written out point by point through the plugins' interfaces).
+// The next step works on live lanes only: no idle lanes and no masks, and the work is the sum of
+// the samples' iteration counts plus a constant per step. Lanes are not refilled with new samples
+// (that would mix step indices); the cost of the shrinking batch is only the per-call overhead of
+// its last steps. bench/README.md has the figures.
 // Scratch space is per worker, allocated before the render; nothing is allocated, looked up or
 // logged per point. Cancellation is polled per tile, progress reported per tile (units: pixels).
 //
@@ -73,6 +82,7 @@
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -128,10 +138,16 @@ struct Scratch {
     std::vector<float> ratio_out;
     std::vector<uint32_t> iteration;
     std::vector<float> rgb;
+    std::vector<uint32_t> quant; ///< rgb rounded to 24 fractional bits
+    std::vector<uint64_t> sum;   ///< per pixel and channel: the sum of its samples' quant
+    std::vector<double> u, v;    ///< per pixel: 2 i - (W - 1), 2 j - (H - 1)
 
-    void resize(size_t n) {
-        x.resize(n), y.resize(n), ratio.resize(n), id.resize(n), caught.resize(n);
-        trap.resize(n), ratio_out.resize(n), iteration.resize(n), rgb.resize(3 * n);
+    void resize(size_t n, size_t pixels) {
+        sum.resize(3 * pixels), u.resize(pixels), v.resize(pixels);
+        // x, y, id padded to whole blocks of the fused pass (which reads whole blocks).
+        const size_t padded = (n + 15) / 16 * 16;
+        x.resize(padded), y.resize(padded), id.resize(padded), ratio.resize(n), caught.resize(n);
+        trap.resize(n), ratio_out.resize(n), iteration.resize(n), rgb.resize(3 * n), quant.resize(3 * n);
     }
 };
 
@@ -191,6 +207,179 @@ size_t retire(Scratch<T>& s, size_t live, uint32_t iteration) {
     return keep;
 }
 
+/// A trap the renderer tests inline (fp::TrapKernel::euclidean_circles), in T.
+template <class T>
+struct KnownCircles {
+    std::vector<T> cx, cy, key, r;
+};
+
+/// Lanes per block of the fused pass (one AVX-512 vector of floats).
+constexpr size_t block = 16;
+
+// The fused pass after a step, for a known trap: the trap test (exactly TrapKernel's formula:
+// the circles from last to first, a later hit replacing an earlier one, so the first circle that
+// holds the lane is left standing, as circles.cpp does), the record of the caught lanes and the
+// compaction of the survivors, 16 lanes at a time, in one pass over the batch: no virtual call,
+// no key array written and read back per circle. Lanes beyond `live` in the last block are
+// computed on whatever the (padded) arrays hold and ignored. Gives what Trap::test and retire()
+// give: tests/unit/test_orbit_trap.cpp compares renders with Algorithm 3 through the plugins'
+// interfaces.
+//
+// With `check`, each block is first checked against the reduction's target range (values in it
+// stay as they are under the reduction, exactly); a block with a value outside is reduced in
+// place before its test (the same exact reduction as the whole batch's) and `outside` is set.
+// NC: the number of circles when it is one of the presets' (the loop over the circles unrolled,
+// their constants kept in registers), 0 for any other.
+template <size_t NC, class T>
+size_t test_retire(const KnownCircles<T>& c, Scratch<T>& s, size_t live, uint32_t iteration, Reduction red,
+                   bool check, bool& outside) {
+    const fp_orbit_trap::Range<T> range(red);
+    auto reduce_block = [&](size_t i, size_t m) {
+        fp_orbit_trap::reduce(s.x.data() + i, m, red);
+        fp_orbit_trap::reduce(s.y.data() + i, m, red);
+        outside = true;
+    };
+    T* __restrict x = s.x.data();
+    T* __restrict y = s.y.data();
+    uint32_t* __restrict ids = s.id.data();
+    const size_t nc = NC ? NC : c.cx.size();
+    const T below_one = std::nextafter(T(1), T(0));
+    alignas(64) std::int32_t tr[block];
+    alignas(64) T kk[block];
+    auto record = [&](size_t i, size_t l) {
+        const uint32_t id = ids[i];
+        const auto t = size_t(tr[l]);
+        s.trap[id] = tr[l];
+        s.ratio_out[id] = float(std::min(std::sqrt(kk[l]) / c.r[t], below_one));
+        s.iteration[id] = iteration;
+    };
+    size_t keep = 0;
+#if defined(__AVX512F__)
+    if constexpr (std::is_same_v<T, float>) {
+        const __m512i none = _mm512_set1_epi32(-1);
+        const __m512i step = _mm512_set1_epi32(std::int32_t(iteration));
+        const __m512 one_minus = _mm512_set1_ps(below_one);
+        alignas(64) float rad[16] = {};
+        for (size_t j = 0; j < std::min<size_t>(nc, 16); ++j) rad[j] = c.r[j];
+        const __m512 radii = _mm512_load_ps(rad);
+        const __m512 lo = _mm512_set1_ps(range.lo), hi = _mm512_set1_ps(range.hi);
+        // With NC known, the circles' constants broadcast once, into locals the compiler can
+        // keep in registers (read through c, they might alias the stores below).
+        constexpr size_t ncl = NC ? NC : 1;
+        __m512 vcx[ncl], vcy[ncl], vkey[ncl];
+        for (size_t j = 0; j < (NC ? NC : 0); ++j)
+            vcx[j] = _mm512_set1_ps(c.cx[j]), vcy[j] = _mm512_set1_ps(c.cy[j]),
+            vkey[j] = _mm512_set1_ps(c.key[j]);
+        for (size_t i = 0; i < live; i += block) {
+            const size_t m = std::min(block, live - i);
+            const __mmask16 valid = m == block ? __mmask16(0xffff) : __mmask16((1u << m) - 1);
+            __m512 vx = _mm512_loadu_ps(x + i), vy = _mm512_loadu_ps(y + i);
+            if (check) {
+                const __mmask16 in =
+                    _mm512_cmp_ps_mask(vx, lo, _CMP_GE_OQ) & _mm512_cmp_ps_mask(vx, hi, _CMP_LT_OQ) &
+                    _mm512_cmp_ps_mask(vy, lo, _CMP_GE_OQ) & _mm512_cmp_ps_mask(vy, hi, _CMP_LT_OQ);
+                if ((in & valid) != valid) {
+                    reduce_block(i, m);
+                    vx = _mm512_loadu_ps(x + i), vy = _mm512_loadu_ps(y + i);
+                }
+            }
+            __m512i t = none;
+            __m512 k = _mm512_setzero_ps();
+            for (size_t j = nc; j-- > 0;) {
+                const __m512 dx = _mm512_sub_ps(vx, NC ? vcx[j] : _mm512_set1_ps(c.cx[j]));
+                const __m512 dy = _mm512_sub_ps(vy, NC ? vcy[j] : _mm512_set1_ps(c.cy[j]));
+                const __m512 kj = _mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy));
+                const __m512 keyj = NC ? vkey[j] : _mm512_set1_ps(c.key[j]);
+                const __mmask16 hit = _mm512_cmp_ps_mask(kj, keyj, _CMP_LT_OQ);
+                t = _mm512_mask_mov_epi32(t, hit, _mm512_set1_epi32(std::int32_t(j)));
+                k = _mm512_mask_mov_ps(k, hit, kj);
+            }
+            const __mmask16 out = __mmask16(_mm512_cmpge_epi32_mask(t, _mm512_setzero_si512()) & valid);
+            if (out && nc <= 16) {
+                // The caught lanes' records, 16 at a time (scatters; sqrt and the quotient
+                // correctly rounded, min as std::min: the ratio is finite): most samples of an
+                // S-iteration render are caught in their first steps.
+                const __m512i vid = _mm512_loadu_si512(ids + i);
+                // (maskz forms: the plain ones trip GCC 12's -Wmaybe-uninitialized in its headers)
+                const __m512 r = _mm512_maskz_permutexvar_ps(out, t, radii);
+                const __m512 ratio = _mm512_maskz_min_ps(
+                    out, _mm512_maskz_div_ps(out, _mm512_maskz_sqrt_ps(out, k), r), one_minus);
+                _mm512_mask_i32scatter_epi32(s.trap.data(), out, vid, t, 4);
+                _mm512_mask_i32scatter_ps(s.ratio_out.data(), out, vid, ratio, 4);
+                _mm512_mask_i32scatter_epi32(s.iteration.data(), out, vid, step, 4);
+            } else if (out) {
+                _mm512_store_si512(tr, t);
+                _mm512_store_ps(kk, k);
+                for (unsigned b = out; b; b &= b - 1) {
+                    const auto l = size_t(__builtin_ctz(b));
+                    record(i + l, l);
+                }
+            } else if (keep == i) { // nothing retired so far: the lanes stay where they are
+                keep += m;
+                continue;
+            }
+            const __mmask16 stay = __mmask16(valid & ~out);
+            _mm512_mask_compressstoreu_ps(x + keep, stay, vx);
+            _mm512_mask_compressstoreu_ps(y + keep, stay, vy);
+            _mm512_mask_compressstoreu_epi32(ids + keep, stay, _mm512_loadu_si512(ids + i));
+            keep += size_t(__builtin_popcount(unsigned(stay)));
+        }
+        return keep;
+    }
+#endif
+    for (size_t i = 0; i < live; i += block) {
+        const size_t m = std::min(block, live - i);
+        if (check) {
+            bool in = true;
+            for (size_t l = 0; l < m; ++l)
+                in &= x[i + l] >= range.lo && x[i + l] < range.hi && y[i + l] >= range.lo &&
+                      y[i + l] < range.hi;
+            if (!in) reduce_block(i, m);
+        }
+        for (size_t l = 0; l < block; ++l) tr[l] = -1, kk[l] = T(0);
+        for (size_t j = nc; j-- > 0;) {
+            const T cx = c.cx[j], cy = c.cy[j], key = c.key[j];
+            const auto idx = std::int32_t(j);
+            for (size_t l = 0; l < block; ++l) {
+                const T dx = x[i + l] - cx, dy = y[i + l] - cy;
+                const T kj = dx * dx + dy * dy;
+                const bool hit = kj < key;
+                tr[l] = hit ? idx : tr[l];
+                kk[l] = hit ? kj : kk[l];
+            }
+        }
+        unsigned out = 0;
+        for (size_t l = 0; l < m; ++l) out |= unsigned(tr[l] >= 0) << l;
+        if (!out && keep == i) {
+            keep += m;
+            continue;
+        }
+        for (size_t l = 0; l < m; ++l) {
+            if (tr[l] >= 0) {
+                record(i + l, l);
+            } else {
+                x[keep] = x[i + l], y[keep] = y[i + l], ids[keep] = ids[i + l];
+                ++keep;
+            }
+        }
+    }
+    return keep;
+}
+
+template <class T>
+size_t test_retire(const KnownCircles<T>& c, Scratch<T>& s, size_t live, uint32_t iteration, Reduction red,
+                   bool check, bool& outside) {
+    switch (c.cx.size()) {
+    case 1: return test_retire<1>(c, s, live, iteration, red, check, outside);
+    case 2: return test_retire<2>(c, s, live, iteration, red, check, outside);
+    case 3: return test_retire<3>(c, s, live, iteration, red, check, outside);
+    case 4: return test_retire<4>(c, s, live, iteration, red, check, outside);
+    case 5: return test_retire<5>(c, s, live, iteration, red, check, outside);
+    case 7: return test_retire<7>(c, s, live, iteration, red, check, outside);
+    default: return test_retire<0>(c, s, live, iteration, red, check, outside);
+    }
+}
+
 class OrbitTrap final : public fp::Renderer {
 public:
     explicit OrbitTrap(const fp::ParamBag& p);
@@ -219,6 +408,11 @@ private:
     std::shared_ptr<const fp::IterationScheme> iteration_;
     std::shared_ptr<const fp::Trap> traps_;
     std::shared_ptr<const fp::Colourer> colourer_;
+    bool known_trap_ = false; ///< the traps are TrapKernel::euclidean_circles: tested inline
+    KnownCircles<float> circles_f_;
+    KnownCircles<double> circles_d_;
+    const KnownCircles<float>& circles(float) const { return circles_f_; }
+    const KnownCircles<double>& circles(double) const { return circles_d_; }
 };
 
 OrbitTrap::OrbitTrap(const fp::ParamBag& p) {
@@ -246,6 +440,15 @@ OrbitTrap::OrbitTrap(const fp::ParamBag& p) {
     mapping_ = p.object<fp::Transform>("mapping");
     iteration_ = p.object<fp::IterationScheme>("iteration");
     traps_ = p.object<fp::Trap>("traps");
+    if (const fp::TrapKernel k = traps_->kernel(); k.kind == fp::TrapKernel::Kind::euclidean_circles) {
+        known_trap_ = true;
+        for (size_t i = 0; i < k.n; ++i) {
+            circles_f_.cx.push_back(float(k.cx[i])), circles_f_.cy.push_back(float(k.cy[i]));
+            circles_f_.key.push_back(k.key_f[i]), circles_f_.r.push_back(float(k.r[i]));
+            circles_d_.cx.push_back(k.cx[i]), circles_d_.cy.push_back(k.cy[i]);
+            circles_d_.key.push_back(k.key_d[i]), circles_d_.r.push_back(k.r[i]);
+        }
+    }
     colourer_ = p.object<fp::Colourer>("colourer");
     if (!colourer_->colours_trap_hits())
         throw fp::ParamError("colourer", "this colourer cannot colour orbit-trap hits (use colour-map)");
@@ -264,7 +467,7 @@ OrbitTrap::OrbitTrap(const fp::ParamBag& p) {
 
 uint64_t OrbitTrap::memory_bytes(unsigned workers) const {
     const uint64_t image = uint64_t(width_) * uint64_t(height_) * 3 * sizeof(float);
-    const uint64_t per_sample = 3 * (double_ ? 8 : 4) + 4 * 4 + 4 + 4 * 3;
+    const uint64_t per_sample = 3 * (double_ ? 8 : 4) + 4 * 4 + 4 + 4 * 3 + 4 * 3 + 8 * 3 + 8 * 2;
     return image + uint64_t(std::max(1u, workers)) * tile_samples * per_sample;
 }
 
@@ -278,21 +481,47 @@ TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image) const {
     // same expression serves x and y, so the symmetry of the start points is exact either way.
     const double iw = 1.0 / double(std::max(width_ - 1, 1)), ih = 1.0 / double(std::max(height_ - 1, 1));
     const double w1 = double(width_ - 1), h1 = double(height_ - 1);
-    for (size_t pix = p0, k = 0; pix < p1; ++pix) {
-        const double i = double(pix % size_t(width_)), j = double(pix / size_t(width_));
-        const double u = 2 * i - w1, v = 2 * j - h1;
-        for (size_t q = 0; q < ns; ++q, ++k) {
-            s.x[k] = T(cx_ + hx_ * ((u + 2 * offsets_[q].x) * iw));
-            s.y[k] = T(cy_ - hy_ * ((v + 2 * offsets_[q].y) * ih));
-            s.id[k] = uint32_t(k);
-            s.trap[k] = -1;
-            s.ratio_out[k] = 0;
-            s.iteration[k] = max_iterations_;
+    // The batch is sample-major: sample q of the tile's pixel p is lane q * np + p, so that every
+    // loop here is a vector loop (the order of the lanes changes nothing: each orbit is its own,
+    // and a pixel's samples are summed in integers).
+    const size_t np = p1 - p0;
+    size_t pi = p0 % size_t(width_), pj = p0 / size_t(width_); // pixel (pi, pj): no division per pixel
+    for (size_t p = 0; p < np; ++p, pi = pi + 1 == size_t(width_) ? (++pj, 0) : pi + 1)
+        s.u[p] = 2 * double(pi) - w1, s.v[p] = 2 * double(pj) - h1;
+    for (size_t q = 0; q < ns; ++q) {
+        const double ox = 2 * offsets_[q].x, oy = 2 * offsets_[q].y;
+        T* __restrict x = s.x.data() + q * np;
+        T* __restrict y = s.y.data() + q * np;
+        const double* __restrict u = s.u.data();
+        const double* __restrict v = s.v.data();
+        for (size_t p = 0; p < np; ++p) {
+            x[p] = T(cx_ + hx_ * ((u[p] + ox) * iw));
+            y[p] = T(cy_ - hy_ * ((v[p] + oy) * ih));
         }
     }
+    for (size_t k = 0; k < b; ++k) s.id[k] = uint32_t(k);
+    std::fill_n(s.trap.data(), b, -1);
+    std::fill_n(s.ratio_out.data(), b, 0.0f);
+    std::fill_n(s.iteration.data(), b, max_iterations_);
     size_t live = b;
+    // With a known trap the reduction's range is checked inline (test_retire) once a batch
+    // reduction found every value in range (the map reduces itself, as the wallpaper maps under
+    // Picard), until a block is found outside again (then the whole batch is reduced first).
+    bool batch_reduce = true;
     for (uint32_t step = 0; step < max_iterations_ && live > 0; ++step) {
         iteration_->step(*mapping_, fp::Points<T>{s.x.data(), s.y.data(), live}, nullptr, step);
+        if (known_trap_) {
+            if (batch_reduce) {
+                const bool ox = fp_orbit_trap::reduce(s.x.data(), live, reduction_);
+                const bool oy = fp_orbit_trap::reduce(s.y.data(), live, reduction_);
+                batch_reduce = ox || oy;
+            }
+            const bool check = !batch_reduce && reduction_ != Reduction::none;
+            bool outside = false;
+            live = test_retire(circles(T{}), s, live, step + 1, reduction_, check, outside);
+            batch_reduce = batch_reduce || outside;
+            continue;
+        }
         fp_orbit_trap::reduce(s.x.data(), live, reduction_);
         fp_orbit_trap::reduce(s.y.data(), live, reduction_);
         traps_->test(fp::Points<const T>{s.x.data(), s.y.data(), live}, s.caught.data(), s.ratio.data());
@@ -304,22 +533,36 @@ TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image) const {
 
     colourer_->colour_hits(s.trap.data(), s.ratio_out.data(), s.iteration.data(), b,
                            has_background_ ? &background_ : nullptr, s.rgb.data());
-    // The mean of each pixel's samples, summed in integers (order-independent).
-    const double inv = 1.0 / (sum_scale * double(ns));
-    for (size_t px = p0; px < p1; ++px) {
-        const float* c = s.rgb.data() + 3 * (px - p0) * ns;
-        for (int ch = 0; ch < 3; ++ch) {
-            uint64_t sum = 0;
-            for (size_t k = 0; k < ns; ++k) {
-                const float v = c[3 * k + size_t(ch)];
-                const float v01 = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; // NaN -> 0
-                // Rounded to nearest (halves up; llround's rule for v >= 0), exactly: v * 2^24
-                // and the + 0.5 are exact in double. A conversion, not a call: it vectorises.
-                sum += uint64_t(double(v01) * sum_scale + 0.5);
-            }
-            image[3 * px + size_t(ch)] = float(double(sum) * inv);
-        }
+    // The mean of each pixel's samples, summed in integers (order-independent): each channel
+    // value clamped to [0, 1] (NaN -> 0) and rounded to nearest (halves up; llround's rule for
+    // v >= 0) at 24 fractional bits, exactly (v * 2^24 and the + 0.5 are exact in double), in one
+    // vectorised pass; then the sums per pixel.
+    const size_t nv = 3 * b;
+    uint32_t* __restrict q = s.quant.data();
+    const float* __restrict rgb = s.rgb.data();
+    // Two loops, each a vector loop (in one, GCC 12 turns the clamp into branches and keeps it
+    // scalar): the clamp on the bits (negative values and NaNs -> 0, values >= 1 -> 1), then the
+    // conversion (within int32's range).
+    for (size_t i = 0; i < nv; ++i) {
+        const auto u = std::bit_cast<std::int32_t>(rgb[i]);
+        q[i] = uint32_t(u > 0x7f800000 ? 0 : u >= 0x3f800000 ? 0x3f800000 : u < 0 ? 0 : u);
     }
+    for (size_t i = 0; i < nv; ++i)
+        q[i] = uint32_t(std::int32_t(double(std::bit_cast<float>(q[i])) * sum_scale + 0.5));
+    const double inv = 1.0 / (sum_scale * double(ns));
+    float* __restrict out = image + 3 * p0;
+    if (ns == 1) {
+        for (size_t i = 0; i < nv; ++i) out[i] = float(double(q[i]) * inv);
+        return st;
+    }
+    const size_t nc = 3 * np; // channel values per sample index q
+    uint64_t* __restrict sum = s.sum.data();
+    for (size_t i = 0; i < nc; ++i) sum[i] = q[i];
+    for (size_t k = 1; k < ns; ++k) {
+        const uint32_t* __restrict c = q + k * nc;
+        for (size_t i = 0; i < nc; ++i) sum[i] += c[i];
+    }
+    for (size_t i = 0; i < nc; ++i) out[i] = float(double(sum[i]) * inv);
     return st;
 }
 
@@ -333,7 +576,7 @@ fp::Image OrbitTrap::run(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     img.channels = 3;
     img.pixels.assign(npix * 3, 0.0f);
     std::vector<Scratch<T>> scratch(std::max(1u, ctx.workers()));
-    for (auto& s : scratch) s.resize(tile_pixels_ * offsets_.size());
+    for (auto& s : scratch) s.resize(tile_pixels_ * offsets_.size(), tile_pixels_);
     std::vector<TileStats> per_tile(tiles);
     ctx.parallel_for(tiles, [&](size_t t, unsigned worker) {
         if (ctx.cancelled()) throw fp::Cancelled();

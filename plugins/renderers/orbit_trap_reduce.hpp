@@ -21,6 +21,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <numbers>
 
 namespace fp_orbit_trap {
@@ -99,41 +100,55 @@ inline void reduce_fast(float* __restrict x, std::size_t n) {
 
 } // namespace detail
 
-/// x[i] <- x[i] reduced, for i < n.
-inline void reduce(float* x, std::size_t n, Reduction r) {
-    if (r == Reduction::none) return;
+/// The target range of a reduction as lo <= v < hi, in T (fmod's open lower end -a as the next
+/// value above it); values in it stay as they are (exactly: see above). none: everything.
+template <class T>
+struct Range {
+    T lo, hi;
+    explicit Range(Reduction r) {
+        const T a = period<T>;
+        lo = r == Reduction::fmod      ? std::nextafter(-a, T(0))
+             : r == Reduction::centred ? -a / 2
+             : r == Reduction::floor   ? T(0)
+                                       : -std::numeric_limits<T>::infinity();
+        hi = r == Reduction::centred ? a / 2 : r == Reduction::none ? std::numeric_limits<T>::infinity() : a;
+    }
+};
+
+/// x[i] <- x[i] reduced, for i < n. Returns whether some value was outside the target range
+/// (false: nothing changed; the renderer then checks the range inline for the next step).
+inline bool reduce(float* x, std::size_t n, Reduction r) {
+    if (r == Reduction::none) return false;
     constexpr float bound = float(1 << 28) * period<float>;
     // One scan (integer sums, so that it vectorises): values already in the target range stay as
     // they are under every reduction (exactly: see above), which is the common case after a map
     // that reduces itself (Picard); values too large for the fast path take the library.
-    const float a = period<float>;
-    // The target range as lo <= v < hi (fmod's open lower end -a as the next float above it).
-    const float lo = r == Reduction::fmod      ? std::nextafter(-a, 0.0f)
-                     : r == Reduction::centred ? -a / 2
-                                               : 0.0f;
-    const float hi = r == Reduction::centred ? a / 2 : a;
+    const Range<float> range(r);
+    const float lo = range.lo, hi = range.hi;
     unsigned big = 0, outside = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const float v = x[i];
         big += unsigned(std::fabs(v) >= bound);
         outside += unsigned(!((v >= lo) & (v < hi))); // NaN: outside
     }
-    if (outside == 0) return;
+    if (outside == 0) return false;
     if (big) {
         for (std::size_t i = 0; i < n; ++i) x[i] = detail::reduce_scalar(x[i], r);
-        return;
+        return true;
     }
     switch (r) {
-    case Reduction::fmod: detail::reduce_fast<Reduction::fmod>(x, n); return;
-    case Reduction::centred: detail::reduce_fast<Reduction::centred>(x, n); return;
-    case Reduction::floor: detail::reduce_fast<Reduction::floor>(x, n); return;
-    case Reduction::none: return;
+    case Reduction::fmod: detail::reduce_fast<Reduction::fmod>(x, n); break;
+    case Reduction::centred: detail::reduce_fast<Reduction::centred>(x, n); break;
+    case Reduction::floor: detail::reduce_fast<Reduction::floor>(x, n); break;
+    case Reduction::none: break;
     }
+    return true;
 }
 
-inline void reduce(double* x, std::size_t n, Reduction r) {
-    if (r == Reduction::none) return;
+inline bool reduce(double* x, std::size_t n, Reduction r) {
+    if (r == Reduction::none) return false;
     for (std::size_t i = 0; i < n; ++i) x[i] = detail::reduce_scalar(x[i], r);
+    return true; // not scanned: double lanes are never checked inline
 }
 
 } // namespace fp_orbit_trap

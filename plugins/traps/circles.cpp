@@ -104,7 +104,22 @@ public:
         for (const Circle& c : circles_) {
             keys_f_.push_back(threshold<float>(c.r));
             keys_d_.push_back(threshold<double>(c.r));
+            cx_.push_back(c.c.x), cy_.push_back(c.c.y), r_.push_back(c.r);
         }
+    }
+
+    // With the Euclidean metric, run() below is exactly TrapKernel::euclidean_circles (the metric's
+    // key is dx * dx + dy * dy, from_key the rounded root; the order "first circle wins" and the
+    // clamped ratio are the same), so renderers may test these circles inline.
+    fp::TrapKernel kernel() const override {
+        if (metric_->kind() != fp::Metric::Kind::euclidean) return {};
+        return {fp::TrapKernel::Kind::euclidean_circles,
+                circles_.size(),
+                cx_.data(),
+                cy_.data(),
+                r_.data(),
+                keys_f_.data(),
+                keys_d_.data()};
     }
 
     std::size_t count() const override { return circles_.size(); }
@@ -199,8 +214,9 @@ private:
 
     std::shared_ptr<const fp::Metric> metric_;
     std::vector<Circle> circles_;
-    std::vector<float> keys_f_;  ///< per circle: the least key whose distance is >= r (float)
-    std::vector<double> keys_d_; ///< the same in double
+    std::vector<float> keys_f_;       ///< per circle: the least key whose distance is >= r (float)
+    std::vector<double> keys_d_;      ///< the same in double
+    std::vector<double> cx_, cy_, r_; ///< the circles again, as arrays (kernel())
 };
 
 } // namespace

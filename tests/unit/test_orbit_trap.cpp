@@ -10,12 +10,16 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -266,6 +270,214 @@ TEST(OrbitTrap, FloatReductionIsExact) {
     float bad[2] = {std::numeric_limits<float>::infinity(), std::nanf("")};
     fp_orbit_trap::reduce(bad, 2, Reduction::fmod);
     EXPECT_TRUE(std::isnan(bad[0]) && std::isnan(bad[1]));
+}
+
+// Algorithm 3 for one sample per pixel, written out through the plugins' interfaces point by
+// point (scheme step, reduction, Trap::test, colour_hits, the renderer's pixel points and its
+// 24-bit quantisation of the mean): the renderer's fused pass (circles of the Euclidean metric
+// tested inline, TrapKernel) and its general pass must give exactly these bytes.
+template <class T>
+std::vector<float> algorithm3(const std::string& mapping, const std::string& iteration,
+                              const std::string& traps, const std::string& reduction, int n, double h,
+                              int max_iterations, int samples) {
+    using fp_orbit_trap::Reduction;
+    const auto map = host().make<fp::Transform>(mapping);
+    const auto scheme = host().make<fp::IterationScheme>(iteration);
+    const auto trap = host().make<fp::Trap>(traps);
+    const auto colourer = host().make<fp::Colourer>("{type: colour-map, preset: fig-4a}");
+    const Reduction red = reduction == "fmod" ? Reduction::fmod : Reduction::centred;
+    // The renderer's sample offsets (in pixels): 1 sample, or the eight rooks.
+    std::vector<std::pair<double, double>> off = {{0, 0}};
+    if (samples == 8)
+        off = {{-0.375, -0.125}, {-0.125, 0.375},  {0.125, -0.375}, {0.375, 0.125},
+               {-0.375, 0.125},  {-0.125, -0.375}, {0.125, 0.375},  {0.375, -0.125}};
+    const std::size_t np = std::size_t(n) * std::size_t(n), ns = off.size();
+    std::vector<std::int32_t> caught(np * ns, -1);
+    std::vector<float> ratio(np * ns, 0.0f);
+    std::vector<std::uint32_t> its(np * ns, std::uint32_t(max_iterations));
+    const double inv = 1.0 / double(n - 1), n1 = double(n - 1);
+    for (std::size_t pix = 0; pix < np; ++pix)
+        for (std::size_t q = 0; q < ns; ++q) {
+            const double i = double(pix % std::size_t(n)), j = double(pix / std::size_t(n));
+            T x = T(0 + h * (((2 * i - n1) + 2 * off[q].first) * inv));
+            T y = T(0 - h * (((2 * j - n1) + 2 * off[q].second) * inv));
+            const std::size_t k = pix * ns + q;
+            for (int step = 0; step < max_iterations; ++step) {
+                scheme->step(*map, fp::Points<T>{&x, &y, 1}, nullptr, std::uint64_t(step));
+                fp_orbit_trap::reduce(&x, 1, red);
+                fp_orbit_trap::reduce(&y, 1, red);
+                std::int32_t t = -1;
+                T r = 0;
+                trap->test(fp::Points<const T>{&x, &y, 1}, &t, &r);
+                if (t >= 0) {
+                    caught[k] = t, ratio[k] = float(r), its[k] = std::uint32_t(step + 1);
+                    break;
+                }
+            }
+        }
+    std::vector<float> rgb(3 * np * ns), image(3 * np);
+    colourer->colour_hits(caught.data(), ratio.data(), its.data(), np * ns, nullptr, rgb.data());
+    for (std::size_t pix = 0; pix < np; ++pix)
+        for (std::size_t ch = 0; ch < 3; ++ch) {
+            std::uint64_t sum = 0;
+            for (std::size_t q = 0; q < ns; ++q) {
+                const float v = rgb[3 * (pix * ns + q) + ch];
+                const float v01 = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+                sum += std::uint64_t(double(v01) * 16777216.0 + 0.5);
+            }
+            image[3 * pix + ch] = float(double(sum) * (1.0 / (16777216.0 * double(ns))));
+        }
+    return image;
+}
+
+TEST(OrbitTrap, FusedAndGeneralPassesAreAlgorithm3) {
+    REQUIRE_WALLPAPER();
+    const int n = 40, m = 100;
+    const std::string s8d = "{type: s-iteration, alpha: 2, beta: -1.1}", picard = "{type: picard}";
+    struct Case {
+        std::string iteration, traps, reduction, precision;
+        int samples = 1;
+        std::string mapping = p4m;
+        double h = 6.283185307179586; // the area [-h, h]^2
+    };
+    // p <- 2 p (no reduction of its own): the first steps stay in range, so the renderer checks
+    // the range inline, until blocks leave it and are reduced there (then the whole batch again).
+    const std::string doubling = "{type: affine, coefficients: [2, 0, 0, 2, 0, 0]}";
+    // 17 circles: more than one vector's worth of radii (the renderer's scalar record path).
+    std::string many = "{type: circles, radii: [0.9], centres: [";
+    for (int i = 0; i < 17; ++i)
+        many += (i ? ", [" : "[") + std::to_string(-4.0 + 0.5 * i) + ", " +
+                std::to_string(0.37 * (i % 5) - 1) + "]";
+    many += "]}";
+    const std::vector<Case> cases = {
+        {picard, many, "fmod", "float"},
+        {picard, "{type: circles, centres: [[5, 5], [-2, 4]], radii: [0.4, 0.3]}", "fmod", "float", 1,
+         doubling},
+        {picard, "{type: circles, centres: [[2, -2.5]], radii: [0.3]}", "centred", "float", 1, doubling,
+         0.03},
+        {s8d, "{type: circles, preset: fig-3b}", "fmod", "float", 8}, // Fig. 8(d) with 8 samples
+        {picard, "{type: circles, preset: fig-3c}", "fmod", "double", 8},
+        {picard, "{type: circles, preset: fig-3b}", "fmod", "float"}, // fused, the benchmark's traps
+        {picard, "{type: circles, preset: fig-1d}", "centred",
+         "float"},                                                  // fused, 7 circles, overlapping order
+        {s8d, "{type: circles, preset: fig-3b}", "fmod", "float"},  // fused, Fig. 8(d)
+        {s8d, "{type: circles, preset: fig-3c}", "fmod", "double"}, // fused, double lanes
+        {picard, "{type: circles, centres: [[1, 1], [-2, 0.5], [0, -3]], radii: [2.5, 1, 3]}", "fmod",
+         "float"},
+        {picard, "{type: circles, preset: fig-3b, metric: {type: chebyshev}}", "fmod",
+         "float"}, // general pass
+        {picard, "{type: circles, preset: fig-3b, metric: {type: lp, p: 1.5}}", "fmod", "double"},
+    };
+    for (const Case& c : cases) {
+        char area[128];
+        std::snprintf(area, sizeof area, "[%.17g, %.17g, %.17g, %.17g]", -c.h, c.h, -c.h, c.h);
+        const std::string y = "{type: orbit-trap, area: " + std::string(area) +
+                              ", width: " + std::to_string(n) + ", height: " + std::to_string(n) +
+                              ", samples: " + std::to_string(c.samples) +
+                              ", max_iterations: " + std::to_string(m) + ", mapping: " + c.mapping +
+                              ", iteration: " + c.iteration + ", traps: " + c.traps +
+                              ", reduction: " + c.reduction + ", precision: " + c.precision + "}";
+        const auto got = render(y);
+        const auto want =
+            c.precision == "float"
+                ? algorithm3<float>(c.mapping, c.iteration, c.traps, c.reduction, n, c.h, m, c.samples)
+                : algorithm3<double>(c.mapping, c.iteration, c.traps, c.reduction, n, c.h, m, c.samples);
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < want.size(); ++i) differ += got.img.pixels[i] != want[i];
+        EXPECT_EQ(differ, 0u) << y;
+        EXPECT_GT(got.stats.drawn, 0u) << y;
+    }
+}
+
+// The circles trap's TrapKernel (what the renderer tests inline) against its own test().
+TEST(OrbitTrap, CirclesKernelIsTheirTest) {
+    const auto t = host().make<fp::Trap>("{type: circles, preset: fig-1d}");
+    const fp::TrapKernel k = t->kernel();
+    ASSERT_EQ(k.kind, fp::TrapKernel::Kind::euclidean_circles);
+    ASSERT_EQ(k.n, 7u);
+    EXPECT_EQ(
+        host().make<fp::Trap>("{type: circles, preset: fig-1d, metric: {type: lp, p: 1}}")->kernel().kind,
+        fp::TrapKernel::Kind::none);
+    std::vector<float> x, y;
+    for (int j = -60; j <= 60; ++j)
+        for (int i = -60; i <= 60; ++i) x.push_back(float(i) * 0.1731f), y.push_back(float(j) * 0.1699f);
+    // Points on the rims too (distance 3.5 = r from the centre (0, 7), and next to it).
+    for (float d : {3.5f, std::nextafter(3.5f, 0.0f), std::nextafter(3.5f, 9.0f)})
+        x.push_back(0), y.push_back(7 - d);
+    std::vector<std::int32_t> trap(x.size());
+    std::vector<float> ratio(x.size());
+    t->test(fp::Points<const float>{x.data(), y.data(), x.size()}, trap.data(), ratio.data());
+    for (std::size_t p = 0; p < x.size(); ++p) {
+        std::int32_t want = -1;
+        float wr = 0;
+        for (std::size_t i = 0; i < k.n && want < 0; ++i) {
+            const float dx = x[p] - float(k.cx[i]), dy = y[p] - float(k.cy[i]), kk = dx * dx + dy * dy;
+            if (kk < k.key_f[i])
+                want = std::int32_t(i),
+                wr = std::min(std::sqrt(kk) / float(k.r[i]), std::nextafter(1.0f, 0.0f));
+        }
+        ASSERT_EQ(trap[p], want) << x[p] << ", " << y[p];
+        if (want >= 0) {
+            ASSERT_EQ(ratio[p], wr) << x[p] << ", " << y[p];
+        }
+    }
+}
+
+// colour-map's index of a trap ratio without pow (a table of thresholds) against Algorithm 1's
+// table and the index rule of Algorithm 3 computed here with pow, at and next to every threshold
+// and on a sweep: exactly the same colours.
+TEST(OrbitTrap, ColourMapIndexIsPowsIndex) {
+    const std::vector<double> colours = {0, 0,   0,   255, 0,   0,   255, 128, 0, 0, 0,
+                                         0, 255, 128, 0,   255, 255, 255, 26,  0, 0};
+    const std::vector<double> ratios = {0.0, 0.7, 0.75, 0.8, 0.85, 0.9, 1.0}; // Table 1, Fig. 4a
+    std::string cs, qs;
+    for (double c : colours) cs += (cs.empty() ? "" : ", ") + std::to_string(int(c));
+    for (double q : ratios) qs += (qs.empty() ? "" : ", ") + std::to_string(q);
+    for (const auto& [e, nc] :
+         std::vector<std::pair<double, std::size_t>>{{16, 300}, {2.5, 50}, {16, 3000}, {0.3, 40}}) {
+        const auto cm =
+            host().make<fp::Colourer>("{type: colour-map, colours: [" + cs + "], ratios: [" + qs +
+                                      "], E: " + std::to_string(e) + ", Nc: " + std::to_string(nc) + "}");
+        // Algorithm 1 (colour-map.cpp's build) and the index rule (its index), with pow.
+        std::vector<fp::Rgb> table(nc);
+        for (std::size_t i = 0, k = 1; i < nc; ++i) {
+            const double q = std::pow(double(i) / double(1 + i), e);
+            while (k < ratios.size() - 1 && q > ratios[k]) ++k;
+            const double t = std::clamp((ratios[k] - q) / (ratios[k] - ratios[k - 1]), 0.0, 1.0);
+            auto mix = [&](int ch) {
+                return float(t * (colours[3 * (k - 1) + std::size_t(ch)] / 255.0) +
+                             (1 - t) * (colours[3 * k + std::size_t(ch)] / 255.0));
+            };
+            table[i] = {mix(0), mix(1), mix(2)};
+        }
+        auto index = [&](float ratio) {
+            const double v = std::pow(double(ratio), 1.0 / e);
+            if (!(v < 1)) return nc - 1;
+            const double f = v / (1 - v);
+            return f >= double(nc - 1) ? nc - 1 : std::size_t(f);
+        };
+        std::vector<float> r;
+        for (std::size_t k = 1; k < nc; ++k) {
+            // Around the exact threshold (k / (k + 1))^E: 3 floats either side of where the rule
+            // changes (found by stepping with the rule itself).
+            float t = float(std::pow(double(k) / double(k + 1), e));
+            while (t > 0 && index(t) >= k) t = std::nextafter(t, -1.0f);
+            while (t < 1 && index(t) < k) t = std::nextafter(t, 2.0f);
+            for (int d = 0; d < 3; ++d) t = std::nextafter(t, -1.0f);
+            for (int d = 0; d < 7; ++d, t = std::nextafter(t, 2.0f)) r.push_back(t);
+        }
+        for (int i = 0; i <= 100000; ++i) r.push_back(float(i) / 100000.0f);
+        for (float x : {0.0f, 1e-30f, std::nextafter(1.0f, 0.0f), 1.0f, 1.5f}) r.push_back(x);
+        std::vector<std::int32_t> trap(r.size(), 0);
+        std::vector<std::uint32_t> it(r.size(), 1);
+        std::vector<float> rgb(3 * r.size());
+        cm->colour_hits(trap.data(), r.data(), it.data(), r.size(), nullptr, rgb.data());
+        for (std::size_t i = 0; i < r.size(); ++i) {
+            const fp::Rgb want = table[index(r[i])];
+            ASSERT_TRUE(rgb[3 * i] == want.r && rgb[3 * i + 1] == want.g && rgb[3 * i + 2] == want.b)
+                << "E " << e << ", Nc " << nc << ", ratio " << r[i] << " (index " << index(r[i]) << ")";
+        }
+    }
 }
 
 } // namespace

@@ -27,6 +27,15 @@ public:
     virtual double key(double d) const { return d; }
     virtual void from_key(float*, std::size_t) const {}
     virtual void from_key(double*, std::size_t) const {}
+
+    /// The metric as a known formula, for traps that compute it inline (circles reports its
+    /// circles to renderers as TrapKernel data). The contract is exact: with T the batch's type
+    /// and c rounded to T first, no FMA contraction,
+    ///   euclidean: distance_key = dx * dx + dy * dy (dx = x - c.x, dy = y - c.y), key(d) = d * d,
+    ///              from_key = the correctly rounded square root (std::sqrt);
+    /// `other` promises nothing. The default is other.
+    enum class Kind { other, euclidean };
+    virtual Kind kind() const { return Kind::other; }
 };
 
 } // namespace fp
