@@ -4,7 +4,8 @@
 // reference's work) and map-colour (a colour per point, accumulated in the histogram); float
 // and double chains; 1 and 2 threads. The `iteration/...` lines run the density/float render
 // with other iteration schemes in place of the Picard step (issue 3): Picard, the S-iteration in
-// the reals and in a q-system, Mann.
+// the reals and in a q-system, Mann. `density_float_generic` is the headline with the fused
+// circle-inversion step turned off (`kernels: generic`): the generic plugin path.
 //
 //   fixpoint_bench [--benchmark_filter=...]    FIXPOINT_BENCH_POINTS overrides the 1e8 points
 #include <fixpoint/host/pipeline.hpp>
@@ -28,7 +29,7 @@ std::uint64_t bench_points() {
 // The render of bench/circles.yaml with `precision`, `colourer` and, if given, `iteration` (a
 // YAML flow mapping: the iteration scheme replacing the default Picard step).
 void chaos_game_with(benchmark::State& state, const char* precision, const char* colourer,
-                     const char* iteration) {
+                     const char* iteration, const char* kernels = "auto") {
     fp::host::Registry reg;
     for (const auto& d : fp::host::Registry::default_dirs()) reg.load_dir(d);
     const std::uint64_t n = bench_points();
@@ -36,6 +37,7 @@ void chaos_game_with(benchmark::State& state, const char* precision, const char*
                                      std::string("renderer.precision=") + precision,
                                      std::string("renderer.colourer={type: ") + colourer + "}"};
     if (iteration) sets.push_back(std::string("renderer.iteration=") + iteration);
+    sets.push_back(std::string("renderer.kernels=") + kernels);
     const auto p = fp::host::load_pipeline(reg, FIXPOINT_BENCH_DIR "/circles.yaml", sets);
     const unsigned threads = unsigned(state.range(0));
     fp::host::Runtime rt(threads, nullptr);
@@ -52,6 +54,10 @@ void chaos_game_with(benchmark::State& state, const char* precision, const char*
 
 void chaos_game(benchmark::State& state, const char* precision, const char* colourer) {
     chaos_game_with(state, precision, colourer, nullptr);
+}
+
+void chaos_game_generic(benchmark::State& state, const char* precision, const char* colourer) {
+    chaos_game_with(state, precision, colourer, nullptr, "generic");
 }
 
 // Issue 3, section 9: the same six circles (density, float) with other iteration schemes in
@@ -98,6 +104,12 @@ void inline_scalar(benchmark::State& state) {
 } // namespace
 
 BENCHMARK_CAPTURE(chaos_game, density_float, "float", "density")
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+BENCHMARK_CAPTURE(chaos_game_generic, density_float_generic, "float", "density")
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)

@@ -15,6 +15,7 @@ public:
     void step(const fp::Transform& t, fp::Points<double> p, fp::Mask mask, std::uint64_t) const override {
         t.apply(p, mask);
     }
+    bool is_picard() const override { return true; }
 };
 
 } // namespace

@@ -34,6 +34,13 @@
 //      (AVX-512, float) or a few vectorised loops;
 //   6. the deposit: one 4 x 32-bit add per point into the worker's own histogram, or one
 //      32-bit increment when counting hits only.
+// Known kernels: when every map is inversion in a circle about its centre (Transform::kernel()
+// returns circle_inversion), the scheme is a plain Picard step, the rules are on and the chains
+// are float (AVX-512), steps 1-3 (and 5, when the colourer needs no colour) run instead as one
+// fused pass, 16 chains per vector with the circles' parameters in registers and tables, no
+// calls and no grouping (chaos_fused.hpp). It computes the same draws and the same float
+// operations in the same order, so the image is the same bytes; `kernels: generic` turns it
+// off (tests/unit/test_chaos_kernel.cpp renders recipes both ways).
 // So a step costs 2k + 1 virtual calls per block (k maps), none per point; nothing is
 // allocated, looked up, thrown or logged per point. Block buffers are allocated once per
 // worker and stay in L1/L2 (about 100 bytes per chain, k more for the tests, 8 k for the
@@ -52,11 +59,13 @@
 // colour sums.
 //
 // Where the time goes (bench/circles.yaml: 6 circles, 1024 x 1024; one core of the 2-core
-// AVX-512 machine; bench/README.md has the figures). Hits only (density): grouping by map
-// about 23%, the deposit 20% (random 4-byte increments over a 4 MiB histogram), the draw
-// 19%, the 6 inside tests 14%, the bookkeeping 11%, the inversions 9%. With colour
-// (map-colour) the deposit grows to about 38% (random 16-byte read-modify-writes over a
-// 16 MiB histogram) and the colour update adds 10%.
+// AVX-512 machine; bench/README.md has the figures). Hits only (density), fused path: the
+// fused pass (6 inside tests, pcg32, the draw, the inversion, bookkeeping and bin index) about
+// 60%, the deposit about 30% (random 4-byte increments over a 4 MiB histogram), resolve and
+// fixed costs the rest. Generic path (kernels: generic, or any other map): grouping by map
+// about 23%, the deposit 20%, the draw 19%, the 6 inside tests 14%, the bookkeeping 11%, the
+// inversions 9%. With colour (map-colour) the deposit grows to about 38% (random 16-byte
+// read-modify-writes over a 16 MiB histogram) and the colour update adds 10%.
 //
 // Precision
 // ---------
@@ -93,6 +102,7 @@
 // Errors (ParamError, by parameter): "view": "the view must be [xmin, xmax, ymin, ymax] with
 // xmin < xmax" (or "... with ymin < ymax"); "maps": "the list of maps is empty"; "height":
 // "the image is too large: width * height must be below 4294967295 pixels".
+#include "chaos_fused.hpp"
 #include "fit_view.hpp"
 #include "palette.hpp"
 
@@ -107,6 +117,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #if defined(__linux__)
@@ -320,6 +331,10 @@ struct Scratch {
     }
 };
 
+template <class T>
+struct BinView;
+struct StepCounts;
+
 struct BlockResult {
     uint64_t plotted = 0, restarts = 0, bad = 0;
 };
@@ -350,6 +365,10 @@ private:
     void new_starts(Scratch<T>& s, const uint32_t* list, size_t m) const;
     template <class T>
     void move_chains(Scratch<T>& s, size_t nb, uint64_t n) const;
+    /// Steps 1-3 of a block step in chaos_fused.hpp's one pass when fused_ (1), and step 5
+    /// too when the colourer needs no colour (2, sc set); 0 otherwise.
+    template <class T, bool Rules, bool Colour>
+    int run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCounts& sc) const;
 
     int width_ = 512, height_ = 512;
     double xmin_ = -1.5, xmax_ = 1.5, ymin_ = -1.5, ymax_ = 1.5;
@@ -358,6 +377,8 @@ private:
     fp::Vec2 start_;
     fp::Box start_box_; ///< where random start points are drawn (the view unless start_box)
     bool rules_ = true, double_ = false, colour_ = true;
+    bool fused_ = false; ///< float chains run fp_chaos::fused_rules_step (see chaos_fused.hpp)
+    fp_chaos::FusedTables fused_tables_;
     fp::Rgb background_;
 
     std::vector<std::shared_ptr<const fp::Transform>> maps_;
@@ -466,6 +487,17 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     q_.resize(k);
     for (size_t j = 0; j < k; ++j)
         q_[j] = uint32_t(std::max(1.0, std::floor(w[j] / sum * double(1u << 31) + 0.5)));
+
+    // The fused step: every map a circle inversion (Transform::kernel), a Picard step, the
+    // rules on, float chains, AVX-512; `kernels: generic` turns it off (it gives the same
+    // bytes: tests/unit/test_chaos_kernel.cpp).
+    if (FP_CHAOS_FUSED && p.string("kernels") == "auto" && rules_ && !double_ && region_maps_.size() == k) {
+        std::vector<fp::KnownKernel> kernels;
+        for (const auto& m : maps_) kernels.push_back(m->kernel());
+        fused_ = fp_chaos::fused_tables(kernels, q_, fused_tables_) && iteration_->is_picard();
+    } else {
+        (void)p.string("kernels");
+    }
 
     // Walker's alias table (Vose's construction) with 32-bit thresholds: column c =
     // floor(u * k), kept when the fraction's 32 bits are below thr[c], else alias[c].
@@ -577,6 +609,9 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
     // Sum the workers' histograms (exact integer sums; rows in parallel).
     const size_t rows_per_task = 16;
     const size_t tasks = (size_t(height_) + rows_per_task - 1) / rows_per_task;
+    // The hits of each task's rows, summed here rather than in a serial pass over the 32 MiB
+    // of the total afterwards (part of the fixed cost that limits the speed-up on 2 threads).
+    std::vector<uint64_t> drawn(tasks, 0);
     ctx.parallel_for(tasks, [&](size_t t, unsigned) {
         const size_t b0 = t * rows_per_task * size_t(width_);
         const size_t b1 = std::min(px, b0 + rows_per_task * size_t(width_));
@@ -597,19 +632,23 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                 out[i].b += in[i][3];
             }
         }
+        uint64_t d = 0;
+        for (size_t i = b0; i < b1; ++i) d += out[i].hits;
+        drawn[t] = d;
     });
+    // The histogram holds exactly the points that landed in the image.
+    stats.drawn = 0;
+    for (uint64_t d : drawn) stats.drawn += d;
     for (const auto& h : hists) {
         for (const auto& [i, v] : h.spills) {
             fp::HistBin& o = total.bins[i];
             o.hits += v[0];
+            stats.drawn += v[0];
             o.r += v[1];
             o.g += v[2];
             o.b += v[3];
         }
     }
-    // The histogram holds exactly the points that landed in the image.
-    stats.drawn = 0;
-    for (const auto& bin : total.bins) stats.drawn += bin.hits;
 }
 
 // ---------------------------------------------------------------- map choice
@@ -1102,6 +1141,33 @@ StepCounts bookkeep(Scratch<float>& s, size_t nb, const BinView<float>& v) {
 }
 #endif
 
+// ---------------------------------------------------------------- the fused step
+template <class T, bool Rules, bool Colour>
+int ChaosGame::run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCounts& sc) const {
+#if FP_CHAOS_FUSED
+    if constexpr (Rules && std::is_same_v<T, float>) {
+        if (!fused_) return 0;
+        const fp_chaos::FusedBlock b{s.x.get(),      s.y.get(),       s.rs.get(),
+                                     s.ri.get(),     s.prev.get(),    s.active.get(),
+                                     s.chosen.get(), s.restart.get(), nb};
+        if constexpr (Colour) {
+            fp_chaos::fused_rules_step<false>(fused_tables_, b);
+            return 1;
+        } else {
+            const fp_chaos::FusedBook bk{bv.xmin,      bv.xmax,        bv.ymin,     bv.ymax,
+                                         bv.scx,       bv.scy,         bv.W,        bv.H,
+                                         bv.dummy,     bv.skip,        s.age.get(), s.idle.get(),
+                                         s.left.get(), s.active.get(), s.idx.get(), s.prev.get()};
+            const fp_chaos::FusedCounts c = fp_chaos::fused_rules_step<true>(fused_tables_, b, &bk);
+            sc.plotted = c.plotted, sc.bad = c.bad, sc.restarts = c.restarts, sc.still = c.still;
+            return 2;
+        }
+    }
+#endif
+    (void)s, (void)nb, (void)bv, (void)sc;
+    return 0;
+}
+
 // ---------------------------------------------------------------- one block of chains
 template <class T, bool Rules, bool Colour>
 void ChaosGame::run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
@@ -1172,14 +1238,17 @@ void ChaosGame::run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockRe
             reported = done;
         }
 
-        // 1-2. Choose a map per chain (k = does not move this step).
-        if constexpr (Rules)
-            choose_rules(s, nb);
-        else
-            choose_alias(s, nb);
-
-        // 3. Group the chains by map, one step call per map, back in place.
-        move_chains(s, nb, n);
+        // 1-3. Choose a map per chain (k = does not move this step); group the chains by map,
+        // one step call per map, back in place. Or all of it in one fused pass.
+        StepCounts sc;
+        const int fused = run_fused<T, Rules, Colour>(s, nb, bv, sc);
+        if (!fused) {
+            if constexpr (Rules)
+                choose_rules(s, nb);
+            else
+                choose_alias(s, nb);
+            move_chains(s, nb, n);
+        }
 
         // 4. Colours (not when the colourer needs none).
         if constexpr (Colour) {
@@ -1189,7 +1258,7 @@ void ChaosGame::run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockRe
         }
 
         // 5. Bookkeeping, bin indices and colour values, branch-free over the block.
-        const StepCounts sc = bookkeep<Colour>(s, nb, bv);
+        if (fused != 2) sc = bookkeep<Colour>(s, nb, bv);
 
         // 6. Deposit: one 4 x 32-bit add per chain, or one 32-bit increment when counting
         // hits only (the unplotted land in the last bin).
@@ -1288,6 +1357,12 @@ constexpr fp::ParamSpec params[] = {
         .def("float")
         .one_of("float|double"),
     fp::param::colour("background", "colour of pixels no point reached").def("[0, 0, 0]"),
+    fp::param::string("kernels",
+                      "auto: run maps that describe themselves as known kernels (inversions in circles "
+                      "about their centres, Picard step, rules on, float) in one fused vectorised pass; "
+                      "generic: always through the plugins' batch calls. Same image either way")
+        .def("auto")
+        .one_of("auto|generic"),
 };
 
 } // namespace

@@ -15,6 +15,10 @@
 // With o = c this gives t = R / |d|, and the inversion reduces to eq. (2); inversion_factor()
 // then returns R^2 / |d|^2 directly (no square root, no squaring), so that inversion in a
 // circle about its own centre is eq. (2) to the last bit.
+//
+// as_circle() reports (c, R^2) with R^2 = radius * radius in double, the value inside() and
+// inversion_factor() round to the batch's type: a renderer's fused loop for inversions in
+// circles (chaos-game) computes the same bits from it. Keep the three in step.
 #include <fixpoint/fixpoint.hpp>
 
 #include <cmath>
@@ -34,6 +38,12 @@ public:
     explicit Circle(const fp::ParamBag& p) : c_(p.vec2("centre")), r_(p.real("radius")), r2_(r_ * r_) {}
 
     fp::Vec2 centre() const override { return c_; }
+
+    bool as_circle(fp::Vec2& centre, double& radius2) const override {
+        centre = c_;
+        radius2 = r2_;
+        return true;
+    }
 
     bool in_kernel(fp::Vec2 o) const override {
         const double wx = o.x - c_.x, wy = o.y - c_.y;

@@ -20,10 +20,17 @@
 // Inactive points get the zero direction and are left unchanged. A point within ~1e-19 of o
 // in float gives an infinite factor: its image is at infinity anyway, and the renderer's
 // bad-value policy restarts the chain.
+//
+// kernel(): with a shape that is a circle (Shape::as_circle) and o its centre, the map is
+// classical circle inversion, and run() computes exactly KnownKernel's circle_inversion
+// (d = p - o, s = R^2 / |d|^2 from the circle, p' = o + s d; contains() is the circle's
+// |d|^2 < R^2): a renderer may then run it in its own fused loop with the same bits.
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <charconv>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -62,6 +69,17 @@ public:
         return shape_->outline(samples);
     }
     bool is_involution() const override { return true; }
+
+    fp::KnownKernel kernel() const override {
+        fp::Vec2 c;
+        double r2 = 0;
+        // Bit for bit (a centre of -0 against the circle's +0 would differ in zero signs).
+        auto same = [](double a, double b) {
+            return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+        };
+        if (!shape_->as_circle(c, r2) || !same(c.x, o_.x) || !same(c.y, o_.y)) return {};
+        return {fp::KnownKernel::Kind::circle_inversion, c.x, c.y, r2};
+    }
 
     fp::Box sample_domain() const override {
         const fp::Box b = shape_->bounds();

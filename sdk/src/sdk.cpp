@@ -35,6 +35,7 @@ void Shape::inversion_factor(Vec2 o, Points<const float> d, float* s) const { sq
 void Shape::inversion_factor(Vec2 o, Points<const double> d, double* s) const {
     squared_exit(*this, o, d, s);
 }
+bool Shape::as_circle(Vec2&, double&) const { return false; }
 
 bool Transform::has_region() const { return false; }
 void Transform::contains(Points<const float> p, unsigned char* out) const {
@@ -46,9 +47,11 @@ void Transform::contains(Points<const double> p, unsigned char* out) const {
 std::vector<Vec2> Transform::region_outline(std::size_t) const { return {}; }
 bool Transform::is_involution() const { return false; }
 Box Transform::sample_domain() const { return {-2, 2, -2, 2}; }
+KnownKernel Transform::kernel() const { return {}; }
 
 unsigned IterationScheme::applications() const { return 1; }
 void IterationScheme::check_steps(const Transform&, std::uint64_t) const {}
+bool IterationScheme::is_picard() const { return false; }
 bool NumberSystem::is_real() const { return false; }
 
 bool Renderer::has_vector_output() const { return false; }

@@ -27,6 +27,11 @@ public:
     /// that are not involutions) throws fp::InputError here, so that `validate` refuses what
     /// the render would. The default accepts everything.
     virtual void check_steps(const Transform& t, std::uint64_t last_n) const;
+
+    /// True when step() is exactly t.apply(p, mask) at every n (the Picard iteration): a
+    /// renderer may then run a Transform's KnownKernel in its own fused loop. The conformance
+    /// suite checks the promise bit for bit. The default is false.
+    virtual bool is_picard() const;
 };
 
 } // namespace fp

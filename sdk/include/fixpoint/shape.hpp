@@ -41,6 +41,12 @@ public:
     /// The boundary as a closed polyline of about `samples` points (polygons: their
     /// vertices), for drawing the sets and for tests.
     virtual std::vector<Vec2> outline(std::size_t samples) const = 0;
+
+    /// True when the set is the open disc |p - centre|^2 < radius2 and inside() and
+    /// inversion_factor() about `centre` compute exactly that and radius2 / |d|^2 (the values
+    /// rounded to the batch's type, no FMA): an `inversion` about the centre then describes
+    /// itself as a KnownKernel. The default is false.
+    virtual bool as_circle(Vec2& centre, double& radius2) const;
 };
 
 } // namespace fp

@@ -6,9 +6,26 @@
 #include <fixpoint/types.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace fp {
+
+/// A map a renderer may run in its own fused, vectorised loop instead of calling apply()
+/// and contains() on batches (chaos-game does, for every map of a recipe that has one).
+/// The contract is exact: with T the batch's type (float or double), every value below
+/// rounded to T first and no FMA contraction, the Transform's apply() and contains() must
+/// give the same bits as
+///   circle_inversion: d = p - (cx, cy); s = r2 / (d.x * d.x + d.y * d.y);
+///                     T(p) = (cx + s * d.x, cy + s * d.y);
+///                     contains(p) = d.x * d.x + d.y * d.y < r2
+/// (inversion in the circle of centre (cx, cy) and squared radius r2, paper 01 eq. (2)), so
+/// that a render is the same image whichever way the renderer runs the map.
+struct KnownKernel {
+    enum class Kind : std::uint32_t { none, circle_inversion };
+    Kind kind = Kind::none;
+    double cx = 0, cy = 0, r2 = 0;
+};
 
 class Transform : public Object {
 public:
@@ -31,6 +48,9 @@ public:
     virtual bool is_involution() const;
     /// Where finite input must give finite output (conformance suite samples this box).
     virtual Box sample_domain() const;
+
+    /// The map as a known kernel (see KnownKernel), when it is one; the default is none.
+    virtual KnownKernel kernel() const;
 };
 
 } // namespace fp

@@ -1,0 +1,229 @@
+// chaos-game's fused step for circle inversions (plugins/renderers/chaos_fused.hpp): the
+// known-kernel contract of `inversion` in a `circle`, is_picard, the fused step
+// against the generic step's arithmetic written out per chain, and whole renders with
+// `kernels: auto` and `kernels: generic` giving the same bytes.
+#include <fixpoint/host/host.hpp>
+#include <fixpoint/host/runtime.hpp>
+
+#include "../../plugins/renderers/chaos_fused.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace {
+
+fp::host::Host& host() {
+    static fp::host::Host h;
+    return h;
+}
+
+template <class T>
+bool same_bits(T a, T b) {
+    return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+// The six circles of bench/circles.yaml (and ../shared/perf-reference/circles.cpp).
+std::string circles_maps(const std::string& extra = "") {
+    std::string m = "maps: [";
+    for (int j = 0; j < 5; ++j) {
+        const double a = 2 * M_PI * j / 5;
+        m += "{type: inversion, shape: {type: circle, centre: [" + std::to_string(std::cos(a)) + ", " +
+             std::to_string(std::sin(a)) + "], radius: 0.65}" + (j == 2 ? extra : "") + "}, ";
+    }
+    return m + "{type: inversion, shape: {type: circle, centre: [0, 0], radius: 0.4}}]";
+}
+
+TEST(ChaosKernel, InversionInACircleAboutItsCentreIsAKnownKernel) {
+    const auto t = host().make<fp::Transform>("{type: inversion, shape: {type: circle, centre: [0.3, -0.2], "
+                                              "radius: 0.65}}");
+    const fp::KnownKernel k = t->kernel();
+    ASSERT_EQ(k.kind, fp::KnownKernel::Kind::circle_inversion);
+    EXPECT_EQ(k.cx, 0.3);
+    EXPECT_EQ(k.cy, -0.2);
+    EXPECT_EQ(k.r2, 0.65 * 0.65);
+    // The contract: apply() and contains() give the bits of the formula, in float and double.
+    const std::vector<double> px = {0.1, 2.0, -1.5, 0.31, 0.3, 1e-3, 7.25};
+    const std::vector<double> py = {0.1, -0.5, 0.4, -0.19, 0.45, -0.2, -3.0};
+    auto check = [&](auto zero) {
+        using T = decltype(zero);
+        std::vector<T> x(px.begin(), px.end()), y(py.begin(), py.end());
+        std::vector<unsigned char> in(x.size());
+        t->contains(fp::Points<const T>{x.data(), y.data(), x.size()}, in.data());
+        const std::vector<T> x0 = x, y0 = y;
+        t->apply(fp::Points<T>{x.data(), y.data(), x.size()}, nullptr);
+        const T cx = T(k.cx), cy = T(k.cy), r2 = T(k.r2);
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            const T dx = x0[i] - cx, dy = y0[i] - cy, d2 = dx * dx + dy * dy, s = r2 / d2;
+            EXPECT_TRUE(same_bits(x[i], T(cx + s * dx))) << i;
+            EXPECT_TRUE(same_bits(y[i], T(cy + s * dy))) << i;
+            EXPECT_EQ(in[i], d2 < r2 ? 1 : 0) << i;
+        }
+    };
+    check(0.0f);
+    check(0.0);
+}
+
+TEST(ChaosKernel, OtherInversionsAreNotKnownKernels) {
+    // A centre moved inside the circle (paper 01 Fig. 4) and a square: the general formula.
+    EXPECT_EQ(host()
+                  .make<fp::Transform>("{type: inversion, shape: {type: circle, centre: [0, 0], radius: 1}, "
+                                       "centre: [0.2, 0]}")
+                  ->kernel()
+                  .kind,
+              fp::KnownKernel::Kind::none);
+    EXPECT_EQ(
+        host()
+            .make<fp::Transform>("{type: inversion, shape: {type: polygon, vertices: [[-1, -1], [1, -1], "
+                                 "[1, 1], [-1, 1]]}}")
+            ->kernel()
+            .kind,
+        fp::KnownKernel::Kind::none);
+    EXPECT_EQ(
+        host().make<fp::Transform>("{type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}")->kernel().kind,
+        fp::KnownKernel::Kind::none);
+}
+
+TEST(ChaosKernel, OnlyPicardIsPicard) {
+    EXPECT_TRUE(host().make<fp::IterationScheme>("{type: picard}")->is_picard());
+    // Mann with alpha = 1 is Picard for finite points but not bit for bit (0 * inf).
+    EXPECT_FALSE(host().make<fp::IterationScheme>("{type: mann, alpha: 1}")->is_picard());
+    EXPECT_FALSE(host().make<fp::IterationScheme>("{type: s-iteration, alpha: 0.7, beta: 0.5}")->is_picard());
+}
+
+#if FP_CHAOS_FUSED
+// The generic step written out for one chain: Circle::inside, choose_rules' draw, Inversion.
+uint32_t pcg_next(uint64_t& state, uint64_t inc) {
+    const uint64_t old = state;
+    state = old * 6364136223846793005ull + inc;
+    const auto x = uint32_t(((old >> 18) ^ old) >> 27);
+    const auto rot = uint32_t(old >> 59);
+    return (x >> rot) | (x << ((32u - rot) & 31u));
+}
+
+TEST(ChaosKernel, FusedStepIsTheGenericStep) {
+    const std::vector<double> cx = {1, 0.309, -0.809, -0.809, 0.309, 0},
+                              cy = {0, 0.951, 0.588, -0.588, -0.951, 0};
+    const std::vector<double> r2 = {0.4225, 0.4225, 0.4225, 0.4225, 0.4225, 0.16};
+    std::vector<fp::KnownKernel> kk;
+    for (std::size_t j = 0; j < cx.size(); ++j)
+        kk.push_back({fp::KnownKernel::Kind::circle_inversion, cx[j], cy[j], r2[j]});
+    const std::vector<uint32_t> q = {100, 300, 50, 700, 1u << 30, 9};
+    fp_chaos::FusedTables t;
+    ASSERT_TRUE(fp_chaos::fused_tables(kk, q, t));
+    const std::size_t k = cx.size();
+
+    for (std::size_t nb : {std::size_t(1), std::size_t(37), std::size_t(512)}) {
+        std::vector<float> x(nb), y(nb);
+        std::vector<uint64_t> rs(nb), ri(nb);
+        std::vector<uint32_t> prev(nb), active(nb), chosen(nb, 99), restart(nb, 99);
+        fp::Rng g = fp::chain_stream(7, nb);
+        for (std::size_t i = 0; i < nb; ++i) {
+            // Points over [-1.5, 1.5]^2: some inside one or two circles; a few NaN and exact
+            // centres (an infinite factor).
+            x[i] = float(-1.5 + 3 * fp::uniform_double(g));
+            y[i] = float(-1.5 + 3 * fp::uniform_double(g));
+            if (i % 50 == 7) x[i] = std::numeric_limits<float>::quiet_NaN();
+            if (i % 50 == 11) x[i] = 0, y[i] = 0;
+            prev[i] = uint32_t(fp::uniform_below(g, uint32_t(k + 1)));
+            active[i] = i % 13 == 5 ? 0u : 1u;
+            rs[i] = uint64_t(g()) << 32 | g();
+            ri[i] = (uint64_t(i) << 1) | 1u;
+        }
+        std::vector<float> ex = x, ey = y;
+        std::vector<uint64_t> ers = rs;
+        std::vector<uint32_t> echosen(nb), erestart(nb);
+        for (std::size_t i = 0; i < nb; ++i) {
+            std::vector<bool> ok(k);
+            uint32_t tot = 0;
+            for (std::size_t j = 0; j < k; ++j) {
+                const float dx = x[i] - float(cx[j]), dy = y[i] - float(cy[j]);
+                ok[j] = !(dx * dx + dy * dy < float(r2[j])) && prev[i] != j;
+                tot += ok[j] ? q[j] : 0u;
+            }
+            const uint32_t u = uint32_t((uint64_t(pcg_next(ers[i], ri[i])) * tot) >> 32);
+            uint32_t cum = 0, c = 0;
+            for (std::size_t j = 0; j < k; ++j) {
+                cum += ok[j] ? q[j] : 0u;
+                c += cum <= u ? 1u : 0u;
+            }
+            const bool mv = active[i] && tot != 0;
+            echosen[i] = mv ? c : uint32_t(k);
+            erestart[i] = active[i] && tot == 0 ? 1u : 0u;
+            if (mv) {
+                const float ox = float(cx[c]), oy = float(cy[c]);
+                const float dx = x[i] - ox, dy = y[i] - oy, s = float(r2[c]) / (dx * dx + dy * dy);
+                ex[i] = ox + s * dx;
+                ey[i] = oy + s * dy;
+            }
+        }
+        fp_chaos::fused_rules_step<false>(t, fp_chaos::FusedBlock{x.data(), y.data(), rs.data(), ri.data(),
+                                                                  prev.data(), active.data(), chosen.data(),
+                                                                  restart.data(), nb});
+        for (std::size_t i = 0; i < nb; ++i) {
+            EXPECT_EQ(chosen[i], echosen[i]) << nb << " " << i;
+            EXPECT_EQ(restart[i], erestart[i]) << nb << " " << i;
+            EXPECT_EQ(rs[i], ers[i]) << nb << " " << i;
+            EXPECT_TRUE(same_bits(x[i], ex[i])) << nb << " " << i << " " << x[i] << " " << ex[i];
+            EXPECT_TRUE(same_bits(y[i], ey[i])) << nb << " " << i << " " << y[i] << " " << ey[i];
+        }
+    }
+}
+#endif
+
+struct Render {
+    fp::Image img;
+    fp::RenderStats stats;
+};
+
+Render render(const std::string& yaml, unsigned threads) {
+    auto r = host().make<fp::Renderer>(yaml);
+    fp::host::Runtime rt(threads, nullptr);
+    Render out;
+    out.img = r->render(rt, out.stats);
+    return out;
+}
+
+// Each recipe rendered with the fused path allowed (auto) and forbidden (generic), on 1 and 2
+// threads: the same pixels and the same counts.
+TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
+    const std::string bench = "type: chaos-game, width: 96, height: 96, view: [-0.8, 0.8, -0.8, 0.8], ";
+    const std::vector<std::string> recipes = {
+        // bench/circles.yaml, small: hits only, the default 4096 chains.
+        bench + "points: 300000, colourer: {type: density}, " + circles_maps(),
+        // Weights and colours per map, a colour per point; 100 chains (a partial vector).
+        bench + "points: 200000, chains: 100, seed: 9, colourer: {type: map-colour}, " +
+            circles_maps(", weight: 3, colour: [1, 0, 0]"),
+        // The flame colourer (running colour), skip 0, a fixed start point.
+        bench + "points: 200000, chains: 300, skip: 0, start: [0.05, 0.02], colourer: {type: flame}, " +
+            circles_maps(),
+        // Two circles that overlap widely: chains restart often (no allowed map); skip 1.
+        "type: chaos-game, width: 64, height: 64, view: [-1.5, 2, -1.5, 1.5], points: 200000, chains: 500, "
+        "skip: 1, colourer: {type: density}, maps: [{type: inversion, shape: {type: circle, centre: [0, 0], "
+        "radius: 1}}, {type: inversion, shape: {type: circle, centre: [0.5, 0], radius: 1}}]",
+        // Double chains (no fused path): the same either way.
+        bench + "points: 100000, precision: double, colourer: {type: density}, " + circles_maps(),
+    };
+    for (const auto& r : recipes) {
+        const Render a = render("{" + r + "}", 1);
+        const Render b = render("{" + r + ", kernels: generic}", 1);
+        const Render c = render("{" + r + "}", 2);
+        ASSERT_EQ(a.img.pixels.size(), b.img.pixels.size());
+        EXPECT_TRUE(a.img.pixels == b.img.pixels) << r;
+        EXPECT_TRUE(a.img.pixels == c.img.pixels) << r;
+        EXPECT_EQ(a.stats.samples, b.stats.samples) << r;
+        EXPECT_EQ(a.stats.drawn, b.stats.drawn) << r;
+        EXPECT_EQ(a.stats.restarts, b.stats.restarts) << r;
+        EXPECT_EQ(a.stats.bad_values, b.stats.bad_values) << r;
+        EXPECT_GT(a.stats.drawn, 0u) << r;
+    }
+    // The restarting recipe does restart (so the comparison covers restarts).
+    EXPECT_GT(render("{" + recipes[3] + "}", 1).stats.restarts, 0u);
+}
+
+} // namespace
