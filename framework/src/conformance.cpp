@@ -4,9 +4,11 @@
 #include <fixpoint/host/conformance.hpp>
 #include <fixpoint/host/runtime.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <thread>
 
 namespace fp::host {
@@ -145,6 +147,38 @@ void check_shape(const Shape& s, Findings& f) {
 }
 
 // ------------------------------------------------------------------ Transform
+// A map that reports a KnownKernel promises apply() and contains() to the bit (renderers run the
+// kernel in their own loops instead): check the promise in the batch's type T.
+template <class T>
+void check_known_kernel(const Transform& t, const std::vector<double>& x0, const std::vector<double>& y0,
+                        Findings& f) {
+    const KnownKernel k = t.kernel();
+    if (k.kind == KnownKernel::Kind::none) return;
+    if (k.kind != KnownKernel::Kind::circle_inversion) {
+        f.push_back("transform: kernel() reports an unknown kind");
+        return;
+    }
+    const std::size_t n = x0.size();
+    std::vector<T> x(x0.begin(), x0.end()), y(y0.begin(), y0.end());
+    std::vector<unsigned char> in(n);
+    t.contains(Points<const T>{x.data(), y.data(), n}, in.data());
+    t.apply(Points<T>{x.data(), y.data(), n}, nullptr);
+    const T cx = T(k.cx), cy = T(k.cy), r2 = T(k.r2);
+    std::size_t bad = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const T dx = T(x0[i]) - cx, dy = T(y0[i]) - cy, d2 = dx * dx + dy * dy, s = r2 / d2;
+        const T ex = cx + s * dx, ey = cy + s * dy;
+        bad += std::memcmp(&ex, &x[i], sizeof(T)) != 0 || std::memcmp(&ey, &y[i], sizeof(T)) != 0 ||
+               in[i] != (d2 < r2 ? 1 : 0);
+    }
+    if (bad)
+        f.push_back(
+            std::string("transform: kernel() promises inversion in a circle, but apply() or contains() "
+                        "differs from it (") +
+            (sizeof(T) == 4 ? "float" : "double") + ") for " + std::to_string(bad) + " of " +
+            std::to_string(n) + " points");
+}
+
 void check_transform(const Transform& t, Findings& f) {
     const Box b = t.sample_domain();
     Sampler smp;
@@ -212,6 +246,8 @@ void check_transform(const Transform& t, Findings& f) {
         for (std::size_t i = 0; i < n; ++i) t.contains(Points<const double>{&x0[i], &y0[i], 1}, &c1[i]);
         if (c != c1) f.push_back("transform: contains() on a batch differs from point-by-point");
     }
+    check_known_kernel<double>(t, x0, y0, f);
+    check_known_kernel<float>(t, x0, y0, f);
 }
 
 // ------------------------------------------------------------------ IterationScheme
@@ -233,15 +269,51 @@ void check_scheme(const IterationScheme& s, Findings& f) {
             f.push_back("iteration-scheme: results differ when evaluated from two threads at once");
             return;
         }
+        if (s.is_picard()) {
+            // The promise renderers rely on: step() is exactly T(p), special values included.
+            std::vector<double> x = x0, y = y0, ex = x0, ey = y0;
+            x[0] = ex[0] = std::numeric_limits<double>::infinity();
+            y[1] = ey[1] = std::numeric_limits<double>::quiet_NaN();
+            s.step(t, Points<double>{x.data(), y.data(), n}, nullptr, step);
+            t.apply(Points<double>{ex.data(), ey.data(), n}, nullptr);
+            if (!bit_equal(x, ex) || !bit_equal(y, ey)) {
+                f.push_back("iteration-scheme: is_picard() is true, but step() is not exactly T(p)");
+                return;
+            }
+        }
     }
 }
 
 // ------------------------------------------------------------------ Metric
+// A metric of a known kind promises distance_key() and key() to the bit (traps inline them).
+template <class T>
+void check_metric_kind(const Metric& m, const std::vector<double>& x0, const std::vector<double>& y0,
+                       Findings& f) {
+    if (m.kind() != Metric::Kind::euclidean) return;
+    const std::size_t n = x0.size();
+    const std::vector<T> x(x0.begin(), x0.end()), y(y0.begin(), y0.end());
+    const Vec2 c{0.25, -0.5};
+    std::vector<T> key(n);
+    m.distance_key(Points<const T>{x.data(), y.data(), n}, c, key.data());
+    std::size_t bad = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const T dx = x[i] - T(c.x), dy = y[i] - T(c.y), e = dx * dx + dy * dy;
+        bad += std::memcmp(&e, &key[i], sizeof(T)) != 0;
+    }
+    for (double d : {0.5, 1.0, 3.5, 2.8284271247461903}) bad += m.key(d) != d * d;
+    if (bad)
+        f.push_back(std::string("metric: kind() is euclidean, but distance_key() or key() is not the squared "
+                                "distance (") +
+                    (sizeof(T) == 4 ? "float" : "double") + ")");
+}
+
 void check_metric(const Metric& m, Findings& f) {
     Sampler smp;
     constexpr std::size_t n = 300;
     std::vector<double> x(n), y(n);
     for (std::size_t i = 0; i < n; ++i) x[i] = smp.in(-3, 3), y[i] = smp.in(-3, 3);
+    check_metric_kind<double>(m, x, y, f);
+    check_metric_kind<float>(m, x, y, f);
     std::vector<double> d(n * n); // d[i*n + j] = d(p_j, p_i)
     for (std::size_t i = 0; i < n; ++i)
         m.distance(Points<const double>{x.data(), y.data(), n}, {x[i], y[i]}, &d[i * n]);
@@ -291,6 +363,45 @@ void check_metric(const Metric& m, Findings& f) {
 }
 
 // ------------------------------------------------------------------ Trap
+// A trap that reports a TrapKernel promises test() to the bit (orbit-trap runs the kernel in its
+// own loop): check the promise in the batch's type T, on the sample points and on circles' rims.
+template <class T>
+void check_trap_kernel(const Trap& t, const std::vector<double>& x0, const std::vector<double>& y0,
+                       Findings& f) {
+    const TrapKernel k = t.kernel();
+    if (k.kind == TrapKernel::Kind::none) return;
+    if (k.kind != TrapKernel::Kind::euclidean_circles || !k.cx || !k.cy || !k.r || !k.key_f || !k.key_d) {
+        f.push_back("trap: kernel() reports an unknown kind or missing arrays");
+        return;
+    }
+    std::vector<T> x(x0.begin(), x0.end()), y(y0.begin(), y0.end());
+    for (std::size_t c = 0; c < k.n; ++c) // points on and next to each rim
+        for (double a : {0.0, 0.7, 2.1}) {
+            x.push_back(T(k.cx[c] + k.r[c] * std::cos(a)));
+            y.push_back(T(k.cy[c] + k.r[c] * std::sin(a)));
+        }
+    const std::size_t n = x.size();
+    std::vector<std::int32_t> trap(n);
+    std::vector<T> ratio(n);
+    t.test(Points<const T>{x.data(), y.data(), n}, trap.data(), ratio.data());
+    const T below_one = std::nextafter(T(1), T(0));
+    std::size_t bad = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        std::int32_t et = -1;
+        T er = 0;
+        for (std::size_t c = 0; c < k.n && et < 0; ++c) {
+            const T dx = x[i] - T(k.cx[c]), dy = y[i] - T(k.cy[c]), key = dx * dx + dy * dy;
+            const T lim = sizeof(T) == 4 ? T(k.key_f[c]) : T(k.key_d[c]);
+            if (key < lim) et = std::int32_t(c), er = std::min(std::sqrt(key) / T(k.r[c]), below_one);
+        }
+        bad += trap[i] != et || (et >= 0 && std::memcmp(&ratio[i], &er, sizeof(T)) != 0);
+    }
+    if (bad)
+        f.push_back(std::string("trap: kernel() promises Euclidean circles, but test() differs from it (") +
+                    (sizeof(T) == 4 ? "float" : "double") + ") for " + std::to_string(bad) + " of " +
+                    std::to_string(n) + " points");
+}
+
 void check_trap(const Trap& t, Findings& f) {
     Sampler smp;
     constexpr std::size_t n = 1000;
@@ -332,6 +443,8 @@ void check_trap(const Trap& t, Findings& f) {
     }
     if (!same_on_two_threads(batch))
         f.push_back("trap: results differ when evaluated from two threads at once");
+    check_trap_kernel<double>(t, x, y, f);
+    check_trap_kernel<float>(t, x, y, f);
     for (std::size_t i = 0; i < n; ++i) {
         const auto v = r.trap[i];
         if (v < -1 || v >= std::int32_t(t.count())) {
