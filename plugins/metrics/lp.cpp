@@ -56,16 +56,6 @@ inline void sqrt_inplace(double* v, std::size_t n) {
     for (; i < n; ++i) v[i] = std::sqrt(v[i]);
 }
 
-/// Shortest decimal that reads back as v (for messages).
-std::string real_text(double v) {
-    char buf[32];
-    for (int prec = 1; prec <= 17; ++prec) {
-        std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-        if (std::strtod(buf, nullptr) == v) break;
-    }
-    return buf;
-}
-
 constexpr fp::ParamSpec params[] = {
     fp::param::real("p", "the exponent p >= 1 of eq. (14): 1 taxicab, 2 Euclidean, .inf Chebyshev")
         .def("2")
@@ -77,8 +67,8 @@ public:
     explicit Lp(const fp::ParamBag& b) : p_(b.real("p")) {
         if (std::isnan(p_) || p_ < 1)
             throw fp::ParamError(
-                "p",
-                "the lp metric needs p >= 1 (for p < 1 the triangle inequality fails), got " + real_text(p_));
+                "p", "the lp metric needs p >= 1 (for p < 1 the triangle inequality fails), got " +
+                         fp::number_text(p_));
         mode_ = p_ == 1 ? Mode::one : p_ == 2 ? Mode::two : std::isinf(p_) ? Mode::inf : Mode::general;
     }
 

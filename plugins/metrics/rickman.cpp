@@ -13,16 +13,6 @@
 
 namespace {
 
-/// Shortest decimal that reads back as v (for messages).
-std::string real_text(double v) {
-    char buf[32];
-    for (int prec = 1; prec <= 17; ++prec) {
-        std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-        if (std::strtod(buf, nullptr) == v) break;
-    }
-    return buf;
-}
-
 constexpr fp::ParamSpec params[] = {
     fp::param::real("gamma", "the exponent gamma of eq. (16), in the open interval (0, 1)").def("0.5"),
 };
@@ -33,7 +23,7 @@ public:
         if (!(gamma_ > 0 && gamma_ < 1))
             throw fp::ParamError("gamma",
                                  "Rickman's rug metric needs gamma in the open interval (0, 1), got " +
-                                     real_text(gamma_));
+                                     fp::number_text(gamma_));
     }
 
     void distance(fp::Points<const float> p, fp::Vec2 c, float* out) const override { run(p, c, out); }

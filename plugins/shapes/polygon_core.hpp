@@ -52,14 +52,9 @@
 
 namespace fp_shapes {
 
-/// Shortest text that reads back as `v` ("0.5", "2", "1e-07").
-inline std::string num(double v) {
-    char buf[32];
-    auto r = std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
-}
+using fp::number_text;
 
-inline std::string point_text(fp::Vec2 p) { return "(" + num(p.x) + ", " + num(p.y) + ")"; }
+inline std::string point_text(fp::Vec2 p) { return "(" + number_text(p.x) + ", " + number_text(p.y) + ")"; }
 
 namespace detail {
 

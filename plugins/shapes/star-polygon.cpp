@@ -39,13 +39,13 @@ Star build(const fp::ParamBag& p) {
     const double rotation = p.real("rotation");
     const fp::Vec2 c = p.vec2("centre");
     if (!(inner < outer))
-        throw fp::ParamError("inner_radius", "inner_radius (" + fp_shapes::num(inner) +
+        throw fp::ParamError("inner_radius", "inner_radius (" + fp::number_text(inner) +
                                                  ") must be less than outer_radius (" +
-                                                 fp_shapes::num(outer) + ")");
+                                                 fp::number_text(outer) + ")");
     Star s;
     s.centre = c;
-    s.empty_kernel = "inner_radius (" + fp_shapes::num(inner) + ") is too small for outer_radius (" +
-                     fp_shapes::num(outer) + "): the star has no kernel";
+    s.empty_kernel = "inner_radius (" + fp::number_text(inner) + ") is too small for outer_radius (" +
+                     fp::number_text(outer) + "): the star has no kernel";
     s.vertices.reserve(std::size_t(2 * n));
     const double step = std::numbers::pi / double(n);
     for (std::int64_t k = 0; k < 2 * n; ++k) {

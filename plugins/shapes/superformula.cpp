@@ -67,12 +67,6 @@ constexpr fp::ParamSpec params[] = {
 constexpr std::size_t kernel_samples = 2048;
 constexpr std::size_t bound_samples = 16384;
 
-std::string num(double v) {
-    char buf[32];
-    auto r = std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
-}
-
 /// Six significant digits, for angles in messages.
 std::string short_num(double v) {
     char buf[32];
@@ -268,8 +262,9 @@ private:
 
     static void check(double th, double r) {
         if (!(std::isfinite(r) && r > 0))
-            throw fp::ParamError("superformula radius must be finite and positive, but r(theta) = " + num(r) +
-                                 " at theta = " + short_num(th) + "; check m, n1, n2, n3, a and b");
+            throw fp::ParamError(
+                "superformula radius must be finite and positive, but r(theta) = " + fp::number_text(r) +
+                " at theta = " + short_num(th) + "; check m, n1, n2, n3, a and b");
     }
 
     double m4_, inv_n1_, n2_, n3_, inv_a_, inv_b_, scale_;

@@ -44,18 +44,13 @@ constexpr fp::ParamSpec params[] = {
         .opt(),
 };
 
-std::string num(double v) {
-    char buf[32];
-    auto r = std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
-}
-
 class Inversion final : public fp::Transform {
 public:
     explicit Inversion(const fp::ParamBag& p) : shape_(p.object<fp::Shape>("shape")) {
         o_ = p.has("centre") ? p.vec2("centre") : shape_->centre();
         if (!shape_->in_kernel(o_))
-            throw fp::ParamError("centre", "inversion centre (" + num(o_.x) + ", " + num(o_.y) +
+            throw fp::ParamError("centre", "inversion centre (" + fp::number_text(o_.x) + ", " +
+                                               fp::number_text(o_.y) +
                                                ") is outside the kernel of the shape");
     }
 

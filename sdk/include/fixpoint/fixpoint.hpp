@@ -15,6 +15,7 @@
 #include <fixpoint/rng.hpp>
 #include <fixpoint/shape.hpp>
 #include <fixpoint/shape_base.hpp>
+#include <fixpoint/text.hpp>
 #include <fixpoint/transform.hpp>
 #include <fixpoint/transform_base.hpp>
 #include <fixpoint/trap.hpp>
