@@ -29,6 +29,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace {
 
@@ -58,17 +59,43 @@ public:
     bool needs_colour() const override { return false; }
 
     void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
+        run(h, background, rgb, nullptr);
+    }
+    void resolve_parallel(const fp::Histogram& h, fp::Rgb background, float* rgb,
+                          fp::RenderContext& ctx) const override {
+        run(h, background, rgb, &ctx);
+    }
+
+    // Without ctx serial, with it on the host's workers (pieces of 16 rows): integer sums and
+    // maxima are exact in any order, and the per-bin code is shared: the same bytes.
+    void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
         const std::size_t W = std::size_t(h.width);
+        const std::size_t piece_bins = 16 * std::max<std::size_t>(W, 1);
+        const std::size_t pieces = std::max<std::size_t>(1, (h.bins.size() + piece_bins - 1) / piece_bins);
         // Centroid: integer sums of hits, hits * column, hits * row (pixel centres add 1/2).
+        struct Part {
+            u128 sw = 0, sx = 0, sy = 0;
+            std::uint64_t max_hits = 0;
+            double dmax2 = 0;
+        };
+        std::vector<Part> part(pieces);
+        fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
+            Part p;
+            for (std::size_t i = i0; i < i1; ++i) {
+                const std::uint64_t hits = h.bins[i].hits;
+                if (!hits) continue;
+                p.sw += hits;
+                p.sx += u128(hits) * (i % W);
+                p.sy += u128(hits) * (i / W);
+                p.max_hits = std::max(p.max_hits, hits);
+            }
+            part[i0 / piece_bins] = p;
+        });
         u128 sw = 0, sx = 0, sy = 0;
         std::uint64_t max_hits = 0;
-        for (std::size_t i = 0; i < h.bins.size(); ++i) {
-            const std::uint64_t hits = h.bins[i].hits;
-            if (!hits) continue;
-            sw += hits;
-            sx += u128(hits) * (i % W);
-            sy += u128(hits) * (i / W);
-            max_hits = std::max(max_hits, hits);
+        for (const Part& p : part) {
+            sw += p.sw, sx += p.sx, sy += p.sy;
+            max_hits = std::max(max_hits, p.max_hits);
         }
         const double cx = sw ? double(sx) / double(sw) + 0.5 : 0;
         const double cy = sw ? double(sy) / double(sw) + 0.5 : 0;
@@ -76,28 +103,35 @@ public:
             const double dx = double(i % W) + 0.5 - cx, dy = double(i / W) + 0.5 - cy;
             return dx * dx + dy * dy;
         };
+        fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
+            double d = 0;
+            for (std::size_t i = i0; i < i1; ++i)
+                if (h.bins[i].hits) d = std::max(d, dist2(i));
+            part[i0 / piece_bins].dmax2 = d;
+        });
         double dmax2 = 0;
-        for (std::size_t i = 0; i < h.bins.size(); ++i)
-            if (h.bins[i].hits) dmax2 = std::max(dmax2, dist2(i));
+        for (const Part& p : part) dmax2 = std::max(dmax2, p.dmax2);
         const double inv_dmax = dmax2 > 0 ? 1.0 / std::sqrt(dmax2) : 0.0;
-        const fp_colourers::LogDensity density(max_hits, gamma_);
+        const fp_colourers::LogDensity density(max_hits, gamma_, ctx);
         auto clamp01 = [](double v) { return float(std::clamp(v, 0.0, 1.0)); };
-        for (std::size_t i = 0; i < h.bins.size(); ++i) {
-            const std::uint64_t hits = h.bins[i].hits;
-            float* px = rgb + 3 * i;
-            if (hits == 0) {
-                px[0] = background.r;
-                px[1] = background.g;
-                px[2] = background.b;
-                continue;
+        fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
+            for (std::size_t i = i0; i < i1; ++i) {
+                const std::uint64_t hits = h.bins[i].hits;
+                float* px = rgb + 3 * i;
+                if (hits == 0) {
+                    px[0] = background.r;
+                    px[1] = background.g;
+                    px[2] = background.b;
+                    continue;
+                }
+                const fp::Rgb c = colour_at(std::min(1.0, std::sqrt(dist2(i)) * inv_dmax));
+                double k = brightness_;
+                if (log_) k *= density(hits);
+                px[0] = clamp01(double(c.r) * k);
+                px[1] = clamp01(double(c.g) * k);
+                px[2] = clamp01(double(c.b) * k);
             }
-            const fp::Rgb c = colour_at(std::min(1.0, std::sqrt(dist2(i)) * inv_dmax));
-            double k = brightness_;
-            if (log_) k *= density(hits);
-            px[0] = clamp01(double(c.r) * k);
-            px[1] = clamp01(double(c.g) * k);
-            px[2] = clamp01(double(c.b) * k);
-        }
+        });
     }
 
     /// The colour map at t in [0, 1]: inner -> (middle ->) outer, linear in RGB.

@@ -159,15 +159,23 @@ public:
     }
 
     void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
-        std::uint64_t max_hits = 0;
-        for (const auto& b : h.bins) max_hits = std::max(max_hits, b.hits);
-        const fp_colourers::LogDensity density(max_hits, gamma_);
-        for (std::size_t i = 0; i < h.bins.size(); ++i) {
-            const fp::Rgb c = h.bins[i].hits == 0 ? background : table_[index(density(h.bins[i].hits))];
-            rgb[3 * i] = c.r;
-            rgb[3 * i + 1] = c.g;
-            rgb[3 * i + 2] = c.b;
-        }
+        resolve_on(h, background, rgb, nullptr);
+    }
+    void resolve_parallel(const fp::Histogram& h, fp::Rgb background, float* rgb,
+                          fp::RenderContext& ctx) const override {
+        resolve_on(h, background, rgb, &ctx);
+    }
+    // Without ctx serial, with it on the host's workers: the same code per bin, the same bytes.
+    void resolve_on(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
+        const fp_colourers::LogDensity density(fp_colourers::max_hits(h, ctx), gamma_, ctx);
+        fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
+            for (std::size_t i = i0; i < i1; ++i) {
+                const fp::Rgb c = h.bins[i].hits == 0 ? background : table_[index(density(h.bins[i].hits))];
+                rgb[3 * i] = c.r;
+                rgb[3 * i + 1] = c.g;
+                rgb[3 * i + 2] = c.b;
+            }
+        });
     }
 
     const std::vector<fp::Rgb>& table() const { return table_; }

@@ -31,27 +31,36 @@ public:
     bool needs_colour() const override { return false; }
 
     void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
-        std::uint64_t max_hits = 0;
-        for (const auto& b : h.bins) max_hits = std::max(max_hits, b.hits);
-        const fp_colourers::LogDensity density(max_hits, gamma_);
-        auto clamp01 = [](double v) { return float(std::clamp(v, 0.0, 1.0)); };
-        for (std::size_t i = 0; i < h.bins.size(); ++i) {
-            const std::uint64_t hits = h.bins[i].hits;
-            float* px = rgb + 3 * i;
-            if (hits == 0) {
-                px[0] = background.r;
-                px[1] = background.g;
-                px[2] = background.b;
-                continue;
-            }
-            const double k = density(hits);
-            px[0] = clamp01(double(colour_.r) * k);
-            px[1] = clamp01(double(colour_.g) * k);
-            px[2] = clamp01(double(colour_.b) * k);
-        }
+        run(h, background, rgb, nullptr);
+    }
+    void resolve_parallel(const fp::Histogram& h, fp::Rgb background, float* rgb,
+                          fp::RenderContext& ctx) const override {
+        run(h, background, rgb, &ctx);
     }
 
 private:
+    // Without ctx serial, with it on the host's workers: the same code per bin, the same bytes.
+    void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
+        const fp_colourers::LogDensity density(fp_colourers::max_hits(h, ctx), gamma_, ctx);
+        auto clamp01 = [](double v) { return float(std::clamp(v, 0.0, 1.0)); };
+        fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
+            for (std::size_t i = i0; i < i1; ++i) {
+                const std::uint64_t hits = h.bins[i].hits;
+                float* px = rgb + 3 * i;
+                if (hits == 0) {
+                    px[0] = background.r;
+                    px[1] = background.g;
+                    px[2] = background.b;
+                    continue;
+                }
+                const double k = density(hits);
+                px[0] = clamp01(double(colour_.r) * k);
+                px[1] = clamp01(double(colour_.g) * k);
+                px[2] = clamp01(double(colour_.b) * k);
+            }
+        });
+    }
+
     fp::Rgb colour_;
     double gamma_;
 };

@@ -35,6 +35,10 @@ public:
     void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
         fp_colourers::tone_map(h, background, rgb, true, gamma_, brightness_);
     }
+    void resolve_parallel(const fp::Histogram& h, fp::Rgb background, float* rgb,
+                          fp::RenderContext& ctx) const override {
+        fp_colourers::tone_map(h, background, rgb, true, gamma_, brightness_, &ctx);
+    }
 
 private:
     double gamma_, brightness_;

@@ -32,6 +32,10 @@ public:
     void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
         fp_colourers::tone_map(h, background, rgb, log_, gamma_, 1.0);
     }
+    void resolve_parallel(const fp::Histogram& h, fp::Rgb background, float* rgb,
+                          fp::RenderContext& ctx) const override {
+        fp_colourers::tone_map(h, background, rgb, log_, gamma_, 1.0, &ctx);
+    }
 
 private:
     bool log_;

@@ -56,13 +56,52 @@ constexpr fp::ParamSpec gamma_param =
         .def("2.2")
         .above(0);
 
+/// Runs f(i0, i1) over the bins [i0, i1) of h: all at once without a context, else in pieces
+/// of 16 rows on ctx's workers. The serial and the parallel resolve share the per-bin code,
+/// so they write the same bytes; each bin's pixel depends only on that bin and the reductions.
+template <class F>
+void for_rows(fp::RenderContext* ctx, const fp::Histogram& h, F f) {
+    const std::size_t n = h.bins.size(), w = std::size_t(h.width), rows = 16;
+    if (!ctx || ctx->workers() <= 1 || w == 0) {
+        f(std::size_t(0), n);
+        return;
+    }
+    const std::size_t tasks = (std::size_t(h.height) + rows - 1) / rows;
+    ctx->parallel_for(tasks,
+                      [&](std::size_t t, unsigned) { f(t * rows * w, std::min(n, (t + 1) * rows * w)); });
+}
+
+/// The largest hit count of h (a maximum: exact in any order, so the same for any workers).
+inline std::uint64_t max_hits(const fp::Histogram& h, fp::RenderContext* ctx) {
+    const std::size_t rows = 16, tasks = h.width > 0 ? (std::size_t(h.height) + rows - 1) / rows : 1;
+    std::vector<std::uint64_t> part(std::max<std::size_t>(tasks, 1), 0);
+    for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
+        std::uint64_t m = 0;
+        for (std::size_t i = i0; i < i1; ++i) m = std::max(m, h.bins[i].hits);
+        // Pieces start on multiples of 16 rows (the serial call: at 0).
+        part[h.width > 0 ? i0 / (rows * std::size_t(h.width)) : 0] = m;
+    });
+    std::uint64_t m = 0;
+    for (std::uint64_t x : part) m = std::max(m, x);
+    return m;
+}
+
 class LogDensity {
 public:
-    LogDensity(std::uint64_t max_hits, double gamma)
+    /// With ctx, the table is filled on its workers (the same expression per entry: the same
+    /// bits; up to 65537 pow() calls, milliseconds serially).
+    LogDensity(std::uint64_t max_hits, double gamma, fp::RenderContext* ctx = nullptr)
         : inv_log_max_(max_hits > 0 ? 1.0 / std::log2(1.0 + double(max_hits)) : 0.0),
           inv_gamma_(1.0 / gamma) {
         table_.resize(std::size_t(std::min<std::uint64_t>(max_hits, table_max)) + 1);
-        for (std::size_t h = 0; h < table_.size(); ++h) table_[h] = direct(h);
+        const std::size_t piece = 4096, n = table_.size();
+        if (!ctx || ctx->workers() <= 1 || n <= piece) {
+            for (std::size_t h = 0; h < n; ++h) table_[h] = direct(h);
+            return;
+        }
+        ctx->parallel_for((n + piece - 1) / piece, [&](std::size_t t, unsigned) {
+            for (std::size_t h = t * piece; h < std::min(n, (t + 1) * piece); ++h) table_[h] = direct(h);
+        });
     }
     double operator()(std::uint64_t h) const { return h < table_.size() ? table_[h] : direct(h); }
 
@@ -80,27 +119,28 @@ private:
 /// density = log2(1 + hits) / log2(1 + max hits) (paper 02, eq. (28)); otherwise density
 /// = 1. Empty bins take `background`. Fixed order, no state: the same histogram gives the
 /// same bytes.
+/// With ctx, on its workers (rows in parallel; the same bytes).
 inline void tone_map(const fp::Histogram& h, fp::Rgb background, float* rgb, bool log_density, double gamma,
-                     double brightness) {
-    std::uint64_t max_hits = 0;
-    for (const auto& b : h.bins) max_hits = std::max(max_hits, b.hits);
-    const LogDensity density(log_density ? max_hits : 0, gamma);
+                     double brightness, fp::RenderContext* ctx = nullptr) {
+    const LogDensity density(log_density ? max_hits(h, ctx) : 0, gamma, ctx);
     auto clamp01 = [](double v) { return float(std::clamp(v, 0.0, 1.0)); };
-    for (std::size_t i = 0; i < h.bins.size(); ++i) {
-        const fp::HistBin& b = h.bins[i];
-        float* px = rgb + 3 * i;
-        if (b.hits == 0) {
-            px[0] = background.r;
-            px[1] = background.g;
-            px[2] = background.b;
-            continue;
+    for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
+        for (std::size_t i = i0; i < i1; ++i) {
+            const fp::HistBin& b = h.bins[i];
+            float* px = rgb + 3 * i;
+            if (b.hits == 0) {
+                px[0] = background.r;
+                px[1] = background.g;
+                px[2] = background.b;
+                continue;
+            }
+            double k = brightness / (double(b.hits) * double(fp::colour_scale));
+            if (log_density) k *= density(b.hits);
+            px[0] = clamp01(double(b.r) * k);
+            px[1] = clamp01(double(b.g) * k);
+            px[2] = clamp01(double(b.b) * k);
         }
-        double k = brightness / (double(b.hits) * double(fp::colour_scale));
-        if (log_density) k *= density(b.hits);
-        px[0] = clamp01(double(b.r) * k);
-        px[1] = clamp01(double(b.g) * k);
-        px[2] = clamp01(double(b.b) * k);
-    }
+    });
 }
 
 } // namespace fp_colourers

@@ -51,12 +51,13 @@
 // stay in cache); a bin spills into a list of 64-bit bins when its hits reach 65536, before
 // its colour sums (at most 65535 per point) can overflow. They live in 2 MiB-aligned memory
 // advised for transparent huge pages (no TLB miss per deposit). At the end they and the
-// spills are summed into one fp::Histogram, which the colourer resolves. A colourer whose
-// needs_colour() is false (density) reads hit counts only: then the chains carry no colour
-// and the workers count hits alone in 4-byte counters (as the reference kernels do: four
-// times as many bins per cache line), flushed whole into 64-bit counters every 2^31
-// deposits of a worker, before any can overflow; the fp::Histogram gets hits and zero
-// colour sums.
+// spills are summed into one fp::Histogram (rows in parallel), which the colourer resolves
+// on the workers too (Colourer::resolve_parallel: rows in parallel, the same bytes as the
+// serial resolve). A colourer whose needs_colour() is false (density) reads hit counts
+// only: then the chains carry no colour and the workers count hits alone in 4-byte
+// counters (as the reference kernels do: four times as many bins per cache line), flushed
+// whole into 64-bit counters every 2^31 deposits of a worker, before any can overflow; the
+// fp::Histogram gets hits and zero colour sums.
 //
 // Where the time goes (bench/circles.yaml: 6 circles, 1024 x 1024; one core of the 2-core
 // AVX-512 machine; bench/README.md has the figures). Hits only (density), fused path: the
@@ -220,6 +221,24 @@ struct HugeBuf {
     }
     U* get() const { return p.get(); }
 };
+
+/// v.assign(n, x) with the new buffer advised into transparent huge pages before it is
+/// written (reserve, madvise the 2 MiB-aligned part, then assign): the 32 MiB total histogram
+/// and the 12 MiB image of a 1024 x 1024 render fault in as about 22 huge pages instead of
+/// 11264 small ones. Part of the fixed cost per render that does not scale with the threads.
+template <class V>
+void assign_huge(V& v, size_t n, const typename V::value_type& x) {
+    v.clear();
+    v.shrink_to_fit();
+    v.reserve(n);
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    constexpr uintptr_t huge = 2u << 20;
+    const uintptr_t b = (reinterpret_cast<uintptr_t>(v.data()) + huge - 1) & ~(huge - 1);
+    const uintptr_t e = (reinterpret_cast<uintptr_t>(v.data()) + n * sizeof(x)) & ~(huge - 1);
+    if (e > b) ::madvise(reinterpret_cast<void*>(b), e - b, MADV_HUGEPAGE); // advice only
+#endif
+    v.assign(n, x);
+}
 
 /// A worker's histogram bin: {hits, r, g, b} in 32 bits each, 16 bytes, half of fp::HistBin,
 /// so that twice as many of the bins a fractal touches stay in cache (at 1024 x 1024 this
@@ -558,7 +577,7 @@ fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) cons
     else
         render_t<float>(ctx, stats, total, img.pixels);
     if (ctx.cancelled()) throw fp::Cancelled();
-    colourer_->resolve(total, background_, img.pixels.data());
+    colourer_->resolve_parallel(total, background_, img.pixels.data(), ctx);
     return img;
 }
 
@@ -574,15 +593,21 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
     std::vector<WorkerHist> hists(workers);
     std::vector<BlockResult> results(blocks);
 
-    // Task 0 allocates the total histogram and the image (tens of MiB of fresh pages: page
-    // faults and zeroing, serial work that would otherwise follow the chains on one thread);
-    // tasks 1.. run the blocks.
-    ctx.parallel_for(blocks + 1, [&](size_t task, unsigned w) {
+    // Task 0 allocates the total histogram, the last task the image (tens of MiB of fresh
+    // pages: page faults and zeroing, serial work that would otherwise follow the chains on
+    // one thread; at the two ends of the range, so that two workers tend to take one each);
+    // tasks 1 .. blocks run the blocks.
+    ctx.parallel_for(blocks + 2, [&](size_t task, unsigned w) {
         if (ctx.cancelled()) throw fp::Cancelled();
         if (w >= workers) throw fp::InternalError("chaos-game: worker index out of range");
         if (task == 0) {
-            total.resize(width_, height_);
-            pixels.assign(px * 3, 0.0f);
+            total.width = width_;
+            total.height = height_;
+            assign_huge(total.bins, px, fp::HistBin{});
+            return;
+        }
+        if (task == blocks + 1) {
+            assign_huge(pixels, px * 3, 0.0f);
             return;
         }
         const size_t b = task - 1;

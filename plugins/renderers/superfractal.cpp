@@ -486,7 +486,7 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
     img.height = height_;
     img.channels = 3;
     img.pixels.assign(size_t(width_) * size_t(height_) * 3, 0.0f);
-    colourer_->resolve(hist, background_, img.pixels.data());
+    colourer_->resolve_parallel(hist, background_, img.pixels.data(), ctx);
     return img;
 }
 

@@ -37,6 +37,10 @@ void Shape::inversion_factor(Vec2 o, Points<const double> d, double* s) const {
 }
 bool Shape::as_circle(Vec2&, double&) const { return false; }
 
+void Colourer::resolve_parallel(const Histogram& h, Rgb background, float* rgb, RenderContext&) const {
+    resolve(h, background, rgb);
+}
+
 bool Transform::has_region() const { return false; }
 void Transform::contains(Points<const float> p, unsigned char* out) const {
     for (std::size_t i = 0; i < p.n; ++i) out[i] = 0;

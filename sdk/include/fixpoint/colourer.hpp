@@ -14,6 +14,8 @@
 
 namespace fp {
 
+class RenderContext; // render.hpp
+
 /// Per-chain colours, structure of arrays.
 struct ColourState {
     float* r = nullptr;
@@ -34,6 +36,13 @@ public:
     /// Turn the histogram into RGB pixels (3 floats per pixel, row-major, top row first,
     /// display values in [0, 1]). Empty bins take `background`.
     virtual void resolve(const Histogram& h, Rgb background, float* rgb) const = 0;
+
+    /// resolve() with its work spread over the host's workers (rows in parallel): the same
+    /// bytes for any number of workers (maximum and integer reductions are exact, each pixel
+    /// depends only on its bin and those reductions). Renderers call this one: a serial
+    /// resolve of a megapixel image is milliseconds that do not scale with the threads.
+    /// The default calls resolve().
+    virtual void resolve_parallel(const Histogram& h, Rgb background, float* rgb, RenderContext& ctx) const;
 
     /// False when resolve() reads only the hit counts of the histogram (its colour sums may
     /// all be 0): a renderer may then skip update() and the colour sums altogether and count
