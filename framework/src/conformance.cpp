@@ -565,6 +565,28 @@ void check_colourer(const Colourer& c, Findings& f) {
         f.push_back("colourer: an empty bin does not take the background");
     if (!same_on_two_threads(resolve))
         f.push_back("colourer: resolve() differs when evaluated from two threads at once");
+    {
+        // Renderers call resolve_parallel(): it must give resolve()'s bytes on any number of
+        // workers. 53 rows: several pieces of rows, the last one short.
+        Histogram big;
+        big.resize(37, 53);
+        for (std::size_t i = 0; i < big.bins.size(); ++i) {
+            const std::uint64_t hits = i % 7 == 0 ? 0 : 1 + (i * 104729) % 70000;
+            big.bins[i] = {hits, hits * (i % 2 ? colour_scale : colour_scale / 3), hits * colour_scale / 5,
+                           0};
+        }
+        std::vector<float> serial(big.bins.size() * 3), par(big.bins.size() * 3);
+        c.resolve(big, Rgb{0.1f, 0.2f, 0.3f}, serial.data());
+        for (unsigned threads : {1u, 2u, 3u}) {
+            Runtime rt(threads, nullptr);
+            c.resolve_parallel(big, Rgb{0.1f, 0.2f, 0.3f}, par.data(), rt);
+            if (std::memcmp(serial.data(), par.data(), serial.size() * sizeof(float)) != 0) {
+                f.push_back("colourer: resolve_parallel() with " + std::to_string(threads) + " worker" +
+                            (threads == 1 ? "" : "s") + " differs from resolve()");
+                break;
+            }
+        }
+    }
     if (c.colours_trap_hits()) check_trap_colours(c, f);
 }
 

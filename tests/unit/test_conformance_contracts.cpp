@@ -1,7 +1,7 @@
 // The conformance suite holds plugins to the fast-path promises renderers rely on: a
-// Transform's KnownKernel, IterationScheme::is_picard, a Trap's TrapKernel and a Metric's
-// kind are checked to the bit. Objects that lie about them must be reported (so the checks can
-// fail); the project's own plugins must pass.
+// Transform's KnownKernel, IterationScheme::is_picard, a Trap's TrapKernel, a Metric's kind
+// and Colourer::resolve_parallel are checked to the bit. Objects that lie about them must be reported (so the
+// checks can fail); the project's own plugins must pass.
 #include "host.hpp"
 
 #include <fixpoint/fixpoint.hpp>
@@ -96,7 +96,32 @@ private:
     }
 };
 
+// A flat colourer whose parallel resolve forgets the background of empty bins.
+class PatchyParallel final : public fp::Colourer {
+public:
+    void update(const std::uint32_t*, fp::ColourState, const fp::Rgb*, const unsigned char*) const override {}
+    void resolve(const fp::Histogram& h, fp::Rgb bg, float* rgb) const override { fill(h, bg, rgb, true); }
+    void resolve_parallel(const fp::Histogram& h, fp::Rgb bg, float* rgb, fp::RenderContext&) const override {
+        fill(h, bg, rgb, false);
+    }
+
+private:
+    static void fill(const fp::Histogram& h, fp::Rgb bg, float* rgb, bool with_background) {
+        for (std::size_t i = 0; i < h.bins.size(); ++i) {
+            const bool empty = h.bins[i].hits == 0 && with_background;
+            rgb[3 * i] = empty ? bg.r : 1, rgb[3 * i + 1] = empty ? bg.g : 1,
+                    rgb[3 * i + 2] = empty ? bg.b : 1;
+        }
+    }
+};
+
 } // namespace
+
+TEST(ConformanceContracts, AParallelResolveThatDiffersIsReported) {
+    const auto f = fp::host::check_object(PatchyParallel{}, fp::Kind::Colourer);
+    EXPECT_TRUE(mentions(f, "resolve_parallel() with 1 worker differs from resolve()"))
+        << testing::PrintToString(f);
+}
 
 TEST(ConformanceContracts, ALyingKnownKernelIsReported) {
     const auto f = fp::host::check_object(ReorderedInversion{}, fp::Kind::Transform);
