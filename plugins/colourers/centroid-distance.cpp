@@ -46,7 +46,7 @@ constexpr fp::ParamSpec params[] = {
         .above(0),
 };
 
-class CentroidDistance final : public fp::Colourer {
+class CentroidDistance final : public fp_colourers::Resolving<CentroidDistance> {
 public:
     explicit CentroidDistance(const fp::ParamBag& p)
         : inner_(p.colour("inner")), outer_(p.colour("outer")), has_middle_(p.has("middle")),
@@ -57,14 +57,6 @@ public:
     void update(const std::uint32_t*, fp::ColourState, const fp::Rgb*, const unsigned char*) const override {}
 
     bool needs_colour() const override { return false; }
-
-    void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
-        run(h, background, rgb, nullptr);
-    }
-    void resolve_parallel(const fp::Histogram& h, fp::Rgb background, float* rgb,
-                          fp::RenderContext& ctx) const override {
-        run(h, background, rgb, &ctx);
-    }
 
     // Without ctx serial, with it on the host's workers (pieces of 16 rows): integer sums and
     // maxima are exact in any order, and the per-bin code is shared: the same bytes.

@@ -102,7 +102,7 @@ constexpr fp::ParamSpec params[] = {
     fp_colourers::gamma_param,
 };
 
-class ColourMap final : public fp::Colourer {
+class ColourMap final : public fp_colourers::Resolving<ColourMap> {
 public:
     explicit ColourMap(const fp::ParamBag& p) : inv_e_(1.0 / p.real("E")), gamma_(p.real("gamma")) {
         const bool has_preset = p.has("preset"), has_c = p.has("colours"), has_q = p.has("ratios");
@@ -158,15 +158,8 @@ public:
         }
     }
 
-    void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
-        resolve_on(h, background, rgb, nullptr);
-    }
-    void resolve_parallel(const fp::Histogram& h, fp::Rgb background, float* rgb,
-                          fp::RenderContext& ctx) const override {
-        resolve_on(h, background, rgb, &ctx);
-    }
     // Without ctx serial, with it on the host's workers: the same code per bin, the same bytes.
-    void resolve_on(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
+    void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
         const fp_colourers::LogDensity density(fp_colourers::max_hits(h, ctx), gamma_, ctx);
         fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
             for (std::size_t i = i0; i < i1; ++i) {

@@ -22,7 +22,7 @@ constexpr fp::ParamSpec params[] = {
     fp::param::real("gamma", "gamma of the log-density shading, eq. (28)").def("2.2").above(0),
 };
 
-class Density final : public fp::Colourer {
+class Density final : public fp_colourers::Resolving<Density> {
 public:
     explicit Density(const fp::ParamBag& p) : colour_(p.colour("colour")), gamma_(p.real("gamma")) {}
 
@@ -30,16 +30,8 @@ public:
 
     bool needs_colour() const override { return false; }
 
-    void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
-        run(h, background, rgb, nullptr);
-    }
-    void resolve_parallel(const fp::Histogram& h, fp::Rgb background, float* rgb,
-                          fp::RenderContext& ctx) const override {
-        run(h, background, rgb, &ctx);
-    }
-
-private:
-    // Without ctx serial, with it on the host's workers: the same code per bin, the same bytes.
+    /// The work of resolve() and resolve_parallel() (tone_map.hpp's Resolving): without ctx
+    /// serial, with it on the host's workers; the same code per bin, the same bytes.
     void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
         const fp_colourers::LogDensity density(fp_colourers::max_hits(h, ctx), gamma_, ctx);
         auto clamp01 = [](double v) { return float(std::clamp(v, 0.0, 1.0)); };
@@ -61,6 +53,7 @@ private:
         });
     }
 
+private:
     fp::Rgb colour_;
     double gamma_;
 };

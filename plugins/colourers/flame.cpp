@@ -22,7 +22,7 @@ constexpr fp::ParamSpec params[] = {
         .above(0),
 };
 
-class Flame final : public fp::Colourer {
+class Flame final : public fp_colourers::Resolving<Flame> {
 public:
     explicit Flame(const fp::ParamBag& p) : gamma_(p.real("gamma")), brightness_(p.real("brightness")) {}
 
@@ -32,12 +32,9 @@ public:
                                      [](float old, float c) { return (old + c) * 0.5f; });
     }
 
-    void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
-        fp_colourers::tone_map(h, background, rgb, true, gamma_, brightness_);
-    }
-    void resolve_parallel(const fp::Histogram& h, fp::Rgb background, float* rgb,
-                          fp::RenderContext& ctx) const override {
-        fp_colourers::tone_map(h, background, rgb, true, gamma_, brightness_, &ctx);
+    /// The work of resolve() and resolve_parallel() (tone_map.hpp's Resolving); ctx null: serial.
+    void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
+        fp_colourers::tone_map(h, background, rgb, true, gamma_, brightness_, ctx);
     }
 
 private:

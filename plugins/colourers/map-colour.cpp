@@ -19,7 +19,7 @@ constexpr fp::ParamSpec params[] = {
     fp_colourers::gamma_param,
 };
 
-class MapColour final : public fp::Colourer {
+class MapColour final : public fp_colourers::Resolving<MapColour> {
 public:
     explicit MapColour(const fp::ParamBag& p) : log_(p.string("density") == "log"), gamma_(p.real("gamma")) {}
 
@@ -29,12 +29,9 @@ public:
                                      [](float, float c) { return c; });
     }
 
-    void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const override {
-        fp_colourers::tone_map(h, background, rgb, log_, gamma_, 1.0);
-    }
-    void resolve_parallel(const fp::Histogram& h, fp::Rgb background, float* rgb,
-                          fp::RenderContext& ctx) const override {
-        fp_colourers::tone_map(h, background, rgb, log_, gamma_, 1.0, &ctx);
+    /// The work of resolve() and resolve_parallel() (tone_map.hpp's Resolving); ctx null: serial.
+    void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
+        fp_colourers::tone_map(h, background, rgb, log_, gamma_, 1.0, ctx);
     }
 
 private:

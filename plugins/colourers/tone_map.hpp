@@ -143,4 +143,19 @@ inline void tone_map(const fp::Histogram& h, fp::Rgb background, float* rgb, boo
     });
 }
 
+/// The two resolve entry points of a colourer whose work is one function
+/// `run(h, background, rgb, ctx)` (ctx null: serial), so that resolve() and resolve_parallel()
+/// are the same code and give the same bytes by construction.
+template <class Derived>
+class Resolving : public fp::Colourer {
+public:
+    void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const final {
+        static_cast<const Derived&>(*this).run(h, background, rgb, nullptr);
+    }
+    void resolve_parallel(const fp::Histogram& h, fp::Rgb background, float* rgb,
+                          fp::RenderContext& ctx) const final {
+        static_cast<const Derived&>(*this).run(h, background, rgb, &ctx);
+    }
+};
+
 } // namespace fp_colourers
