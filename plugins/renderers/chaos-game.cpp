@@ -451,6 +451,8 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     for (size_t j = 0; j < k; ++j) {
         auto m = fp::as<fp::Transform>(items[j]);
         if (!m) throw fp::InternalError("chaos-game: maps[" + std::to_string(j) + "] is not a transform");
+        if (const std::string why = m->plane_map_problem(); !why.empty())
+            throw fp::ParamError("maps", "maps[" + std::to_string(j) + "]: " + why);
         fp::Rgb c = fp_render::palette_colour(j);
         if (items[j].extras) {
             w[j] = items[j].extras->real("weight");

@@ -193,6 +193,8 @@ OrbitTrap::OrbitTrap(const fp::ParamBag& p) {
                                  std::to_string(n));
     tile_pixels_ = std::max<size_t>(1, tile_samples / offsets_.size());
     mapping_ = p.object<fp::Transform>("mapping");
+    if (const std::string why = mapping_->plane_map_problem(); !why.empty())
+        throw fp::ParamError("mapping", why);
     iteration_ = p.object<fp::IterationScheme>("iteration");
     traps_ = p.object<fp::Trap>("traps");
     if (const fp::TrapKernel k = traps_->kernel(); k.kind == fp::TrapKernel::Kind::euclidean_circles) {

@@ -256,6 +256,8 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
     for (size_t j = 0; j < items.size(); ++j) {
         auto m = fp::as<fp::Transform>(items[j]);
         if (!m) throw fp::InternalError("superfractal: maps[" + std::to_string(j) + "] is not a transform");
+        if (const std::string why = m->plane_map_problem(); !why.empty())
+            throw fp::ParamError("maps", "maps[" + std::to_string(j) + "]: " + why);
         fp::Rgb c = fp_render::palette_colour(j);
         if (items[j].extras) {
             ifs_of[j] = uint32_t(items[j].extras->integer("ifs"));

@@ -152,6 +152,12 @@ public:
     void apply(fp::Points<float> p, fp::Mask mask) const override { run(p, mask); }
     void apply(fp::Points<double> p, fp::Mask mask) const override { run(p, mask); }
 
+    std::string plane_map_problem() const override {
+        return plane_
+                   ? std::string()
+                   : "this subdivision map is no map of the plane (its lifted coordinates feed x and y): use "
+                     "it in the mfs renderer, which subdivides vertex sets";
+    }
     size_t vertex_count() const override { return n_; }
     std::vector<fp::Vec2> control_points() const override { return pts_; }
 
@@ -174,10 +180,7 @@ public:
 private:
     template <class T>
     void run(fp::Points<T> p, fp::Mask mask) const {
-        if (!plane_)
-            throw fp::ParamError("S",
-                                 "this subdivision map is no map of the plane (its lifted coordinates "
-                                 "feed x and y): use it in the mfs renderer, which subdivides vertex sets");
+        if (!plane_) throw fp::InputError(plane_map_problem());
         const T a = T(a_), b = T(b_), c = T(c_), d = T(d_), e = T(e_), f = T(f_);
         for (size_t i = 0; i < p.n; ++i) {
             const T x = p.x[i], y = p.y[i];

@@ -52,6 +52,7 @@ std::vector<Vec2> Transform::region_outline(std::size_t) const { return {}; }
 bool Transform::is_involution() const { return false; }
 Box Transform::sample_domain() const { return {-2, 2, -2, 2}; }
 KnownKernel Transform::kernel() const { return {}; }
+std::string Transform::plane_map_problem() const { return {}; }
 
 unsigned IterationScheme::applications() const { return 1; }
 void IterationScheme::check_steps(const Transform&, std::uint64_t) const {}

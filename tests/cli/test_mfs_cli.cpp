@@ -81,6 +81,12 @@ std::vector<Case> cases() {
          "renderer:\n  type: mfs\n  path: [0]\n  maps:\n    - " + tri +
              "\n  placements:\n    - {type: mfs, at: \"2\", path: [0], maps: [" + tri + "]}\n",
          "bad.yaml:7:5: renderer.placements: address 2 does not exist: there is 1 map, f1"},
+        {"not_a_plane_map",
+         "renderer:\n  type: chaos-game\n  maps:\n    - {type: subdivision, points: [[0, 0], [1, 0], [0, 1], "
+         "[1, 1]], divisor: 4, S: [4, 0, 0, 0, 0, 4, 0, 0, 0, 0, 4, 0, 1, 1, 1, 1]}\n",
+         "bad.yaml:4:5: renderer.maps: maps[0]: this subdivision map is no map of the plane (its lifted "
+         "coordinates feed x and y): use it in the mfs renderer, which subdivides vertex sets",
+         {"validate", "bad.yaml"}},
         {"no_vector_output",
          "renderer:\n  type: chaos-game\n  maps:\n    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0, "
          "0]}\n",

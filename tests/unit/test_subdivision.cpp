@@ -122,7 +122,8 @@ TEST(Subdivision, ExplicitPEqualsLiftedPoints) {
 }
 
 // A rule that bends the square (the 4th child point is the centre, not the affine image of
-// (1, 1)) is no map of the plane: apply() refuses, subdivide() works.
+// (1, 1)) is no map of the plane: it says so (renderers that map points refuse it when they are
+// built: tests/cli/test_mfs_cli.cpp), apply() refuses, subdivide() works.
 TEST(Subdivision, NonPlaneMapRefusesPointsButSubdivides) {
     const auto m = make("{type: subdivision, " + square +
                         ", divisor: 4, S: [4, 0, 0, 0, 0, 4, 0, 0, 0, 0, 4, 0, 1, 1, 1, 1]}");
@@ -130,11 +131,12 @@ TEST(Subdivision, NonPlaneMapRefusesPointsButSubdivides) {
     try {
         m->apply(fp::Points<double>{&x, &y, 1}, nullptr);
         FAIL() << "no error";
-    } catch (const fp::ParamError& e) {
-        EXPECT_EQ(std::string(e.what()),
-                  "this subdivision map is no map of the plane (its lifted coordinates feed x "
-                  "and y): use it in the mfs renderer, which subdivides vertex sets");
+    } catch (const fp::InputError& e) {
+        EXPECT_EQ(std::string(e.what()), m->plane_map_problem());
     }
+    EXPECT_EQ(m->plane_map_problem(),
+              "this subdivision map is no map of the plane (its lifted coordinates feed x "
+              "and y): use it in the mfs renderer, which subdivides vertex sets");
     std::vector<double> px = {0, 1, 0, 1}, py = {0, 0, 1, 1}, cx(4), cy(4);
     m->subdivide({px.data(), py.data(), 4}, {cx.data(), cy.data(), 4});
     EXPECT_DOUBLE_EQ(cx[3], 0.5);

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace fp {
@@ -48,6 +49,12 @@ public:
     virtual bool is_involution() const;
     /// Where finite input must give finite output (conformance suite samples this box).
     virtual Box sample_domain() const;
+
+    /// Empty when apply() maps points of the plane (the default); otherwise why not (a
+    /// subdivision rule whose lifted coordinates feed x and y maps whole vertex sets only).
+    /// Renderers that call apply() refuse such a map when they are built, so that `validate`
+    /// refuses it too; apply() throws fp::InputError with the same text.
+    virtual std::string plane_map_problem() const;
 
     /// The map as a known kernel (see KnownKernel), when it is one; the default is none.
     virtual KnownKernel kernel() const;
