@@ -23,6 +23,8 @@
 // may skip the colour sums.
 #include "tone_map.hpp"
 
+#include <array>
+
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
@@ -105,24 +107,11 @@ public:
         for (const Part& p : part) dmax2 = std::max(dmax2, p.dmax2);
         const double inv_dmax = dmax2 > 0 ? 1.0 / std::sqrt(dmax2) : 0.0;
         const fp_colourers::LogDensity density(max_hits, gamma_, ctx);
-        auto clamp01 = [](double v) { return float(std::clamp(v, 0.0, 1.0)); };
-        fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
-            for (std::size_t i = i0; i < i1; ++i) {
-                const std::uint64_t hits = h.bins[i].hits;
-                float* px = rgb + 3 * i;
-                if (hits == 0) {
-                    px[0] = background.r;
-                    px[1] = background.g;
-                    px[2] = background.b;
-                    continue;
-                }
-                const fp::Rgb c = colour_at(std::min(1.0, std::sqrt(dist2(i)) * inv_dmax));
-                double k = brightness_;
-                if (log_) k *= density(hits);
-                px[0] = clamp01(double(c.r) * k);
-                px[1] = clamp01(double(c.g) * k);
-                px[2] = clamp01(double(c.b) * k);
-            }
+        fp_colourers::shade_bins(ctx, h, background, rgb, [&](std::size_t i, std::uint64_t hits) {
+            const fp::Rgb c = colour_at(std::min(1.0, std::sqrt(dist2(i)) * inv_dmax));
+            double k = brightness_;
+            if (log_) k *= density(hits);
+            return std::array<double, 3>{double(c.r) * k, double(c.g) * k, double(c.b) * k};
         });
     }
 

@@ -10,6 +10,8 @@
 // work as the reference kernels.
 #include "tone_map.hpp"
 
+#include <array>
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -34,22 +36,9 @@ public:
     /// serial, with it on the host's workers; the same code per bin, the same bytes.
     void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
         const fp_colourers::LogDensity density(fp_colourers::max_hits(h, ctx), gamma_, ctx);
-        auto clamp01 = [](double v) { return float(std::clamp(v, 0.0, 1.0)); };
-        fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
-            for (std::size_t i = i0; i < i1; ++i) {
-                const std::uint64_t hits = h.bins[i].hits;
-                float* px = rgb + 3 * i;
-                if (hits == 0) {
-                    px[0] = background.r;
-                    px[1] = background.g;
-                    px[2] = background.b;
-                    continue;
-                }
-                const double k = density(hits);
-                px[0] = clamp01(double(colour_.r) * k);
-                px[1] = clamp01(double(colour_.g) * k);
-                px[2] = clamp01(double(colour_.b) * k);
-            }
+        fp_colourers::shade_bins(ctx, h, background, rgb, [&](std::size_t, std::uint64_t hits) {
+            const double k = density(hits);
+            return std::array<double, 3>{double(colour_.r) * k, double(colour_.g) * k, double(colour_.b) * k};
         });
     }
 

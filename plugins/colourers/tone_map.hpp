@@ -5,6 +5,7 @@
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -71,6 +72,27 @@ void for_rows(fp::RenderContext* ctx, const fp::Histogram& h, F f) {
                       [&](std::size_t t, unsigned) { f(t * rows * w, std::min(n, (t + 1) * rows * w)); });
 }
 
+/// The pixel loop every histogram colourer shares: empty bins take `background`; a bin with
+/// hits gets f(i, hits), an array of three unclamped channel values, clamped to [0, 1]. On
+/// ctx's workers by rows when ctx is given (the same bytes either way).
+template <class F>
+void shade_bins(fp::RenderContext* ctx, const fp::Histogram& h, fp::Rgb background, float* rgb, F f) {
+    for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
+        for (std::size_t i = i0; i < i1; ++i) {
+            const std::uint64_t hits = h.bins[i].hits;
+            float* px = rgb + 3 * i;
+            if (hits == 0) {
+                px[0] = background.r;
+                px[1] = background.g;
+                px[2] = background.b;
+                continue;
+            }
+            const std::array<double, 3> c = f(i, hits);
+            for (int k = 0; k < 3; ++k) px[k] = float(std::clamp(c[k], 0.0, 1.0));
+        }
+    });
+}
+
 /// The largest hit count of h (a maximum: exact in any order, so the same for any workers).
 inline std::uint64_t max_hits(const fp::Histogram& h, fp::RenderContext* ctx) {
     const std::size_t rows = 16, tasks = h.width > 0 ? (std::size_t(h.height) + rows - 1) / rows : 1;
@@ -123,23 +145,11 @@ private:
 inline void tone_map(const fp::Histogram& h, fp::Rgb background, float* rgb, bool log_density, double gamma,
                      double brightness, fp::RenderContext* ctx = nullptr) {
     const LogDensity density(log_density ? max_hits(h, ctx) : 0, gamma, ctx);
-    auto clamp01 = [](double v) { return float(std::clamp(v, 0.0, 1.0)); };
-    for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
-        for (std::size_t i = i0; i < i1; ++i) {
-            const fp::HistBin& b = h.bins[i];
-            float* px = rgb + 3 * i;
-            if (b.hits == 0) {
-                px[0] = background.r;
-                px[1] = background.g;
-                px[2] = background.b;
-                continue;
-            }
-            double k = brightness / (double(b.hits) * double(fp::colour_scale));
-            if (log_density) k *= density(b.hits);
-            px[0] = clamp01(double(b.r) * k);
-            px[1] = clamp01(double(b.g) * k);
-            px[2] = clamp01(double(b.b) * k);
-        }
+    shade_bins(ctx, h, background, rgb, [&](std::size_t i, std::uint64_t hits) {
+        const fp::HistBin& b = h.bins[i];
+        double k = brightness / (double(hits) * double(fp::colour_scale));
+        if (log_density) k *= density(hits);
+        return std::array<double, 3>{double(b.r) * k, double(b.g) * k, double(b.b) * k};
     });
 }
 
