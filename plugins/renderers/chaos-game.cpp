@@ -33,7 +33,11 @@
 //      {1, r, g, b} in 16 bits each (not when the colourer needs no colour), in one pass
 //      (AVX-512, float) or a few vectorised loops;
 //   6. the deposit: one 4 x 32-bit add per point into the worker's own histogram, or one
-//      32-bit increment when counting hits only.
+//      32-bit increment when counting hits only. The fused step with hits only makes the
+//      increments of the previous step's points inside its own pass, 16 after each vector of
+//      chains: their cache misses (a 4 MiB histogram does not fit in L2) then overlap the
+//      arithmetic instead of following it in a loop of their own (about 20% of the render's
+//      time on one thread; bench/README.md).
 // Known kernels: when every map is inversion in a circle about its centre (Transform::kernel()
 // returns circle_inversion), the scheme is a plain Picard step, the rules are on and the chains
 // are float (AVX-512), steps 1-3 (and 5, when the colourer needs no colour) run instead as one
@@ -318,7 +322,7 @@ struct Scratch {
     Buf<uint32_t> active; // 0 / 1
     // per-step scratch
     Buf<unsigned char> inside; // k rows of block_size
-    Buf<uint32_t> rnd, tot, cum, chosen, perm, idx, restart, plotf, cnt;
+    Buf<uint32_t> rnd, tot, cum, chosen, perm, idx, idx2, restart, plotf, cnt;
     Buf<uint64_t> dep; // packed {1, r, g, b} of each chain's point
     Buf<unsigned char> moved;
     Buf<std::uint16_t> okm; // the allowed-map masks of one vector of chains, one per map
@@ -333,7 +337,7 @@ struct Scratch {
         x.alloc(B), y.alloc(B), rs.alloc(B), ri.alloc(B), left.alloc(B);
         prev.alloc(B), age.alloc(B), idle.alloc(B), cr.alloc(B), cg.alloc(B), cb.alloc(B), active.alloc(B);
         inside.alloc(k * B);
-        rnd.alloc(B), tot.alloc(B), cum.alloc(B), chosen.alloc(B), perm.alloc(B), idx.alloc(B),
+        rnd.alloc(B), tot.alloc(B), cum.alloc(B), chosen.alloc(B), perm.alloc(B), idx.alloc(B), idx2.alloc(B),
             restart.alloc(B);
         plotf.alloc(B), cnt.alloc(k + 1), dep.alloc(B);
         moved.alloc(B), okm.alloc(k), gx.alloc(staging(k)), gy.alloc(staging(k));
@@ -345,7 +349,7 @@ struct Scratch {
     }
     static uint64_t bytes(size_t k) {
         const uint64_t B = block_size;
-        return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + k + 9 * 4 + 8 + 1 + 4 + 2) +
+        return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + k + 10 * 4 + 8 + 1 + 4 + 2) +
                2 * sizeof(T) * staging(k) + 12 * (k + 2) + 2 * k + 64 * 40;
     }
 };
@@ -387,7 +391,8 @@ private:
     /// Steps 1-3 of a block step in chaos_fused.hpp's one pass when fused_ (1), and step 5
     /// too when the colourer needs no colour (2, sc set); 0 otherwise.
     template <class T, bool Rules, bool Colour>
-    int run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCounts& sc) const;
+    int run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCounts& sc, uint32_t* hits,
+                  uint32_t* out, const uint32_t* lag) const;
 
     int width_ = 512, height_ = 512;
     double xmin_ = -1.5, xmax_ = 1.5, ymin_ = -1.5, ymax_ = 1.5;
@@ -1170,7 +1175,8 @@ StepCounts bookkeep(Scratch<float>& s, size_t nb, const BinView<float>& v) {
 
 // ---------------------------------------------------------------- the fused step
 template <class T, bool Rules, bool Colour>
-int ChaosGame::run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCounts& sc) const {
+int ChaosGame::run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCounts& sc, uint32_t* hits,
+                         uint32_t* out, const uint32_t* lag) const {
 #if FP_CHAOS_FUSED
     if constexpr (Rules && std::is_same_v<T, float>) {
         if (!fused_) return 0;
@@ -1181,17 +1187,17 @@ int ChaosGame::run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCou
             fp_chaos::fused_rules_step<false>(fused_tables_, b);
             return 1;
         } else {
-            const fp_chaos::FusedBook bk{bv.xmin,      bv.xmax,        bv.ymin,     bv.ymax,
-                                         bv.scx,       bv.scy,         bv.W,        bv.H,
-                                         bv.dummy,     bv.skip,        s.age.get(), s.idle.get(),
-                                         s.left.get(), s.active.get(), s.idx.get(), s.prev.get()};
+            const fp_chaos::FusedBook bk{bv.xmin,      bv.xmax,      bv.ymin,      bv.ymax,        bv.scx,
+                                         bv.scy,       bv.W,         bv.H,         bv.dummy,       bv.skip,
+                                         s.age.get(),  s.idle.get(), s.left.get(), s.active.get(), out,
+                                         s.prev.get(), hits,         lag};
             const fp_chaos::FusedCounts c = fp_chaos::fused_rules_step<true>(fused_tables_, b, &bk);
             sc.plotted = c.plotted, sc.bad = c.bad, sc.restarts = c.restarts, sc.still = c.still;
             return 2;
         }
     }
 #endif
-    (void)s, (void)nb, (void)bv, (void)sc;
+    (void)s, (void)nb, (void)bv, (void)sc, (void)hits, (void)out, (void)lag;
     return 0;
 }
 
@@ -1255,6 +1261,12 @@ void ChaosGame::run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockRe
     float* __restrict cg = s.cg.get();
     float* __restrict cb = s.cb.get();
 
+    // The fused step with hits only deposits each step's bins during the next step's pass (the
+    // increments' cache misses then overlap its arithmetic instead of following it): `out`
+    // takes this step's bins, `lag` holds the previous step's, deposited by the pass.
+    uint32_t* out = s.idx.get();
+    uint32_t* lag = nullptr;
+
     uint64_t reported = 0;
     size_t live = nlive;
     for (uint64_t n = 0; live > 0; ++n) {
@@ -1268,7 +1280,7 @@ void ChaosGame::run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockRe
         // 1-3. Choose a map per chain (k = does not move this step); group the chains by map,
         // one step call per map, back in place. Or all of it in one fused pass.
         StepCounts sc;
-        const int fused = run_fused<T, Rules, Colour>(s, nb, bv, sc);
+        const int fused = run_fused<T, Rules, Colour>(s, nb, bv, sc, hits, out, lag);
         if (!fused) {
             if constexpr (Rules)
                 choose_rules(s, nb);
@@ -1296,7 +1308,12 @@ void ChaosGame::run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockRe
                 if (__builtin_expect(b[0] == spill_hits, 0)) hist.spill(idx[i]);
             }
         } else {
-            for (size_t i = 0; i < nb; ++i) ++hits[idx[i]];
+            if (fused == 2) {
+                lag = out;
+                out = out == s.idx.get() ? s.idx2.get() : s.idx.get();
+            } else {
+                for (size_t i = 0; i < nb; ++i) ++hits[idx[i]];
+            }
             hist.since += nb;
             if (__builtin_expect(hist.since >= hits_flush, 0)) hist.flush();
         }
@@ -1325,6 +1342,8 @@ void ChaosGame::run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockRe
             new_starts(s, list, m);
         }
     }
+    if (lag)
+        for (size_t i = 0; i < nb; ++i) ++hits[lag[i]];
     ctx.progress(nominal - std::min(nominal, reported));
 }
 

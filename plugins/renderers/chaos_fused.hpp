@@ -15,7 +15,11 @@
 //     inside() / inversion_factor() and of inversion's apply() in the same order (no FMA:
 //     the build has -ffp-contract=off, and intrinsics do no contraction anyway).
 // With a colourer that needs no colour the same pass also does the step's bookkeeping and bin
-// index (bookkeep<false>'s operations on the new points, still in registers).
+// index (bookkeep<false>'s operations on the new points, still in registers), and the
+// deposit of the previous step's bins (FusedBook::lag): 16 increments after each vector,
+// whose addresses are known from the start, so that their cache misses overlap this step's
+// arithmetic. (Depositing a vector's own new bins there instead was slower: those addresses
+// come at the end of the vector's dependency chain.)
 // So the chosen maps, the points and therefore the image are bit for bit those of the generic
 // path (tests/unit/test_chaos_kernel.cpp renders recipes both ways, `kernels: generic`
 // switching this off). The bookkeeping and the deposit that follow are shared.
@@ -118,7 +122,9 @@ struct FusedBook {
     std::uint64_t* left;
     std::uint32_t* active;
     std::uint32_t* idx;
-    std::uint32_t* prev; ///< written (FusedBlock::prev is the same array, read first)
+    std::uint32_t* prev;      ///< written (FusedBlock::prev is the same array, read first)
+    std::uint32_t* hits;      ///< the worker's hit counters
+    const std::uint32_t* lag; ///< the previous step's bins, deposited during this pass (or null)
 };
 
 struct FusedCounts {
@@ -146,6 +152,8 @@ FusedCounts fused_rules_step(const FusedTables& tables, const FusedBlock& block,
     __mmask16 okm[fused_max_maps];
     FusedCounts n;
     __m512i vplotted = zero, vstill = zero; // per-lane counts (hits only)
+    std::uint32_t* const hits = Book ? bkv.hits : nullptr;
+    const std::uint32_t* const lag = Book ? bkv.lag : nullptr;
     for (std::size_t i = 0; i < b.nb; i += 16) {
         const __mmask16 live = b.nb - i >= 16 ? __mmask16(0xffff) : __mmask16((1u << (b.nb - i)) - 1u);
         const __m512 x = _mm512_maskz_loadu_ps(live, b.x + i), y = _mm512_maskz_loadu_ps(live, b.y + i);
@@ -243,6 +251,10 @@ FusedCounts fused_rules_step(const FusedTables& tables, const FusedBlock& block,
             const __mmask16 still = nz & act;
             _mm512_mask_storeu_epi32(bk->active + i, live, _mm512_maskz_mov_epi32(still, one));
             vstill = _mm512_mask_add_epi32(vstill, still, vstill, one);
+            if (lag) {
+                const std::size_t m = b.nb - i >= 16 ? 16 : b.nb - i;
+                for (std::size_t l = 0; l < m; ++l) ++hits[lag[i + l]];
+            }
         }
     }
     if constexpr (Book) {
