@@ -107,41 +107,48 @@ BENCHMARK_CAPTURE(chaos_game, density_float, "float", "density")
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
     ->UseRealTime()
     ->Iterations(3);
 BENCHMARK_CAPTURE(chaos_game_generic, density_float_generic, "float", "density")
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
     ->UseRealTime()
     ->Iterations(3);
 BENCHMARK_CAPTURE(chaos_game, density_double, "double", "density")
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
     ->UseRealTime()
     ->Iterations(3);
 BENCHMARK_CAPTURE(chaos_game, map_colour_float, "float", "map-colour")
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
     ->UseRealTime()
     ->Iterations(3);
 BENCHMARK_CAPTURE(chaos_game, map_colour_double, "double", "map-colour")
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
     ->UseRealTime()
     ->Iterations(3);
 BENCHMARK_CAPTURE(iteration, picard, "{type: picard}")
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
     ->UseRealTime()
     ->Iterations(3);
 BENCHMARK_CAPTURE(iteration, s_real, "{type: s-iteration, alpha: 0.7, beta: 0.5}")
     ->Arg(1)
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
     ->UseRealTime()
     ->Iterations(3);
 BENCHMARK_CAPTURE(
@@ -150,11 +157,13 @@ BENCHMARK_CAPTURE(
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
     ->UseRealTime()
     ->Iterations(3);
 BENCHMARK_CAPTURE(iteration, mann_real, "{type: mann, alpha: 0.7}")
     ->Arg(1)
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
     ->UseRealTime()
     ->Iterations(3);
 BENCHMARK(inline_scalar)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);

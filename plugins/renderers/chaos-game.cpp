@@ -16,8 +16,10 @@
 //
 // How (the hot path)
 // ------------------
-// Chains run in blocks of 512, one block per task of the host's parallel_for, in lockstep,
-// as structure-of-arrays state (x, y, previous map, colour, pcg32 state, age, points left).
+// Chains run in blocks of 512 (the last few of a render on several workers: 128), in
+// lockstep, as structure-of-arrays state (x, y, previous map, colour, pcg32 state, age,
+// points left); one task per worker of the host's parallel_for takes the next block until
+// none is left.
 // One step of a block:
 //   1. inside tests: one Transform::contains call per map with a set on the whole block
 //      (rules on);
@@ -114,6 +116,7 @@
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -158,6 +161,8 @@ using std::uint64_t;
 /// Chains per block (one task). 512 keeps a block's state in L1 (about 30 KiB in float) and
 /// gives the per-map segments enough points to amortise their virtual calls.
 constexpr size_t block_size = 512;
+/// Chains per block at the end of a render on several workers (see block_spans).
+constexpr size_t tail_block_size = 128;
 /// Steps between polls of ctx.cancelled() and progress reports (about 1 ms of work).
 constexpr uint64_t poll_steps = 64;
 /// Candidates drawn for a start point outside every set before the last one is taken anyway.
@@ -358,6 +363,31 @@ template <class T>
 struct BinView;
 struct StepCounts;
 
+/// A block of chains: chains c0 .. c0 + nb - 1.
+struct Span {
+    uint64_t c0;
+    size_t nb;
+};
+
+/// The blocks of a render, in the order the workers take them: blocks of block_size, then,
+/// with several workers, the last 4 * workers * tail_block_size chains in blocks of
+/// tail_block_size, so that the workers run out of work at nearly the same time (a block is
+/// the unit of work: with 8 blocks of about 45 ms on two workers, one waited for the other
+/// for about half a block at the end, a tenth of the render). On one worker, all large:
+/// a small block costs as much per step outside its pass as a large one. The partition
+/// does not change the image.
+std::vector<Span> block_spans(uint64_t chains, unsigned workers) {
+    const uint64_t tail =
+        workers > 1 ? std::min<uint64_t>(chains, uint64_t(4) * workers * tail_block_size) : 0;
+    std::vector<Span> v;
+    uint64_t c = 0;
+    for (; c < chains - tail; c += block_size)
+        v.push_back({c, size_t(std::min<uint64_t>(block_size, chains - tail - c))});
+    for (; c < chains; c += tail_block_size)
+        v.push_back({c, size_t(std::min<uint64_t>(tail_block_size, chains - c))});
+    return v;
+}
+
 struct BlockResult {
     uint64_t plotted = 0, restarts = 0, bad = 0;
 };
@@ -378,7 +408,7 @@ private:
     void render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
                   std::vector<float>& pixels) const;
     template <class T, bool Rules, bool Colour>
-    void run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
+    void run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
                    fp::RenderContext& ctx) const;
     template <class T>
     void choose_rules(Scratch<T>& s, size_t nb) const;
@@ -593,41 +623,48 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                          std::vector<float>& pixels) const {
     const unsigned workers = std::max(1u, ctx.workers());
     const size_t px = size_t(width_) * size_t(height_);
-    const size_t blocks = size_t((chains_ + block_size - 1) / block_size);
+    const std::vector<Span> spans = block_spans(chains_, workers);
     // Per worker: its block state and its histogram (one extra bin that takes the points not
     // plotted), both made by the worker itself on its first task (first touch).
     std::vector<std::unique_ptr<Scratch<T>>> scratch(workers);
     std::vector<WorkerHist> hists(workers);
-    std::vector<BlockResult> results(blocks);
+    std::vector<BlockResult> results(spans.size());
 
-    // Task 0 allocates the total histogram, the last task the image (tens of MiB of fresh
+    // One task per worker; each takes the next item of the work list until none is left, in
+    // order: item 0 allocates the total histogram, item 1 the image (tens of MiB of fresh
     // pages: page faults and zeroing, serial work that would otherwise follow the chains on
-    // one thread; at the two ends of the range, so that two workers tend to take one each);
-    // tasks 1 .. blocks run the blocks.
-    ctx.parallel_for(blocks + 2, [&](size_t task, unsigned w) {
-        if (ctx.cancelled()) throw fp::Cancelled();
+    // one thread; first, so that two workers take one each), then the blocks, the large ones
+    // first. Which worker runs which block does not change the image (exact merge).
+    std::atomic<size_t> next{0};
+    const size_t items = spans.size() + 2;
+    ctx.parallel_for(workers, [&](size_t, unsigned w) {
         if (w >= workers) throw fp::InternalError("chaos-game: worker index out of range");
-        if (task == 0) {
-            total.width = width_;
-            total.height = height_;
-            assign_huge(total.bins, px, fp::HistBin{});
-            return;
+        for (size_t it; (it = next.fetch_add(1, std::memory_order_relaxed)) < items;) {
+            if (ctx.cancelled()) throw fp::Cancelled();
+            if (it == 0) {
+                total.width = width_;
+                total.height = height_;
+                assign_huge(total.bins, px, fp::HistBin{});
+                continue;
+            }
+            if (it == 1) {
+                assign_huge(pixels, px * 3, 0.0f);
+                continue;
+            }
+            const size_t b = it - 2;
+            const uint64_t c0 = spans[b].c0;
+            const size_t nb = spans[b].nb;
+            if (!scratch[w]) scratch[w] = std::make_unique<Scratch<T>>(maps_.size());
+            if (!hists[w].bins.get() && !hists[w].hits.get()) hists[w].alloc(px, colour_);
+            if (rules_ && colour_)
+                run_block<T, true, true>(c0, nb, *scratch[w], hists[w], results[b], ctx);
+            else if (rules_)
+                run_block<T, true, false>(c0, nb, *scratch[w], hists[w], results[b], ctx);
+            else if (colour_)
+                run_block<T, false, true>(c0, nb, *scratch[w], hists[w], results[b], ctx);
+            else
+                run_block<T, false, false>(c0, nb, *scratch[w], hists[w], results[b], ctx);
         }
-        if (task == blocks + 1) {
-            assign_huge(pixels, px * 3, 0.0f);
-            return;
-        }
-        const size_t b = task - 1;
-        if (!scratch[w]) scratch[w] = std::make_unique<Scratch<T>>(maps_.size());
-        if (!hists[w].bins.get() && !hists[w].hits.get()) hists[w].alloc(px, colour_);
-        if (rules_ && colour_)
-            run_block<T, true, true>(b, *scratch[w], hists[w], results[b], ctx);
-        else if (rules_)
-            run_block<T, true, false>(b, *scratch[w], hists[w], results[b], ctx);
-        else if (colour_)
-            run_block<T, false, true>(b, *scratch[w], hists[w], results[b], ctx);
-        else
-            run_block<T, false, false>(b, *scratch[w], hists[w], results[b], ctx);
     });
     scratch.clear();
 
@@ -1203,11 +1240,9 @@ int ChaosGame::run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCou
 
 // ---------------------------------------------------------------- one block of chains
 template <class T, bool Rules, bool Colour>
-void ChaosGame::run_block(size_t block, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
+void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
                           fp::RenderContext& ctx) const {
     const size_t k = maps_.size();
-    const uint64_t c0 = uint64_t(block) * block_size;
-    const size_t nb = size_t(std::min<uint64_t>(block_size, chains_ - c0));
     const uint64_t per = points_ / chains_, extra = points_ % chains_;
     const uint32_t none = uint32_t(k);
 

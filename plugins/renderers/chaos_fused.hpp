@@ -252,8 +252,12 @@ FusedCounts fused_rules_step(const FusedTables& tables, const FusedBlock& block,
             _mm512_mask_storeu_epi32(bk->active + i, live, _mm512_maskz_mov_epi32(still, one));
             vstill = _mm512_mask_add_epi32(vstill, still, vstill, one);
             if (lag) {
-                const std::size_t m = b.nb - i >= 16 ? 16 : b.nb - i;
-                for (std::size_t l = 0; l < m; ++l) ++hits[lag[i + l]];
+                // A whole vector's 16 without a bound test per increment (those branches
+                // would take issue slots on the vector ports).
+                if (live == 0xffff)
+                    for (std::size_t l = 0; l < 16; ++l) ++hits[lag[i + l]];
+                else
+                    for (std::size_t l = 0; l < b.nb - i; ++l) ++hits[lag[i + l]];
             }
         }
     }
