@@ -422,7 +422,7 @@ private:
     /// too when the colourer needs no colour (2, sc set); 0 otherwise.
     template <class T, bool Rules, bool Colour>
     int run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCounts& sc, uint32_t* hits,
-                  uint32_t* out, const uint32_t* lag) const;
+                  uint32_t* out, const uint32_t* lag, bool steady) const;
 
     int width_ = 512, height_ = 512;
     double xmin_ = -1.5, xmax_ = 1.5, ymin_ = -1.5, ymax_ = 1.5;
@@ -1036,7 +1036,8 @@ struct BinView {
 };
 
 struct StepCounts {
-    uint32_t plotted = 0, bad = 0, restarts = 0, still = 0;
+    uint64_t plotted = 0; ///< a steady run's settlement counts all its steps' points
+    uint32_t bad = 0, restarts = 0, still = 0;
 };
 
 constexpr float cscale = float(fp::colour_scale);
@@ -1213,7 +1214,7 @@ StepCounts bookkeep(Scratch<float>& s, size_t nb, const BinView<float>& v) {
 // ---------------------------------------------------------------- the fused step
 template <class T, bool Rules, bool Colour>
 int ChaosGame::run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCounts& sc, uint32_t* hits,
-                         uint32_t* out, const uint32_t* lag) const {
+                         uint32_t* out, const uint32_t* lag, bool steady) const {
 #if FP_CHAOS_FUSED
     if constexpr (Rules && std::is_same_v<T, float>) {
         if (!fused_) return 0;
@@ -1228,14 +1229,56 @@ int ChaosGame::run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCou
                                          bv.scy,       bv.W,         bv.H,         bv.dummy,       bv.skip,
                                          s.age.get(),  s.idle.get(), s.left.get(), s.active.get(), out,
                                          s.prev.get(), hits,         lag};
-            const fp_chaos::FusedCounts c = fp_chaos::fused_rules_step<true>(fused_tables_, b, &bk);
+            const fp_chaos::FusedCounts c =
+                steady ? fp_chaos::fused_rules_step<true, true>(fused_tables_, b, &bk)
+                       : fp_chaos::fused_rules_step<true>(fused_tables_, b, &bk);
             sc.plotted = c.plotted, sc.bad = c.bad, sc.restarts = c.restarts, sc.still = c.still;
             return 2;
         }
     }
 #endif
-    (void)s, (void)nb, (void)bv, (void)sc, (void)hits, (void)out, (void)lag;
+    (void)s, (void)nb, (void)bv, (void)sc, (void)hits, (void)out, (void)lag, (void)steady;
     return 0;
+}
+
+// ---------------------------------------------------------------- steady runs
+/// How many steps a block may run steady (fp_chaos::fused_rules_step<true, true>): every
+/// active chain past its skip, and fewer steps than the fewest points any of them has left,
+/// so that none runs out during the run. 0 when it may not.
+template <class T>
+uint64_t steady_budget(const Scratch<T>& s, size_t nb, uint32_t skip) {
+    const uint32_t* age = s.age.get();
+    const uint32_t* active = s.active.get();
+    const uint64_t* left = s.left.get();
+    uint64_t fewest = UINT64_MAX;
+    uint32_t young = 0;
+    for (size_t i = 0; i < nb; ++i) {
+        const bool a = active[i] != 0;
+        young |= a && age[i] < skip ? 1u : 0u;
+        fewest = std::min(fewest, a ? left[i] : UINT64_MAX);
+    }
+    return young || fewest == UINT64_MAX ? 0 : fewest - 1;
+}
+
+/// The end of a steady run of `steps` steps: every active chain plotted at each step but the
+/// last when that one restarted it (no allowed map, or a point not finite: restart[i] set),
+/// so its points left and idle count become what the step-by-step bookkeeping would have
+/// made them. Returns the points plotted.
+template <class T>
+uint64_t settle_steady(Scratch<T>& s, size_t nb, uint64_t steps) {
+    const uint32_t* active = s.active.get();
+    const uint32_t* restart = s.restart.get();
+    uint64_t* left = s.left.get();
+    uint32_t* idle = s.idle.get();
+    uint64_t plotted = 0;
+    for (size_t i = 0; i < nb; ++i) {
+        if (!active[i]) continue;
+        const uint64_t p = steps - (restart[i] ? 1 : 0);
+        left[i] -= p;
+        if (p) idle[i] = 0;
+        plotted += p;
+    }
+    return plotted;
 }
 
 // ---------------------------------------------------------------- one block of chains
@@ -1301,6 +1344,9 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
     // takes this step's bins, `lag` holds the previous step's, deposited by the pass.
     uint32_t* out = s.idx.get();
     uint32_t* lag = nullptr;
+    // The fused step's steady runs (fused_rules_step<true, true>): steps the block may still
+    // run that way (0: not in one) and the steps run since the run began.
+    uint64_t steady_left = 0, steady_steps = 0;
 
     uint64_t reported = 0;
     size_t live = nlive;
@@ -1315,7 +1361,20 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
         // 1-3. Choose a map per chain (k = does not move this step); group the chains by map,
         // one step call per map, back in place. Or all of it in one fused pass.
         StepCounts sc;
-        const int fused = run_fused<T, Rules, Colour>(s, nb, bv, sc, hits, out, lag);
+        if (Rules && !Colour && std::is_same_v<T, float> && fused_ && steady_left == 0)
+            steady_left = steady_budget(s, nb, bv.skip);
+        const bool steady = steady_left > 0;
+        const int fused = run_fused<T, Rules, Colour>(s, nb, bv, sc, hits, out, lag, steady);
+        if (steady) {
+            sc.still = uint32_t(live);
+            ++steady_steps;
+            // The end of a steady run: a restart (its chain must wait out its skip again), or
+            // as many steps as the block's fewest points left, less one.
+            if (--steady_left == 0 || sc.restarts) {
+                sc.plotted = settle_steady(s, nb, steady_steps);
+                steady_left = steady_steps = 0;
+            }
+        }
         if (!fused) {
             if constexpr (Rules)
                 choose_rules(s, nb);

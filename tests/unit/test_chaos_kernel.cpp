@@ -189,8 +189,8 @@ Render render(const std::string& yaml, unsigned threads) {
     return out;
 }
 
-// Each recipe rendered with the fused path allowed (auto) and forbidden (generic), on 1 and 2
-// threads: the same pixels and the same counts.
+// Each recipe rendered with the fused path allowed (auto) and forbidden (generic), on 1, 2 and
+// 3 threads (other splits of the chains into blocks): the same pixels and the same counts.
 TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
     const std::string bench = "type: chaos-game, width: 96, height: 96, view: [-0.8, 0.8, -0.8, 0.8], ";
     const std::vector<std::string> recipes = {
@@ -206,6 +206,12 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
         "type: chaos-game, width: 64, height: 64, view: [-1.5, 2, -1.5, 1.5], points: 200000, chains: 500, "
         "skip: 1, colourer: {type: density}, maps: [{type: inversion, shape: {type: circle, centre: [0, 0], "
         "radius: 1}}, {type: inversion, shape: {type: circle, centre: [0.5, 0], radius: 1}}]",
+        // Hits only with few points per chain (50 or 51) and a skip of 3: the fused path's steady
+        // runs end one step before the first chain would run out, then single steps finish.
+        bench + "points: 5003, chains: 100, skip: 3, colourer: {type: density}, " + circles_maps(),
+        // Hits only, skip 0, 700 chains (a block of 512 and a partial one; on 2 threads blocks of
+        // 128 at the end).
+        bench + "points: 200000, chains: 700, skip: 0, seed: 4, colourer: {type: density}, " + circles_maps(),
         // Double chains (no fused path): the same either way.
         bench + "points: 100000, precision: double, colourer: {type: density}, " + circles_maps(),
     };
@@ -213,9 +219,12 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
         const Render a = render("{" + r + "}", 1);
         const Render b = render("{" + r + ", kernels: generic}", 1);
         const Render c = render("{" + r + "}", 2);
+        const Render d = render("{" + r + "}", 3);
         ASSERT_EQ(a.img.pixels.size(), b.img.pixels.size());
         EXPECT_TRUE(a.img.pixels == b.img.pixels) << r;
         EXPECT_TRUE(a.img.pixels == c.img.pixels) << r;
+        EXPECT_TRUE(a.img.pixels == d.img.pixels) << r;
+        EXPECT_EQ(a.stats.samples, d.stats.samples) << r;
         EXPECT_EQ(a.stats.samples, b.stats.samples) << r;
         EXPECT_EQ(a.stats.drawn, b.stats.drawn) << r;
         EXPECT_EQ(a.stats.restarts, b.stats.restarts) << r;
@@ -224,6 +233,8 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
     }
     // The restarting recipe does restart (so the comparison covers restarts).
     EXPECT_GT(render("{" + recipes[3] + "}", 1).stats.restarts, 0u);
+    // Every point of the few-points recipe is plotted, exactly.
+    EXPECT_EQ(render("{" + recipes[4] + "}", 1).stats.samples, 5003u);
 }
 
 } // namespace
