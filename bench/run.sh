@@ -3,6 +3,7 @@
 # drift by ~10% and more under other load, so only figures from one run are compared), and
 # prints the ratios the performance targets are stated in.
 #   bench/run.sh [BUILD_DIR]      (default: build; builds fixpoint_bench first)
+#   bench/run.sh BUILD_DIR chaos-pairs  (only the chaos-game headline in alternating pairs)
 #   bench/run.sh BUILD_DIR orbit-trap   (only the orbit-trap part, at the end)
 # FIXPOINT_BENCH_POINTS=N sets the points of the fixpoint runs (default 1e8, the reference's).
 set -euo pipefail
@@ -11,7 +12,9 @@ build=${1:-build}
 ref=../shared/perf-reference
 out=$build/bench-ref
 mkdir -p "$out"
-if [ "${2:-}" != orbit-trap ]; then # (the orbit-trap part alone: see its comment below)
+mode=${2:-all}
+median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+if [ "$mode" = all ]; then
 cmake --build "$build" --target fixpoint_bench -j"$(nproc)" >/dev/null
 g++ -O3 -march=native -fopenmp -o "$out/circles" "$ref/circles.cpp"
 echo "== $(date -u +%FT%TZ) $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores"
@@ -47,6 +50,52 @@ for c in density map_colour; do
     done
 done
 echo "reference simd 2/1 = $(ratio "${rate[ref_simd_2]}" "${rate[ref_simd_1]}"), scalar 2/1 = $(ratio "${rate[ref_scalar_2]}" "${rate[ref_scalar_1]}")"
+fi
+
+# ---------------------------------------------------------------- chaos game in alternating pairs
+# The machine's speed drifts by +-25% within seconds (the reference alone gave 260-580 M/s in
+# 20 back-to-back runs of 0.1 s), so the headline's ratios come from alternating runs: a pair
+# is the reference `simd` (reps=3, median) and fixpoint `density` float (3 renders) on one
+# thread, then both on two threads; the ratios are taken within each pair and the medians over
+# FIXPOINT_CG_PAIRS pairs (default 9) are the figures. cpu/wall says how much of the cores a
+# run got (fixpoint_bench measures the process's CPU time).
+if [ "$mode" = all ] || [ "$mode" = chaos-pairs ]; then
+if [ "$mode" = chaos-pairs ]; then
+    cmake --build "$build" --target fixpoint_bench -j"$(nproc)" >/dev/null
+    g++ -O3 -march=native -fopenmp -o "$out/circles" "$ref/circles.cpp"
+fi
+ref_line() { # threads -> "M points/s cpu/wall"
+    "$out/circles" variant=simd threads="$1" n=1e8 reps=3 | grep '^SUMMARY' | tr ' ' '\n' |
+        awk -F= '$1 == "median_rate" {r = $2} $1 == "cpu_per_wall" {c = $2} END {printf "%.1f %.2f\n", r / 1e6, c}'
+}
+fp_line() { # threads -> "M points/s cpu/wall"
+    "$build/bin/fixpoint_bench" --benchmark_filter="^chaos_game/density_float/$1/" 2>/dev/null |
+        awk -v t="$1" 'index($1, "chaos_game/density_float/" t "/") == 1 {
+            for (i = 1; i <= NF; ++i) if ($i ~ /^items_per_second=/) {r = $i; sub(/^items_per_second=/, "", r); sub(/M\/s$/, "", r)}
+            printf "%.1f %.2f\n", r, $4 / $2}'
+}
+echo "== $(date -u +%FT%TZ) chaos game in alternating pairs (M points/s, cpu/wall in parentheses)"
+: >"$out/cg_pairs.txt"
+for i in $(seq "${FIXPOINT_CG_PAIRS:-9}"); do
+    read -r r1 c1 <<<"$(ref_line 1)"
+    read -r f1 d1 <<<"$(fp_line 1)"
+    read -r r2 c2 <<<"$(ref_line 2)"
+    read -r f2 d2 <<<"$(fp_line 2)"
+    q=$(awk -v a="$f1" -v b="$r1" 'BEGIN {printf "%.3f", a / b}')
+    s=$(awk -v a="$f2" -v b="$f1" 'BEGIN {printf "%.3f", a / b}')
+    t=$(awk -v a="$r2" -v b="$r1" 'BEGIN {printf "%.3f", a / b}')
+    printf "pair %d: 1 thread: reference %6.1f (%s) fixpoint %6.1f (%s) = %s x | 2 threads: reference %6.1f (%s) fixpoint %6.1f (%s) | 2/1: fixpoint %s reference %s\n" \
+        "$i" "$r1" "$c1" "$f1" "$d1" "$q" "$r2" "$c2" "$f2" "$d2" "$s" "$t"
+    echo "$q $s $t $r1 $f1 $r2 $f2" >>"$out/cg_pairs.txt"
+done
+printf "MEDIANS: fixpoint / reference on 1 thread %s (target >= 0.5);  fixpoint 2/1 %s (target >= 1.9);  reference 2/1 %s\n" \
+    "$(cut -d' ' -f1 "$out/cg_pairs.txt" | median)" "$(cut -d' ' -f2 "$out/cg_pairs.txt" | median)" \
+    "$(cut -d' ' -f3 "$out/cg_pairs.txt" | median)"
+printf "         reference 1 thread %s, fixpoint 1 thread %s, reference 2 threads %s, fixpoint 2 threads %s M points/s\n" \
+    "$(cut -d' ' -f4 "$out/cg_pairs.txt" | median)" "$(cut -d' ' -f5 "$out/cg_pairs.txt" | median)" \
+    "$(cut -d' ' -f6 "$out/cg_pairs.txt" | median)" "$(cut -d' ' -f7 "$out/cg_pairs.txt" | median)"
+fi
+if [ "$mode" = chaos-pairs ]; then exit 0; fi
 
 # ---------------------------------------------------------------- orbit trap (paper 04, issue 6)
 # The orbit-trap renderer on the work of ../shared/perf-reference/wallpaper.cpp (p4m-like map,
@@ -54,13 +103,11 @@ echo "reference simd 2/1 = $(ratio "${rate[ref_simd_2]}" "${rate[ref_simd_1]}"),
 # The machine drifts by +-25% within minutes, so the reference (simd) and the renderer run in
 # alternating pairs, FIXPOINT_OT_PAIRS of them (default 5) per thread count; the ratio is the
 # median of the pairs' ratios. `bench/run.sh BUILD_DIR orbit-trap` runs this part alone.
-fi
 cmake --build "$build" --target fixpoint_bench_orbit_trap orbit-trap wallpaper circles lp colour-map picard \
     s-iteration complex real -j"$(nproc)" >/dev/null
 g++ -O3 -march=native -fopenmp -o "$out/wallpaper" "$ref/wallpaper.cpp"
 echo "== $(date -u +%FT%TZ) $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores"
 echo "== reference: $ref/wallpaper.cpp (reps=3, median) vs $build/bin/fixpoint_bench_orbit_trap (mean of 3 renders); M useful pixel-iterations/s"
-median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
 for t in 1 2; do
     : >"$out/ot_pairs_$t.txt"
     for i in $(seq "${FIXPOINT_OT_PAIRS:-5}"); do
