@@ -158,7 +158,7 @@ using std::size_t;
 using std::uint32_t;
 using std::uint64_t;
 
-/// Chains per block (one task). 512 keeps a block's state in L1 (about 30 KiB in float) and
+/// Chains per block (the unit of work). 512 keeps a block's state in L1 (about 30 KiB in float) and
 /// gives the per-map segments enough points to amortise their virtual calls.
 constexpr size_t block_size = 512;
 /// Chains per block at the end of a render on several workers (see block_spans).
@@ -371,11 +371,12 @@ struct Span {
 
 /// The blocks of a render, in the order the workers take them: blocks of block_size, then,
 /// with several workers, the last 4 * workers * tail_block_size chains in blocks of
-/// tail_block_size, so that the workers run out of work at nearly the same time (a block is
-/// the unit of work: with 8 blocks of about 45 ms on two workers, one waited for the other
-/// for about half a block at the end, a tenth of the render). On one worker, all large:
-/// a small block costs as much per step outside its pass as a large one. The partition
-/// does not change the image.
+/// tail_block_size, so that the workers run out of work at nearly the same time. A block is
+/// the unit of work: with the benchmark's 8 blocks of 512 chains (about 45 ms each) on two
+/// workers, one would wait for the other half a block on average at the end, a tenth of the
+/// render; with the tail of 128, one waited 7.7 ms on average (0.3-18 ms, nine 1e8-point
+/// renders; bench/README.md). On one worker, all large: a small block costs as much per step
+/// outside its pass as a large one. The partition does not change the image.
 std::vector<Span> block_spans(uint64_t chains, unsigned workers) {
     const uint64_t tail =
         workers > 1 ? std::min<uint64_t>(chains, uint64_t(4) * workers * tail_block_size) : 0;
