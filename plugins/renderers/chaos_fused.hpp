@@ -80,7 +80,7 @@ inline bool fused_tables(const std::vector<fp::KnownKernel>& maps, const std::ve
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #pragma GCC diagnostic ignored "-Wuninitialized"
-/// The block's arrays the fused step reads and writes (see chaos-game.cpp's Scratch).
+/// The block's arrays the fused step reads and writes (see Scratch in chaos_state.hpp).
 struct FusedBlock {
     float* x;
     float* y;
@@ -134,7 +134,7 @@ struct FusedCounts {
 /// One step of a block of float chains with the rules on: chosen[i] and restart[i] exactly as
 /// choose_rules sets them, and the points of the chains that move inverted in place. With
 /// Book (a colourer that needs no colour), also bookkeep<false>'s work on the new points in
-/// registers (the same operations in the same order: see bookkeep in chaos-game.cpp), whose
+/// registers (the same operations in the same order: see bookkeep in chaos_bookkeep.hpp), whose
 /// counts it returns.
 ///
 /// Steady (with Book) is the same step for a block in its steady state, which the caller

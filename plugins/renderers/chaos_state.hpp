@@ -1,0 +1,280 @@
+// chaos-game's state: the sizes of its blocks of chains, pcg32 on plain arrays, the aligned
+// and huge-page buffers, the workers' histograms, a block's structure-of-arrays state and the
+// partition of the chains into blocks. Only chaos-game.cpp includes it (chaos-game.cpp's
+// header comment says how they are used).
+#pragma once
+
+#include <fixpoint/fixpoint.hpp>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <new>
+#include <utility>
+#include <vector>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+#if defined(__SSE4_1__)
+#include <immintrin.h>
+#endif
+// The loops over a block's arrays have no dependences between iterations: tell GCC, so that
+// they vectorise without run-time alias checks (GCC ignores __restrict on local pointers).
+#if defined(__GNUC__) && !defined(__clang__)
+#define FP_IVDEP _Pragma("GCC ivdep")
+#else
+#define FP_IVDEP
+#endif
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+#define FP_CHAOS_COMPRESS 1
+#else
+#define FP_CHAOS_COMPRESS 0
+#endif
+#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512BW__)
+#define FP_CHAOS_AVX512 1
+#else
+#define FP_CHAOS_AVX512 0
+#endif
+
+namespace fp_chaos {
+
+using std::size_t;
+using std::uint32_t;
+using std::uint64_t;
+
+/// Chains per block (the unit of work). 512 keeps a block's state in L1 (about 30 KiB in float) and
+/// gives the per-map segments enough points to amortise their virtual calls.
+constexpr size_t block_size = 512;
+/// Chains per block at the end of a render on several workers (see block_spans).
+constexpr size_t tail_block_size = 128;
+/// Steps between polls of ctx.cancelled() and progress reports (about 1 ms of work).
+constexpr uint64_t poll_steps = 64;
+/// Candidates drawn for a start point outside every set before the last one is taken anyway.
+constexpr unsigned start_tries = 32;
+/// Restarts in a row without a plotted point after which a chain is retired.
+constexpr uint32_t max_idle_restarts = 100;
+
+// ---------------------------------------------------------------- pcg32, structure of arrays
+// fp::Rng is pcg32 (setseq XSH-RR 64/32, output of the previous state). The same generator on
+// plain arrays, so that a block's draws vectorise; chain_stream(seed, i) seeds it.
+constexpr uint64_t pcg_mult = 6364136223846793005ull;
+
+inline void pcg_seed(uint64_t seed, uint64_t chain, uint64_t& state, uint64_t& inc) {
+    inc = (chain << 1) | 1u;
+    state = (fp::mix64(seed) + inc) * pcg_mult + inc;
+}
+
+inline uint32_t pcg_next(uint64_t& state, uint64_t inc) {
+    const uint64_t old = state;
+    state = old * pcg_mult + inc;
+    const auto x = uint32_t(((old >> 18) ^ old) >> 27);
+    const auto rot = uint32_t(old >> 59);
+    return (x >> rot) | (x << ((32u - rot) & 31u));
+}
+
+/// fp::uniform_double on the SoA stream: uniform in [0, 1) with 53 random bits.
+inline double pcg_uniform(uint64_t& state, uint64_t inc) {
+    const uint64_t hi = pcg_next(state, inc) >> 5, lo = pcg_next(state, inc) >> 6;
+    return double((hi << 26) | lo) * 0x1.0p-53;
+}
+
+// ---------------------------------------------------------------- aligned buffers
+struct AlignedFree {
+    void operator()(void* p) const { ::operator delete(p, std::align_val_t(64)); }
+};
+
+struct HugeFree {
+    void operator()(void* p) const { ::operator delete(p, std::align_val_t(2u << 20)); }
+};
+
+template <class U>
+struct Buf {
+    std::unique_ptr<U[], AlignedFree> p;
+    void alloc(size_t n) {
+        p.reset(static_cast<U*>(::operator new(std::max<size_t>(n, 1) * sizeof(U), std::align_val_t(64))));
+        std::memset(static_cast<void*>(p.get()), 0, std::max<size_t>(n, 1) * sizeof(U));
+    }
+    U* get() const { return p.get(); }
+};
+
+/// A large zeroed buffer for random access (the histograms): 2 MiB aligned and, on Linux,
+/// backed by transparent huge pages where the system allows, so that the deposits do not
+/// miss the TLB on every point (a 1024 x 1024 histogram spans 8192 pages of 4 KiB).
+template <class U>
+struct HugeBuf {
+    std::unique_ptr<U[], HugeFree> p;
+    void alloc(size_t n) {
+        constexpr size_t huge = 2u << 20;
+        const size_t bytes = (std::max<size_t>(n, 1) * sizeof(U) + huge - 1) / huge * huge;
+        p.reset(static_cast<U*>(::operator new(bytes, std::align_val_t(huge))));
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+        ::madvise(static_cast<void*>(p.get()), bytes, MADV_HUGEPAGE); // advice only: failure is harmless
+#endif
+        std::memset(static_cast<void*>(p.get()), 0, bytes);
+    }
+    U* get() const { return p.get(); }
+};
+
+/// v.assign(n, x) with the new buffer advised into transparent huge pages before it is
+/// written (reserve, madvise the 2 MiB-aligned part, then assign): the 32 MiB total histogram
+/// and the 12 MiB image of a 1024 x 1024 render fault in as about 22 huge pages instead of
+/// 11264 small ones. Part of the fixed cost per render that does not scale with the threads.
+template <class V>
+void assign_huge(V& v, size_t n, const typename V::value_type& x) {
+    v.clear();
+    v.shrink_to_fit();
+    v.reserve(n);
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    constexpr uintptr_t huge = 2u << 20;
+    const uintptr_t b = (reinterpret_cast<uintptr_t>(v.data()) + huge - 1) & ~(huge - 1);
+    const uintptr_t e = (reinterpret_cast<uintptr_t>(v.data()) + n * sizeof(x)) & ~(huge - 1);
+    if (e > b) ::madvise(reinterpret_cast<void*>(b), e - b, MADV_HUGEPAGE); // advice only
+#endif
+    v.assign(n, x);
+}
+
+/// A worker's histogram bin: {hits, r, g, b} in 32 bits each, 16 bytes, half of fp::HistBin,
+/// so that twice as many of the bins a fractal touches stay in cache (at 1024 x 1024 this
+/// alone took the circles benchmark from 45 to 57 M points/s). A bin spills into 64 bits
+/// before it can overflow: when its hits reach 65536, its colour sums are at most
+/// 65536 * 65535 < 2^32.
+typedef uint32_t Cnt4 __attribute__((vector_size(16)));
+typedef uint64_t Bin4 __attribute__((vector_size(32)));
+constexpr uint32_t spill_hits = 65536;
+
+/// What a point adds, {1, r, g, b}, packed in 16 bits each into one 64-bit word, and its
+/// widening to a bin's 4 x 32 bits (one instruction with SSE4.1).
+inline Cnt4 widen(uint64_t d) {
+#if defined(__SSE4_1__)
+    return Cnt4(_mm_cvtepu16_epi32(_mm_cvtsi64_si128(std::int64_t(d))));
+#else
+    return Cnt4{uint32_t(d & 0xffffu), uint32_t((d >> 16) & 0xffffu), uint32_t((d >> 32) & 0xffffu),
+                uint32_t(d >> 48)};
+#endif
+}
+
+/// With AVX-512, chains are grouped by map with compress / expand instructions into one
+/// staging segment per map (up to this many maps); beyond, or without AVX-512, by a scalar
+/// counting sort into contiguous segments. Both give the same points in the same order.
+constexpr size_t max_compress_maps = 16;
+/// A map's staging segment: room for a whole block plus one full vector stored past its end.
+constexpr size_t seg_stride = block_size + 16;
+
+/// Hits-only histograms (a colourer that needs no colour) are flushed into 64 bits after this
+/// many deposits, before any 32-bit counter can overflow (a step deposits at most a block).
+constexpr uint64_t hits_flush = uint64_t(1) << 31;
+
+/// A worker's histogram: 32-bit bins (one more, the last, takes the points not plotted) and
+/// the list of bins spilled into 64 bits; or, when the colourer needs no colour, 32-bit hit
+/// counters alone (4 bytes a bin, as the reference kernels: four times as many bins per
+/// cache line), flushed whole into 64-bit counters every hits_flush deposits. Made by the
+/// worker on its first task.
+struct WorkerHist {
+    HugeBuf<Cnt4> bins;
+    std::vector<std::pair<uint32_t, Bin4>> spills;
+    HugeBuf<uint32_t> hits;
+    std::vector<uint64_t> wide; ///< hits flushed out of `hits` (empty until the first flush)
+    uint64_t since = 0;         ///< deposits into `hits` since the last flush
+    uint32_t dummy = 0;
+
+    void alloc(size_t px, bool colour) {
+        if (colour) {
+            bins.alloc(px + 1);
+            spills.reserve(256);
+        } else {
+            hits.alloc(px + 1);
+        }
+        dummy = uint32_t(px);
+    }
+    [[gnu::noinline, gnu::cold]] void spill(uint32_t i) {
+        Cnt4& b = bins.get()[i];
+        if (i != dummy) spills.emplace_back(i, Bin4{b[0], b[1], b[2], b[3]});
+        b = Cnt4{0, 0, 0, 0};
+    }
+    [[gnu::noinline, gnu::cold]] void flush() {
+        if (wide.empty()) wide.assign(dummy, 0);
+        uint32_t* h = hits.get();
+        for (size_t i = 0; i < dummy; ++i) wide[i] += h[i];
+        std::memset(static_cast<void*>(h), 0, (size_t(dummy) + 1) * sizeof(uint32_t));
+        since = 0;
+    }
+};
+
+// ---------------------------------------------------------------- per-worker block state
+template <class T>
+struct Scratch {
+    // chain state
+    Buf<T> x, y;
+    Buf<uint64_t> rs, ri, left;
+    Buf<uint32_t> prev, age, idle;
+    Buf<float> cr, cg, cb;
+    Buf<uint32_t> active; // 0 / 1
+    // per-step scratch
+    Buf<unsigned char> inside; // k rows of block_size
+    Buf<uint32_t> rnd, tot, cum, chosen, perm, idx, idx2, restart, plotf, cnt;
+    Buf<uint64_t> dep; // packed {1, r, g, b} of each chain's point
+    Buf<unsigned char> moved;
+    Buf<std::uint16_t> okm; // the allowed-map masks of one vector of chains, one per map
+    Buf<T> gx, gy;
+    // start points
+    Buf<T> sx, sy;
+    Buf<uint32_t> pend;
+    Buf<unsigned char> hit, any;
+
+    explicit Scratch(size_t k) {
+        const size_t B = block_size;
+        x.alloc(B), y.alloc(B), rs.alloc(B), ri.alloc(B), left.alloc(B);
+        prev.alloc(B), age.alloc(B), idle.alloc(B), cr.alloc(B), cg.alloc(B), cb.alloc(B), active.alloc(B);
+        inside.alloc(k * B);
+        rnd.alloc(B), tot.alloc(B), cum.alloc(B), chosen.alloc(B), perm.alloc(B), idx.alloc(B), idx2.alloc(B),
+            restart.alloc(B);
+        plotf.alloc(B), cnt.alloc(k + 1), dep.alloc(B);
+        moved.alloc(B), okm.alloc(k), gx.alloc(staging(k)), gy.alloc(staging(k));
+        sx.alloc(B), sy.alloc(B), pend.alloc(B), hit.alloc(B), any.alloc(B);
+    }
+
+    static size_t staging(size_t k) {
+        return FP_CHAOS_COMPRESS && k <= max_compress_maps ? k * seg_stride : block_size;
+    }
+    static uint64_t bytes(size_t k) {
+        const uint64_t B = block_size;
+        return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + k + 10 * 4 + 8 + 1 + 4 + 2) +
+               2 * sizeof(T) * staging(k) + 12 * (k + 2) + 2 * k + 64 * 40;
+    }
+};
+
+/// A block of chains: chains c0 .. c0 + nb - 1.
+struct Span {
+    uint64_t c0;
+    size_t nb;
+};
+
+/// The blocks of a render, in the order the workers take them: blocks of block_size, then,
+/// with several workers, the last 4 * workers * tail_block_size chains in blocks of
+/// tail_block_size, so that the workers run out of work at nearly the same time. A block is
+/// the unit of work: with the benchmark's 8 blocks of 512 chains (about 45 ms each) on two
+/// workers, one would wait for the other half a block on average at the end, a tenth of the
+/// render; with the tail of 128, one waited 7.7 ms on average (0.3-18 ms, nine 1e8-point
+/// renders; bench/README.md). On one worker, all large: a small block costs as much per step
+/// outside its pass as a large one. The partition does not change the image.
+inline std::vector<Span> block_spans(uint64_t chains, unsigned workers) {
+    const uint64_t tail =
+        workers > 1 ? std::min<uint64_t>(chains, uint64_t(4) * workers * tail_block_size) : 0;
+    std::vector<Span> v;
+    uint64_t c = 0;
+    for (; c < chains - tail; c += block_size)
+        v.push_back({c, size_t(std::min<uint64_t>(block_size, chains - tail - c))});
+    for (; c < chains; c += tail_block_size)
+        v.push_back({c, size_t(std::min<uint64_t>(tail_block_size, chains - c))});
+    return v;
+}
+
+struct BlockResult {
+    uint64_t plotted = 0, restarts = 0, bad = 0;
+};
+
+} // namespace fp_chaos
