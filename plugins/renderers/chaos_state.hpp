@@ -256,11 +256,11 @@ struct Span {
 /// The blocks of a render, in the order the workers take them: blocks of block_size, then,
 /// with several workers, the last 4 * workers * tail_block_size chains in blocks of
 /// tail_block_size, so that the workers run out of work at nearly the same time. A block is
-/// the unit of work: with the benchmark's 8 blocks of 512 chains (about 45 ms each) on two
-/// workers, one would wait for the other half a block on average at the end, a tenth of the
-/// render; with the tail of 128, one waited 7.7 ms on average (0.3-18 ms, nine 1e8-point
-/// renders; bench/README.md). On one worker, all large: a small block costs as much per step
-/// outside its pass as a large one. The partition does not change the image.
+/// the unit of work: in 1e8-point benchmark renders on two workers, with 8 equal blocks of 512
+/// one worker waited 1-56 ms (20 ms on average, 12 renders) for the other at the end; with
+/// the tail of 128, 0.2-18 ms (about 6 ms on average, 21 renders; bench/README.md). On one
+/// worker, all large: a small block costs as much per step outside its pass as a large one.
+/// The partition does not change the image.
 inline std::vector<Span> block_spans(uint64_t chains, unsigned workers) {
     const uint64_t tail =
         workers > 1 ? std::min<uint64_t>(chains, uint64_t(4) * workers * tail_block_size) : 0;
