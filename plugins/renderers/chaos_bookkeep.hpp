@@ -231,6 +231,9 @@ uint64_t settle_steady(Scratch<T>& s, size_t nb, uint64_t steps) {
     for (size_t i = 0; i < nb; ++i) {
         if (!active[i]) continue;
         const uint64_t p = steps - (restart[i] ? 1 : 0);
+        // A run longer than steady_budget allows would have plotted past a chain's last point
+        // (and the chain would never finish): say so rather than spin.
+        if (p >= left[i]) throw fp::InternalError("chaos-game: a steady run outlived a chain's points");
         left[i] -= p;
         if (p) idle[i] = 0;
         plotted += p;
