@@ -871,7 +871,7 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
     uint32_t* lag = nullptr;
     // The fused step's steady runs (fused_rules_step<true, true>): steps the block may still
     // run that way (0: not in one) and the steps run since the run began.
-    uint64_t steady_left = 0, steady_steps = 0;
+    uint64_t steady_left = 0, steady_steps = 0, steady_wait = 0;
 
     uint64_t reported = 0;
     size_t live = nlive;
@@ -886,8 +886,15 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
         // 1-3. Choose a map per chain (k = does not move this step); group the chains by map,
         // one step call per map, back in place. Or all of it in one fused pass.
         StepCounts sc;
-        if (Rules && !Colour && std::is_same_v<T, float> && fused_ && steady_left == 0)
-            steady_left = steady_budget(s, nb, bv.skip);
+        if (Rules && !Colour && std::is_same_v<T, float> && fused_ && steady_left == 0) {
+            if (steady_wait > 0) {
+                --steady_wait;
+            } else {
+                const SteadyCheck c = steady_budget(s, nb, bv.skip);
+                steady_left = c.budget;
+                steady_wait = c.wait;
+            }
+        }
         const bool steady = steady_left > 0;
         const int fused = run_fused<T, Rules, Colour>(s, nb, bv, sc, hits, out, lag, steady);
         if (steady) {

@@ -199,22 +199,29 @@ StepCounts bookkeep(Scratch<float>& s, size_t nb, const BinView<float>& v) {
 #endif
 
 // ---------------------------------------------------------------- steady runs
-/// How many steps a block may run steady (fp_chaos::fused_rules_step<true, true>): every
-/// active chain past its skip, and fewer steps than the fewest points any of them has left,
-/// so that none runs out during the run. 0 when it may not.
+/// Whether a block may run steady (fp_chaos::fused_rules_step<true, true>): `budget` steps
+/// when every active chain is past its skip, fewer than the fewest points any of them has
+/// left (so that none runs out during the run); 0 otherwise. `wait`: steps before asking
+/// again can help, when some chain is still young (its age grows by at most one a step), so
+/// that a block full of restarting chains is not scanned at every step.
+struct SteadyCheck {
+    uint64_t budget = 0, wait = 0;
+};
+
 template <class T>
-uint64_t steady_budget(const Scratch<T>& s, size_t nb, uint32_t skip) {
+SteadyCheck steady_budget(const Scratch<T>& s, size_t nb, uint32_t skip) {
     const uint32_t* age = s.age.get();
     const uint32_t* active = s.active.get();
     const uint64_t* left = s.left.get();
     uint64_t fewest = UINT64_MAX;
-    uint32_t young = 0;
+    uint32_t youngest = skip; // the smallest age of an active chain, capped at skip
     for (size_t i = 0; i < nb; ++i) {
         const bool a = active[i] != 0;
-        young |= a && age[i] < skip ? 1u : 0u;
+        youngest = std::min(youngest, a ? age[i] : skip);
         fewest = std::min(fewest, a ? left[i] : UINT64_MAX);
     }
-    return young || fewest == UINT64_MAX ? 0 : fewest - 1;
+    if (youngest < skip) return {0, skip - youngest - 1};
+    return {fewest == UINT64_MAX ? 0 : fewest - 1, 0};
 }
 
 /// The end of a steady run of `steps` steps: every active chain plotted at each step but the
