@@ -62,6 +62,7 @@
 #include "palette.hpp"
 
 #include <fixpoint/fixpoint.hpp>
+#include <fixpoint/text.hpp>
 #include <fixpoint/vertex_map.hpp>
 
 #include <algorithm>
@@ -167,8 +168,10 @@ Mfs::Mfs(const fp::ParamBag& p) {
     height_ = int(p.integer("height"));
     // Maps: subdivision maps with one vertex count; the IFSs from their `systems`.
     const auto& items = p.objects("maps");
-    uint32_t n_ifs = 0;
-    std::vector<std::vector<double>> member(items.size());
+    std::vector<std::vector<uint32_t>> member(items.size());
+    // The IFS indices used, to check that they make 0, 1, ..., n - 1 before anything is sized by
+    // them: an index is user input (`systems: [4294967295]` once indexed past a vector's end).
+    std::vector<uint32_t> used;
     for (size_t i = 0; i < items.size(); ++i) {
         auto m = fp::as<fp::VertexMap>(items[i]);
         if (!m)
@@ -183,25 +186,35 @@ Mfs::Mfs(const fp::ParamBag& p) {
                                              " control points, maps[0] has " + std::to_string(n_) +
                                              ": the maps of one structure subdivide sets of one size");
         maps_.push_back(m);
-        member[i] = items[i].extras->reals("systems");
-        for (double e : member[i]) {
-            if (e != std::floor(e))
+        for (double e : items[i].extras->reals("systems")) {
+            if (e != std::floor(e) || e < 0)
                 throw fp::ParamError("maps", "maps[" + std::to_string(i) +
-                                                 "].systems: IFS indices are whole numbers");
-            n_ifs = std::max(n_ifs, uint32_t(e) + 1);
+                                                 "].systems: IFS indices are whole " +
+                                                 "numbers from 0, got " + fp::number_text(e));
+            // Every IFS below the largest index needs a map, so no index can reach the number of
+            // (map, IFS) pairs there are; this bound also keeps the cast below exact.
+            if (e > 1e9)
+                throw fp::ParamError("maps", "maps[" + std::to_string(i) + "].systems: IFS " + count_text(e) +
+                                                 " is out of range: the maps' systems must number the IFSs "
+                                                 "0, 1, 2, ...");
+            member[i].push_back(uint32_t(e));
+            used.push_back(uint32_t(e));
         }
     }
-    systems_.resize(n_ifs);
-    for (size_t i = 0; i < items.size(); ++i)
-        for (double e : member[i])
-            if (std::find(systems_[size_t(e)].begin(), systems_[size_t(e)].end(), uint32_t(i)) ==
-                systems_[size_t(e)].end())
-                systems_[size_t(e)].push_back(uint32_t(i));
-    for (uint32_t e = 0; e < n_ifs; ++e)
-        if (systems_[e].empty())
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    if (used.empty()) throw fp::ParamError("maps", "no map belongs to an IFS: give the maps' systems");
+    const uint32_t n_ifs = used.back() + 1;
+    for (uint32_t e = 0; e < used.size(); ++e)
+        if (used[e] != e)
             throw fp::ParamError("maps", "IFS " + std::to_string(e) +
                                              " has no maps: the maps' systems must cover 0 to " +
                                              std::to_string(n_ifs - 1));
+    systems_.resize(n_ifs);
+    for (size_t i = 0; i < items.size(); ++i)
+        for (uint32_t e : member[i])
+            if (std::find(systems_[e].begin(), systems_[e].end(), uint32_t(i)) == systems_[e].end())
+                systems_[e].push_back(uint32_t(i));
     // The path, each entry an IFS.
     const auto& path = p.reals("path");
     for (size_t l = 0; l < path.size(); ++l) {

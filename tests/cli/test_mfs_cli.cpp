@@ -25,6 +25,11 @@ struct Case {
     std::vector<std::string> args = {"render", "--quiet", "bad.yaml", "-o", "out.png"};
 };
 
+std::string systems_yaml(const std::string& systems) {
+    return "renderer:\n  type: mfs\n  path: [0]\n  maps:\n    - {type: subdivision, systems: [" + systems +
+           "], points: [[0, 0], [1, 0], [0, 1]], S: [1, 0, 0, 0, 1, 0, 0, 0, 1]}\n";
+}
+
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 std::vector<Case> cases() {
@@ -69,6 +74,20 @@ std::vector<Case> cases() {
          "bad.yaml:9:5: renderer.placements: the structures make 258280326 polygons in all (56.8 GB): more "
          "than the "
          "50000000 a render may hold"},
+        // An IFS index is user input: once used unchecked as an index (a crash at 4294967295, 48 GB
+        // at 2e9, 2.4 GB and 6 s at 1e8 before the error).
+        {"systems_huge", systems_yaml("4294967295"),
+         "bad.yaml:5:5: renderer.maps: maps[0].systems: IFS 4294967295 is out of range: the maps' systems "
+         "must number the IFSs 0, 1, 2, ..."},
+        {"systems_1e300", systems_yaml("1e300"),
+         "bad.yaml:5:5: renderer.maps: maps[0].systems: IFS 1e+300 is out of range: the maps' systems must "
+         "number the IFSs 0, 1, 2, ..."},
+        {"systems_1e8", systems_yaml("1e8"),
+         "bad.yaml:5:5: renderer.maps: IFS 0 has no maps: the maps' systems must cover 0 to 100000000"},
+        {"systems_fraction", systems_yaml("0.5"),
+         "bad.yaml:5:5: renderer.maps: maps[0].systems: IFS indices are whole numbers from 0, got 0.5"},
+        {"systems_empty", systems_yaml(""),
+         "bad.yaml:5:5: renderer.maps: no map belongs to an IFS: give the maps' systems"},
         {"address_map", "renderer:\n  type: mfs\n  path: [0, 0]\n  only: \"1.4\"\n  maps:\n" + tri3,
          "bad.yaml:4:9: renderer.only: address 1.4 does not exist: there are 3 maps, f1 to f3"},
         {"address_level",
