@@ -329,7 +329,7 @@ int cmd_plugins(const Options& o) {
         }
         if (!kind) {
             const auto near = suggest(o.kind, names);
-            throw InputError("--kind: unknown kind '" + o.kind + "'" +
+            throw InputError("--kind: unknown kind " + quote(o.kind) +
                              (near.empty() ? "" : " (did you mean '" + near[0] + "'?)"));
         }
     }
@@ -344,7 +344,7 @@ int cmd_describe(const Options& o) {
     const PluginEntry* e = reg.find(o.name);
     if (!e) {
         const auto near = reg.closest(o.name, std::nullopt);
-        throw InputError("unknown plugin '" + o.name + "'" +
+        throw InputError("unknown plugin " + quote(o.name) +
                          (near.empty() ? "" : " (did you mean '" + near[0] + "'?)"));
     }
     const auto& d = *e->desc;

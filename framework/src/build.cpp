@@ -1,5 +1,6 @@
 // Schema validation and object construction.
 #include <fixpoint/host/build.hpp>
+#include <fixpoint/text.hpp>
 
 #include <algorithm>
 #include <charconv>
@@ -83,11 +84,11 @@ std::string range_text(const ParamSpec& s) {
 
 void check_number(const ParamSpec& s, double v, const CNode& n, const std::string& path) {
     if (!std::isfinite(v) && !s.allow_nonfinite)
-        fail(n.mark, path, "must be a finite number, got " + n.scalar);
+        fail(n.mark, path, "must be a finite number, got " + excerpt(n.scalar));
     const bool below = s.lo_open ? !(v > s.lo) : !(v >= s.lo);
     const bool above = s.hi_open ? !(v < s.hi) : !(v <= s.hi);
     if ((std::isfinite(s.lo) && below) || (std::isfinite(s.hi) && above))
-        fail(n.mark, path, "must be " + range_text(s) + ", got " + n.scalar);
+        fail(n.mark, path, "must be " + range_text(s) + ", got " + excerpt(n.scalar));
 }
 
 double real_value(const ParamSpec& s, const CNode& n, const std::string& path,
@@ -173,7 +174,7 @@ Vec2 qnumber_value(const CNode& n, const std::string& path) {
     if (n.is_seq() && n.items.size() == 2 && parse_real(n.items[0], d) && parse_real(n.items[1], v.y)) {
         v.x = d;
     } else if (parse_real(n, d) && !std::isfinite(d)) {
-        fail(n.mark, path, "must be a finite number, got " + n.scalar);
+        fail(n.mark, path, "must be a finite number, got " + excerpt(n.scalar));
     } else if (!n.is_scalar() || !parse_qnumber(n.scalar, v)) {
         fail(n.mark, path,
              "cannot read " + n.describe() +
@@ -215,7 +216,7 @@ std::vector<TParam> validate_params(const Registry& reg, const ParamSpec* specs,
         for (std::size_t j = 0; j < n_specs; ++j) names.emplace_back(specs[j].name);
         const auto near = suggest(k, names);
         fail(node.key_marks[i], path,
-             "unknown parameter '" + k + "' for " + owner +
+             "unknown parameter " + quote(k) + " for " + owner +
                  (near.empty() ? "" : " (did you mean " + quoted_list(near) + "?)"));
     }
     std::vector<TParam> out;
@@ -252,7 +253,7 @@ TParam validate_param(const Registry& reg, const ParamSpec& s, const CNode& n, c
         if (!parse_int(n, v)) {
             double d;
             if (parse_real(n, d) && !std::isfinite(d))
-                fail(n.mark, path, "must be a finite number, got " + n.scalar);
+                fail(n.mark, path, "must be a finite number, got " + excerpt(n.scalar));
             fail(n.mark, path, "expected an integer, got " + n.describe());
         }
         check_number(s, double(v), n, path);
@@ -272,7 +273,7 @@ TParam validate_param(const Registry& reg, const ParamSpec& s, const CNode& n, c
                 a = b + 1;
             }
             if (std::find(options.begin(), options.end(), n.scalar) == options.end())
-                fail(n.mark, path, "must be one of " + quoted_list(options) + ", got '" + n.scalar + "'");
+                fail(n.mark, path, "must be one of " + quoted_list(options) + ", got " + quote(n.scalar));
         }
         t.value = n.scalar;
         break;
@@ -356,12 +357,12 @@ std::unique_ptr<TObject> validate(const Registry& reg, Kind kind, const CNode& n
     if (!e) {
         const auto near = reg.closest(type->scalar, kind);
         fail(type->mark, path + ".type",
-             "unknown " + kn + " '" + type->scalar + "'" +
+             "unknown " + kn + " " + quote(type->scalar) +
                  (near.empty() ? "" : " (did you mean " + quoted_list(near) + "?)"));
     }
     if (e->desc->kind != kind)
         fail(type->mark, path + ".type",
-             "'" + type->scalar + "' is " + article(kind_name(e->desc->kind)) + ", but this slot expects " +
+             quote(type->scalar) + " is " + article(kind_name(e->desc->kind)) + ", but this slot expects " +
                  article(kn));
     auto t = std::make_unique<TObject>();
     t->plugin = e;

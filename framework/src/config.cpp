@@ -1,13 +1,15 @@
 // YAML -> CNode, with the guard pre-pass, overrides and emission.
 #include <fixpoint/errors.hpp>
 #include <fixpoint/host/config.hpp>
+#include <fixpoint/text.hpp>
 
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <fstream>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -15,7 +17,9 @@ namespace fp::host {
 
 std::string Mark::str() const {
     // Values from the command line (--set path=value) have no line to point at.
-    if (source && (source->rfind("--set ", 0) == 0 || source->rfind("--vary ", 0) == 0)) return *source;
+    // They are quoted as an excerpt: a value may hold newlines or escape sequences.
+    if (source && (source->rfind("--set ", 0) == 0 || source->rfind("--vary ", 0) == 0))
+        return excerpt(*source, 80);
     return (source ? *source : std::string("<input>")) + ":" + std::to_string(line) + ":" +
            std::to_string(col);
 }
@@ -35,10 +39,34 @@ const Mark* CNode::key_mark(const std::string& key) const {
         if (keys[i].first == key) return &key_marks[i];
     return nullptr;
 }
+// A common slip: an unquoted hex colour, whose '#' starts a comment and swallows the rest of
+// the line, so that the error shows up somewhere else.
+static const std::string colour_comment_hint =
+    " (a '#' after a space starts a comment: quote colours, as in \"#ff6b6b\")";
+
+static bool is_hex_colour_at(const std::string& text, std::size_t hash) {
+    if (hash + 7 > text.size()) return false;
+    for (std::size_t k = 1; k <= 6; ++k)
+        if (!std::isxdigit(static_cast<unsigned char>(text[hash + k]))) return false;
+    return true;
+}
+
+// Whether `text` has "#rrggbb" right after ':', ',' or '[' and blanks: a linear scan (a regex
+// here overflowed the stack on long runs of blanks).
+static bool has_unquoted_colour(const std::string& text) {
+    for (std::size_t at = text.find('#'); at != std::string::npos; at = text.find('#', at + 1)) {
+        if (!is_hex_colour_at(text, at)) continue;
+        std::size_t b = at;
+        while (b > 0 && std::isspace(static_cast<unsigned char>(text[b - 1]))) --b;
+        if (b > 0 && (text[b - 1] == ':' || text[b - 1] == ',' || text[b - 1] == '[')) return true;
+    }
+    return false;
+}
+
 std::string CNode::describe() const {
     switch (type) {
-    case Type::Null: return "nothing";
-    case Type::Scalar: return "'" + scalar + "'";
+    case Type::Null: return hex_comment ? "nothing" + colour_comment_hint : "nothing";
+    case Type::Scalar: return fp::quote(scalar);
     case Type::Sequence: return "a list";
     case Type::Map: return "a mapping";
     }
@@ -142,7 +170,18 @@ private:
     std::vector<Frame> stack_;
 };
 
-CNode convert(const YAML::Node& n, const std::shared_ptr<const std::string>& src) {
+// Whether the line of the key at `key_pos` reads "key: #rrggbb": its value became a comment.
+bool value_is_colour_comment(const std::string& text, int key_pos) {
+    if (key_pos < 0) return false;
+    const std::size_t end = std::min(text.find('\n', std::size_t(key_pos)), text.size());
+    std::size_t at = text.find(':', std::size_t(key_pos));
+    if (at == std::string::npos || at >= end) return false;
+    ++at;
+    while (at < end && (text[at] == ' ' || text[at] == '\t')) ++at;
+    return at < end && text[at] == '#' && is_hex_colour_at(text, at);
+}
+
+CNode convert(const YAML::Node& n, const std::shared_ptr<const std::string>& src, const std::string& text) {
     CNode c;
     c.mark = Mark{src, n.Mark().line + 1, n.Mark().column + 1};
     switch (n.Type()) {
@@ -155,13 +194,20 @@ CNode convert(const YAML::Node& n, const std::shared_ptr<const std::string>& src
         break;
     case YAML::NodeType::Sequence:
         c.type = CNode::Type::Sequence;
-        for (const auto& it : n) c.items.push_back(convert(it, src));
+        for (const auto& it : n) c.items.push_back(convert(it, src, text));
         break;
     case YAML::NodeType::Map:
         c.type = CNode::Type::Map;
         for (const auto& it : n) {
-            c.keys.emplace_back(it.first.Scalar(), convert(it.second, src));
+            c.keys.emplace_back(it.first.Scalar(), convert(it.second, src, text));
             c.key_marks.push_back(Mark{src, it.first.Mark().line + 1, it.first.Mark().column + 1});
+            // An empty value ("key:" and nothing) has yaml-cpp's mark of the next token, often on a
+            // later line: point at the key instead, and notice "key: #rrggbb".
+            CNode& v = c.keys.back().second;
+            if (v.type == CNode::Type::Null && v.mark.line != c.key_marks.back().line) {
+                v.mark = c.key_marks.back();
+                v.hex_comment = value_is_colour_comment(text, it.first.Mark().pos);
+            }
         }
         break;
     }
@@ -170,13 +216,8 @@ CNode convert(const YAML::Node& n, const std::shared_ptr<const std::string>& src
 
 } // namespace
 
-// A common slip: an unquoted hex colour, whose '#' starts a comment and swallows the rest of
-// the line, so that the error shows up somewhere else.
 static std::string comment_hint(const std::string& text) {
-    static const std::regex hex_colour(R"([:,\[]\s*#[0-9a-fA-F]{6})");
-    return std::regex_search(text, hex_colour)
-               ? " (a '#' after a space starts a comment: quote colours, as in \"#ff6b6b\")"
-               : "";
+    return has_unquoted_colour(text) ? colour_comment_hint : "";
 }
 
 CNode parse_yaml(const std::string& text, const std::string& source) {
@@ -194,7 +235,7 @@ CNode parse_yaml(const std::string& text, const std::string& source) {
             }
         }
         YAML::Node root = YAML::Load(text);
-        CNode c = convert(root, src);
+        CNode c = convert(root, src, text);
         if (c.type == CNode::Type::Null) c.mark = Mark{src, 1, 1};
         return c;
     } catch (const YAML::Exception& e) {
@@ -222,7 +263,8 @@ CNode load_yaml_file(const std::string& path) {
 void apply_override(CNode& root, const std::string& assignment, const std::string& flag) {
     const auto eq = assignment.find('=');
     const std::string where = flag + " " + assignment;
-    if (eq == std::string::npos || eq == 0) throw InputError(where + ": expected path.to.param=value");
+    const std::string shown = excerpt(where, 80); // the assignment may be long or hold control characters
+    if (eq == std::string::npos || eq == 0) throw InputError(shown + ": expected path.to.param=value");
     const std::string path = assignment.substr(0, eq);
     CNode value = parse_yaml(assignment.substr(eq + 1), where);
 
@@ -236,21 +278,21 @@ void apply_override(CNode& root, const std::string& assignment, const std::strin
     while (i < path.size()) {
         if (path[i] == '[') {
             const auto close = path.find(']', i);
-            if (close == std::string::npos) throw InputError(where + ": unclosed '[' in path");
+            if (close == std::string::npos) throw InputError(shown + ": unclosed '[' in path");
             const std::string num = path.substr(i + 1, close - i - 1);
             if (num.empty() || num.find_first_not_of("0123456789") != std::string::npos)
-                throw InputError(where + ": bad index '" + num + "' in path");
+                throw InputError(shown + ": bad index " + quote(num) + " in path");
             long index = 0;
             const auto [end, ec] = std::from_chars(num.data(), num.data() + num.size(), index);
             if (ec != std::errc() || end != num.data() + num.size() || index > 1000000000)
-                throw InputError(where + ": index '" + num + "' is too large");
+                throw InputError(shown + ": index " + quote(num) + " is too large");
             steps.push_back({"", index});
             i = close + 1;
             if (i < path.size() && path[i] == '.') ++i;
         } else {
             std::size_t j = i;
             while (j < path.size() && path[j] != '.' && path[j] != '[') ++j;
-            if (j == i) throw InputError(where + ": empty name in path");
+            if (j == i) throw InputError(shown + ": empty name in path");
             steps.push_back({path.substr(i, j - i)});
             i = j;
             if (i < path.size() && path[i] == '.') ++i;
@@ -262,21 +304,28 @@ void apply_override(CNode& root, const std::string& assignment, const std::strin
         const bool last = s + 1 == steps.size();
         const Step& st = steps[s];
         if (st.index >= 0) {
-            if (!cur->is_seq()) throw InputError(where + ": '" + walked + "' is not a list");
+            if (!cur->is_seq()) throw InputError(shown + ": " + quote(walked, 80) + " is not a list");
             if (std::size_t(st.index) >= cur->items.size())
-                throw InputError(where + ": index " + std::to_string(st.index) + " out of range ('" + walked +
-                                 "' has " + std::to_string(cur->items.size()) + " items)");
+                throw InputError(shown + ": index " + std::to_string(st.index) + " out of range (" +
+                                 quote(walked, 80) + " has " + std::to_string(cur->items.size()) + " items)");
             cur = &cur->items[std::size_t(st.index)];
             walked += "[" + std::to_string(st.index) + "]";
         } else {
-            if (cur->type == CNode::Type::Null) *cur = map_node();
+            if (cur->type == CNode::Type::Null) {
+                // A mapping made by the override: it stands where the null stood, or (made from
+                // nothing) at the override itself, never at an unknown "<input>:0:0".
+                const Mark at = cur->mark.source ? cur->mark : value.mark;
+                *cur = map_node();
+                cur->mark = at;
+            }
             if (!cur->is_map())
-                throw InputError(where + ": '" + (walked.empty() ? "<top>" : walked) + "' is not a mapping");
+                throw InputError(shown + ": " + quote(walked.empty() ? "<top>" : walked, 80) +
+                                 " is not a mapping");
             CNode* next = cur->find(st.key);
             if (!next) {
                 if (!last && steps[s + 1].index >= 0)
-                    throw InputError(where + ": '" + walked + (walked.empty() ? "" : ".") + st.key +
-                                     "' does not exist");
+                    throw InputError(shown + ": " + quote(walked + (walked.empty() ? "" : ".") + st.key, 80) +
+                                     " does not exist");
                 cur->keys.emplace_back(st.key, CNode{});
                 cur->key_marks.push_back(value.mark);
                 next = &cur->keys.back().second;

@@ -1,5 +1,6 @@
 // The top level of a config file.
 #include <fixpoint/host/pipeline.hpp>
+#include <fixpoint/text.hpp>
 #include <fixpoint/version.hpp>
 
 #include <algorithm>
@@ -25,7 +26,7 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
         if (std::find(top.begin(), top.end(), k) != top.end()) continue;
         const auto near = suggest(k, top);
         fail(root.key_marks[i],
-             "unknown top-level key '" + k + "'" +
+             "unknown top-level key " + quote(k) +
                  (near.empty() ? " (expected renderer, output)" : " (did you mean '" + near[0] + "'?)"));
     }
     const CNode* r = root.find("renderer");
@@ -45,7 +46,7 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
                 p.bit_depth = v.scalar == "8" ? 8 : 16;
             } else {
                 const auto near = suggest(k, {"path", "bit_depth"});
-                fail(o->key_marks[i], "output: unknown key '" + k + "'" +
+                fail(o->key_marks[i], "output: unknown key " + quote(k) +
                                           (near.empty() ? " (expected path, bit_depth)"
                                                         : " (did you mean '" + near[0] + "'?)"));
             }

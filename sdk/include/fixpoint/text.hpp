@@ -3,7 +3,9 @@
 #pragma once
 
 #include <charconv>
+#include <cstddef>
 #include <string>
+#include <string_view>
 
 namespace fp {
 
@@ -12,6 +14,53 @@ inline std::string number_text(double v) {
     char buf[32];
     const auto r = std::to_chars(buf, buf + sizeof buf, v);
     return std::string(buf, r.ptr);
+}
+
+/// A short, printable excerpt of user input for an error line: control characters (newlines,
+/// terminal escape sequences, C1 controls) and bytes that are not UTF-8 are written as escapes
+/// (\n, \t, \x1b, \u009b), and text past `max_chars` characters is cut with "...". Error
+/// lines are one line on a terminal whatever the input held.
+inline std::string excerpt(std::string_view s, std::size_t max_chars = 48) {
+    static constexpr char hex[] = "0123456789abcdef";
+    std::string out;
+    std::size_t chars = 0, i = 0;
+    while (i < s.size()) {
+        if (chars == max_chars) return out + "...";
+        const auto c = static_cast<unsigned char>(s[i]);
+        // The length of a well-formed UTF-8 sequence starting here (0: not one).
+        std::size_t len = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+        if (len > 1) {
+            if (i + len > s.size()) len = 0;
+            for (std::size_t k = 1; k < len; ++k)
+                if ((static_cast<unsigned char>(s[i + k]) & 0xc0) != 0x80) len = 0;
+        }
+        if (len == 1 && c >= 0x20 && c != 0x7f) {
+            out += char(c);
+        } else if (len == 1 && (c == '\n' || c == '\t' || c == '\r')) {
+            out += c == '\n' ? "\\n" : c == '\t' ? "\\t" : "\\r";
+        } else if (len == 2 && c == 0xc2 && static_cast<unsigned char>(s[i + 1]) < 0xa0) {
+            // C1 controls (U+0080..U+009F): some terminals take U+009B as an escape sequence.
+            const auto d = static_cast<unsigned char>(s[i + 1]);
+            out += "\\u00";
+            out += hex[d >> 4];
+            out += hex[d & 15];
+        } else if (len > 1) {
+            out.append(s.substr(i, len));
+        } else {
+            out += "\\x";
+            out += hex[c >> 4];
+            out += hex[c & 15];
+            len = 1;
+        }
+        i += len;
+        ++chars;
+    }
+    return out;
+}
+
+/// `excerpt(s)` in single quotes: what error lines say when they quote input.
+inline std::string quote(std::string_view s, std::size_t max_chars = 48) {
+    return "'" + excerpt(s, max_chars) + "'";
 }
 
 } // namespace fp

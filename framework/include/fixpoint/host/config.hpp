@@ -26,6 +26,7 @@ struct CNode {
     Type type = Type::Null;
     std::string scalar;       ///< Scalar: the text
     bool quoted = false;      ///< Scalar: written in quotes (never a number, bool or null)
+    bool hex_comment = false; ///< Null: its line ends in a comment like "#ff6b6b" (an unquoted colour)
     std::vector<CNode> items; ///< Sequence
     std::vector<std::pair<std::string, CNode>> keys; ///< Map, in file order
     std::vector<Mark> key_marks;                     ///< Map: where each key stands
@@ -37,7 +38,7 @@ struct CNode {
     const CNode* find(const std::string& key) const;
     CNode* find(const std::string& key);
     const Mark* key_mark(const std::string& key) const;
-    /// Short description for messages: "a mapping", "a list", "'abc'".
+    /// Short description for messages: "a mapping", "a list", "'abc'" (an escaped excerpt).
     std::string describe() const;
 };
 
