@@ -205,10 +205,11 @@ TEST(Polygon, SelfIntersectionRefused) {
     // Bow-tie: edge 1 (1, 0)-(0, 1) crosses edge 3 (1, 1)-(0, 0) at (0.5, 0.5).
     expect_refused("{type: polygon, vertices: [[0, 0], [1, 0], [0, 1], [1, 1]]}",
                    "vertices: polygon self-intersects: edges 1 and 3 cross");
-    // A pentagram drawn as 5 vertices: edge 0 crosses edge 2 first.
+    // A pentagram drawn as 5 vertices: every edge crosses two others; the sweep (left to right)
+    // meets edges 1 and 3 first.
     expect_refused("{type: polygon, vertices: [[0, 1], [0.588, -0.809], [-0.951, 0.309], [0.951, 0.309], "
                    "[-0.588, -0.809]]}",
-                   "polygon self-intersects: edges 0 and 2 cross");
+                   "polygon self-intersects: edges 1 and 3 cross");
 }
 
 TEST(Polygon, TooFewVerticesRefused) {
