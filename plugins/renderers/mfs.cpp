@@ -100,8 +100,8 @@ std::string count_text(double c) {
 
 /// Polygons of one generation: n vertices each, and the address of each (len indices).
 struct Gen {
-    std::vector<double> x, y;
-    std::vector<uint32_t> addr;
+    fp_render::Buffer<double> x, y; // written in full before they are read
+    fp_render::Buffer<uint32_t> addr;
     size_t len = 0;
 };
 
@@ -370,29 +370,40 @@ Mfs::Mfs(const fp::ParamBag& p) {
 Gen Mfs::grow(const std::vector<fp::Vec2>& start, size_t levels, bool filters, fp::RenderContext* ctx) const {
     Gen g;
     for (const auto& q : start) g.x.push_back(q.x), g.y.push_back(q.y);
-    std::vector<double> tx, ty;
-    for (size_t l = 0; l < levels; ++l) {
+    // Parents are subdivided a block at a time (one call per map and block): the scratch stays
+    // small, and a cancel is seen within a block's work however large a level grows.
+    constexpr size_t block = 65536;
+    fp_render::Buffer<double> tx, ty;
+    auto poll = [ctx] {
         if (ctx && ctx->cancelled()) throw fp::Cancelled();
+    };
+    for (size_t l = 0; l < levels; ++l) {
+        poll();
         const auto& ifs = systems_[path_[l]];
         const size_t m = g.x.size() / n_, s = ifs.size(), len = l + 1;
         Gen h;
         h.len = len;
         h.x.resize(m * s * n_), h.y.resize(m * s * n_), h.addr.resize(m * s * len);
-        tx.resize(m * n_), ty.resize(m * n_);
-        for (size_t t = 0; t < s; ++t) {
-            // One call per map and level: every parent at once.
-            maps_[ifs[t]]->subdivide({g.x.data(), g.y.data(), m * n_}, {tx.data(), ty.data(), m * n_});
-            for (size_t q = 0; q < m; ++q) {
-                const size_t c = q * s + t;
-                std::copy_n(&tx[q * n_], n_, &h.x[c * n_]);
-                std::copy_n(&ty[q * n_], n_, &h.y[c * n_]);
-                std::copy_n(g.addr.data() + q * l, l, &h.addr[c * len]);
-                h.addr[c * len + l] = ifs[t];
+        tx.resize(std::min(m, block) * n_), ty.resize(std::min(m, block) * n_);
+        for (size_t q0 = 0; q0 < m; q0 += block) {
+            poll();
+            const size_t q1 = std::min(m, q0 + block), k = (q1 - q0) * n_;
+            for (size_t t = 0; t < s; ++t) {
+                maps_[ifs[t]]->subdivide({g.x.data() + q0 * n_, g.y.data() + q0 * n_, k},
+                                         {tx.data(), ty.data(), k});
+                for (size_t q = q0; q < q1; ++q) {
+                    const size_t c = q * s + t;
+                    std::copy_n(&tx[(q - q0) * n_], n_, &h.x[c * n_]);
+                    std::copy_n(&ty[(q - q0) * n_], n_, &h.y[c * n_]);
+                    std::copy_n(g.addr.data() + q * l, l, &h.addr[c * len]);
+                    h.addr[c * len + l] = ifs[t];
+                }
             }
         }
         if (filters && (!placed_.empty() || len <= only_.size())) {
             size_t k = 0;
             for (size_t c = 0; c < m * s; ++c) {
+                if (c % block == 0) poll();
                 const uint32_t* a = &h.addr[c * len];
                 bool keep = len > only_.size() || a[l] == only_[l];
                 if (keep && !placed_.empty())
@@ -476,6 +487,7 @@ fp_mfs::Scene Mfs::scene(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     fp_mfs::Scene sc;
     sc.width = width_, sc.height = height_, sc.view = view_, sc.background = background_, sc.mode = mode_;
     sc.line_width = line_width_, sc.mark_colour = mark_colour_, sc.label_size = label_size_;
+    sc.ctx = &ctx;
     generate(points_, 0, no_first, sc.layers, &ctx, labels_ ? &sc.labels : nullptr);
     if (labels_ && !highlight_.empty()) sc.labels.clear(); // label the highlighted places instead
     for (const auto& a : highlight_) {

@@ -6,6 +6,10 @@
 // antialiasing seam. Cairo draws on one thread, in order: the bytes depend only on the recipe.
 #pragma once
 
+#include "uninitialised.hpp"
+
+#include <fixpoint/errors.hpp>
+#include <fixpoint/render.hpp>
 #include <fixpoint/types.hpp>
 
 #include <cairo-pdf.h>
@@ -14,6 +18,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -25,7 +30,7 @@ enum class DrawMode { Fill, Outline, Points };
 /// with a colour; `order` gives the drawing order of a polygon's vertices.
 struct Layer {
     std::size_t n = 0;
-    std::vector<double> x, y;
+    fp_render::Buffer<double> x, y;
     std::vector<fp::Rgb> colour;
     std::vector<std::size_t> order;
     std::size_t count() const { return n ? x.size() / n : 0; }
@@ -47,7 +52,17 @@ struct Scene {
     std::vector<Label> labels;
     fp::Rgb mark_colour{1, 0, 0};
     double label_size = 14;
+    /// Polled while drawing (a scene of 5e7 polygons takes seconds); null: not cancellable.
+    const fp::RenderContext* ctx = nullptr;
 };
+
+// Cairo objects destroyed on every way out (a cancel throws from the middle of drawing).
+struct CairoDeleter {
+    void operator()(cairo_t* cr) const { cairo_destroy(cr); }
+    void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
+};
+using CairoContext = std::unique_ptr<cairo_t, CairoDeleter>;
+using CairoSurface = std::unique_ptr<cairo_surface_t, CairoDeleter>;
 
 inline void draw_scene(cairo_t* cr, const Scene& s) {
     const double sx = s.width / (s.view.xmax - s.view.xmin), sy = s.height / (s.view.ymax - s.view.ymin);
@@ -79,6 +94,7 @@ inline void draw_scene(cairo_t* cr, const Scene& s) {
         const std::size_t m = L.count();
         std::size_t run = 0;
         for (std::size_t p = 0; p < m; ++p) {
+            if (p % 4096 == 0 && s.ctx && s.ctx->cancelled()) throw fp::Cancelled();
             const fp::Rgb c = L.colour[p];
             if (p == 0 || !(c == L.colour[p - 1]) || run == 65536) {
                 if (p) finish(s.mode);
@@ -116,10 +132,9 @@ inline void draw_scene(cairo_t* cr, const Scene& s) {
 
 /// The scene as 8-bit sRGB values scaled to floats in [0, 1], RGB, top row first.
 inline std::vector<float> raster(const Scene& s) {
-    cairo_surface_t* surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, s.width, s.height);
-    cairo_t* cr = cairo_create(surf);
-    draw_scene(cr, s);
-    cairo_destroy(cr);
+    const CairoSurface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, s.width, s.height));
+    cairo_surface_t* surf = surface.get();
+    draw_scene(CairoContext(cairo_create(surf)).get(), s);
     cairo_surface_flush(surf);
     const unsigned char* data = cairo_image_surface_get_data(surf);
     const int stride = cairo_image_surface_get_stride(surf);
@@ -134,7 +149,6 @@ inline std::vector<float> raster(const Scene& s) {
             o[2] = float(v & 0xff) / 255.0f;
         }
     }
-    cairo_surface_destroy(surf);
     return px;
 }
 
@@ -147,19 +161,18 @@ inline cairo_status_t append_bytes(void* closure, const unsigned char* data, uns
 /// creation date so that the same recipe gives the same bytes) document.
 inline std::string vector_document(const Scene& s, bool pdf, const std::string& recipe) {
     std::string doc;
-    cairo_surface_t* surf = pdf ? cairo_pdf_surface_create_for_stream(append_bytes, &doc, s.width, s.height)
-                                : cairo_svg_surface_create_for_stream(append_bytes, &doc, s.width, s.height);
+    const CairoSurface surface(
+        pdf ? cairo_pdf_surface_create_for_stream(append_bytes, &doc, s.width, s.height)
+            : cairo_svg_surface_create_for_stream(append_bytes, &doc, s.width, s.height));
+    cairo_surface_t* surf = surface.get();
     if (pdf) {
         cairo_pdf_surface_set_metadata(surf, CAIRO_PDF_METADATA_SUBJECT, recipe.c_str());
         cairo_pdf_surface_set_metadata(surf, CAIRO_PDF_METADATA_CREATOR, "fixpoint");
         cairo_pdf_surface_set_metadata(surf, CAIRO_PDF_METADATA_CREATE_DATE, "2000-01-01T00:00:00Z");
     }
-    cairo_t* cr = cairo_create(surf);
-    draw_scene(cr, s);
-    cairo_destroy(cr);
+    draw_scene(CairoContext(cairo_create(surf)).get(), s);
     cairo_surface_finish(surf);
     const cairo_status_t st = cairo_surface_status(surf);
-    cairo_surface_destroy(surf);
     if (st != CAIRO_STATUS_SUCCESS) return {};
     if (!pdf) {
         // After the <svg ...> start tag: the recipe as character data (']]>' split so that

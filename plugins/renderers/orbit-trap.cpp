@@ -149,7 +149,7 @@ private:
     template <class T>
     fp::Image run(fp::RenderContext& ctx, fp::RenderStats& stats) const;
     template <class T>
-    TileStats tile(size_t t, Scratch<T>& s, float* image) const;
+    TileStats tile(size_t t, Scratch<T>& s, float* image, const fp::RenderContext& ctx) const;
 
     int width_ = 512, height_ = 512;
     double cx_ = 0, cy_ = 0, hx_ = 1, hy_ = 1;
@@ -230,7 +230,7 @@ uint64_t OrbitTrap::memory_bytes(unsigned workers) const {
 
 // One tile: pixels [t * tile_pixels, ...) in row-major order, all their samples in one batch.
 template <class T>
-TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image) const {
+TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, const fp::RenderContext& ctx) const {
     const size_t npix = size_t(width_) * size_t(height_);
     const size_t p0 = t * tile_pixels_, p1 = std::min(npix, p0 + tile_pixels_);
     const size_t ns = offsets_.size(), b = (p1 - p0) * ns;
@@ -266,6 +266,9 @@ TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image) const {
     // Picard), until a block is found outside again (then the whole batch is reduced first).
     bool batch_reduce = true;
     for (uint32_t step = 0; step < max_iterations_ && live > 0; ++step) {
+        // Polled within the tile, every 64 steps of the batch: orbits that are never caught run
+        // the whole max_iterations (up to 10^8), far too long to wait for the next tile.
+        if (step % 64 == 63 && ctx.cancelled()) throw fp::Cancelled();
         iteration_->step(*mapping_, fp::Points<T>{s.x.data(), s.y.data(), live}, nullptr, step);
         if (known_trap_) {
             if (batch_reduce) {
@@ -337,7 +340,7 @@ fp::Image OrbitTrap::run(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     std::vector<TileStats> per_tile(tiles);
     ctx.parallel_for(tiles, [&](size_t t, unsigned worker) {
         if (ctx.cancelled()) throw fp::Cancelled();
-        per_tile[t] = tile<T>(t, scratch[worker], img.pixels.data());
+        per_tile[t] = tile<T>(t, scratch[worker], img.pixels.data(), ctx);
         const size_t p0 = t * tile_pixels_;
         ctx.progress(std::min(npix, p0 + tile_pixels_) - p0);
     });

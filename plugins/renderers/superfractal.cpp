@@ -96,6 +96,7 @@
 // ("ifs_probabilities[1]: must be >= 0, got -0.5"), zero buffers ("buffers: must be in
 // [1, 65536], got 0").
 #include "palette.hpp"
+#include "uninitialised.hpp"
 
 #include <fixpoint/fixpoint.hpp>
 
@@ -106,6 +107,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -175,9 +177,13 @@ uint32_t last_positive(const std::vector<double>& cum) {
 }
 
 /// One generation of buffers: B * N points, buffer b at [b * N, (b + 1) * N).
+// Buffers are not zeroed: the start tasks or a step write every element before it is read.
+template <class T>
+using Buffer = fp_render::Buffer<T>;
+
 struct Generation {
-    std::vector<double> x, y;
-    std::vector<float> r, g, b; ///< empty when the colourer needs no colour
+    Buffer<double> x, y;
+    Buffer<float> r, g, b; ///< empty when the colourer needs no colour
 };
 
 class Superfractal final : public fp::Renderer {
@@ -401,12 +407,12 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
 
     Generation gen[2];
     for (auto& g : gen) {
-        g.x.assign(nb * n, 0.0);
-        g.y.assign(nb * n, 0.0);
+        g.x.resize(nb * n);
+        g.y.resize(nb * n);
         if (colour_) {
-            g.r.assign(nb * n, 0.0f);
-            g.g.assign(nb * n, 0.0f);
-            g.b.assign(nb * n, 0.0f);
+            g.r.resize(nb * n);
+            g.g.resize(nb * n);
+            g.b.resize(nb * n);
         }
     }
 
@@ -466,6 +472,7 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
     };
     uint64_t drawn = 0;
     for (size_t i = 0; i < n; ++i) {
+        if (i % (size_t(1) << 20) == 0 && ctx.cancelled()) throw fp::Cancelled();
         const double x = last.x[base + i], y = last.y[base + i];
         if (!(x >= xmin_ && x < xmax_ && y > ymin_ && y <= ymax_)) continue;
         const auto ix = std::min(uint32_t((x - xmin_) * scx), uint32_t(width_ - 1));
