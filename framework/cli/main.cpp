@@ -17,11 +17,13 @@
 #include <spdlog/spdlog.h>
 
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <unistd.h>
 
@@ -50,8 +52,8 @@ struct Options {
     std::string vary;
     int columns = 0;
     unsigned threads = 0;
-    bool quiet = false;
-    long long steps = 1;
+    bool quiet = false, force = false;
+    std::string steps = "1";
     long long level = -1;
 };
 
@@ -67,6 +69,36 @@ Registry make_registry(const Options& o) {
 }
 
 std::string default_output(const std::string& config) { return fs::path(config).stem().string() + ".png"; }
+
+// Where a render writes, and what the user said about it.
+struct Output {
+    std::string path;
+    bool named = false;         // -o on the command line: the user asked for this file
+    const Mark* mark = nullptr; // output.path of the config, for messages
+};
+
+Output resolve_output(const Options& o, const Pipeline& p) {
+    if (!o.out.empty()) return {o.out, true, nullptr};
+    if (!p.output_path.empty()) return {p.output_path, false, &p.output_mark};
+    return {default_output(o.config), false, nullptr};
+}
+
+// check_output, plus the promises about existing files: the config itself is never written
+// over; another existing file only when named with -o or with --force. Errors about a path
+// from the config point at output.path.
+void check_output_for(const Output& out, const Options& o) {
+    try {
+        std::error_code ec;
+        if (fs::equivalent(out.path, o.config, ec))
+            throw InputError("cannot write " + quote(out.path, 200) + ": it is the config being rendered");
+        check_output(out.path);
+        if (!out.named && !o.force && fs::exists(fs::symlink_status(out.path, ec)))
+            throw InputError(quote(out.path, 200) + " exists: name it with -o to replace it, or add --force");
+    } catch (const InputError& e) {
+        if (out.mark) throw InputError(out.mark->str() + ": output.path: " + e.what());
+        throw;
+    }
+}
 
 void check_memory(const Pipeline& p, unsigned threads) {
     const std::uint64_t need = p.renderer->memory_bytes(threads), have = available_memory();
@@ -156,16 +188,32 @@ int cmd_addresses(const Options& o) {
 std::pair<std::string, std::vector<std::string>> parse_vary(const std::string& spec) {
     const auto eq = spec.find('=');
     if (eq == std::string::npos || eq == 0)
-        throw InputError("--vary " + spec + ": expected path.to.param=V1,V2,... or A..B");
+        throw InputError(excerpt("--vary " + spec, 80) + ": expected path.to.param=V1,V2,... or A..B");
     const std::string path = spec.substr(0, eq), rest = spec.substr(eq + 1);
     std::vector<std::string> values;
+    const std::string shown = excerpt("--vary " + spec, 80);
     const auto dots = rest.find("..");
     long long a = 0, b = 0;
-    char tail = 0;
-    if (dots != std::string::npos && std::sscanf(rest.c_str(), "%lld..%lld%c", &a, &b, &tail) == 2) {
-        if (b < a || b - a >= 1000)
-            throw InputError("--vary " + spec + ": a range A..B with A <= B, at most 1000 values");
-        for (long long v = a; v <= b; ++v) values.push_back(std::to_string(v));
+    // A..B with whole numbers A and B (from_chars: no overflow, no trailing text).
+    const auto whole = [](std::string_view t, long long& v) {
+        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+        return !t.empty() && ec == std::errc() && end == t.data() + t.size();
+    };
+    const bool is_range =
+        dots != std::string::npos && rest.find_first_not_of("0123456789-+.") == std::string::npos;
+    if (is_range) {
+        if (!whole(std::string_view(rest).substr(0, dots), a) ||
+            !whole(std::string_view(rest).substr(dots + 2), b))
+            throw InputError(shown + ": a range A..B takes whole numbers from " +
+                             std::to_string(std::numeric_limits<long long>::min()) + " to " +
+                             std::to_string(std::numeric_limits<long long>::max()));
+        // b - a could overflow: compare in unsigned arithmetic after ordering.
+        if (b < a || static_cast<unsigned long long>(b) - static_cast<unsigned long long>(a) >= 1000)
+            throw InputError(shown + ": a range A..B with A <= B, at most 1000 values");
+        for (long long v = a;; ++v) {
+            values.push_back(std::to_string(v));
+            if (v == b) break;
+        }
     } else {
         int depth = 0;
         std::string cur;
@@ -178,11 +226,33 @@ std::pair<std::string, std::vector<std::string>> parse_vary(const std::string& s
         }
         values.push_back(cur);
         for (auto& v : values)
-            if (v.find_first_not_of(' ') == std::string::npos)
-                throw InputError("--vary " + spec + ": an empty value");
+            if (v.find_first_not_of(' ') == std::string::npos) throw InputError(shown + ": an empty value");
     }
-    if (values.size() > 1000) throw InputError("--vary " + spec + ": at most 1000 values");
+    if (values.size() > 1000) throw InputError(shown + ": at most 1000 values");
     return {path, values};
+}
+
+// A collection holds every child's image and then the contact sheet in memory at once, on top
+// of one render at a time: checked as a whole before the first render starts.
+void check_collection_memory(const std::vector<Pipeline>& pipes, unsigned threads, int columns) {
+    std::uint64_t render = 0, held = 0;
+    std::vector<std::pair<int, int>> sizes;
+    for (const auto& p : pipes) {
+        const int w = p.renderer->width(), h = p.renderer->height();
+        render = std::max(render, p.renderer->memory_bytes(threads));
+        held += std::uint64_t(w) * std::uint64_t(h) * 4 * sizeof(float); // an Image, RGBA at most
+        sizes.emplace_back(w, h);
+    }
+    const SheetLayout L = contact_sheet_layout(sizes, columns);
+    // The sheet is drawn in an OpenImageIO buffer and copied out: twice its RGB floats.
+    const std::uint64_t sheet = 2 * std::uint64_t(L.width) * std::uint64_t(L.height) * 3 * sizeof(float);
+    const std::uint64_t need = render + held + sheet, have = available_memory();
+    if (need > have)
+        throw InputError(pipes[0].renderer_mark.str() + ": renderer: a collection of " +
+                         std::to_string(pipes.size()) + " children and their " + std::to_string(L.width) +
+                         "x" + std::to_string(L.height) + " contact sheet needs " + format_bytes(need) +
+                         " of memory with " + std::to_string(threads) + " thread(s); this machine has " +
+                         format_bytes(have) + " available");
 }
 
 std::string child_path(const std::string& sheet, std::size_t k) {
@@ -201,15 +271,17 @@ int cmd_collection(const Options& o, bool validate_only) {
     for (const auto& v : values) pipes.push_back(load_pipeline(reg, o.config, o.sets, path + "=" + v));
     const unsigned threads = o.threads ? o.threads : hardware_threads();
     for (const auto& p : pipes) check_memory(p, threads);
-    const std::string out = !o.out.empty()                  ? o.out
-                            : !pipes[0].output_path.empty() ? pipes[0].output_path
-                                                            : default_output(o.config);
-    check_output(out);
+    check_collection_memory(pipes, threads, o.columns);
+    const Output output = resolve_output(o, pipes[0]);
+    const std::string& out = output.path;
+    check_output_for(output, o);
     if (is_vector(format_for(out)))
         throw InputError("--vary: '" + out +
                          "': a collection is written as PNG, EXR or TIFF images and a contact "
                          "sheet, not as SVG or PDF");
-    for (std::size_t k = 0; k < pipes.size(); ++k) check_output(child_path(out, k + 1));
+    // The children's names come from the sheet's: named with -o, the sheet names them too.
+    for (std::size_t k = 0; k < pipes.size(); ++k)
+        check_output_for({child_path(out, k + 1), output.named, output.mark}, o);
     if (validate_only) {
         if (!o.quiet)
             spdlog::info("{}: valid: a collection of {} children to {}", o.config, pipes.size(), out);
@@ -252,10 +324,9 @@ int cmd_render(const Options& o, bool validate_only) {
     const Pipeline p = load_pipeline(reg, o.config, o.sets);
     const unsigned threads = o.threads ? o.threads : hardware_threads();
     check_memory(p, threads);
-    const std::string out = !o.out.empty()           ? o.out
-                            : !p.output_path.empty() ? p.output_path
-                                                     : default_output(o.config);
-    check_output(out);
+    const Output output = resolve_output(o, p);
+    const std::string& out = output.path;
+    check_output_for(output, o);
     const bool vector = is_vector(format_for(out));
     if (vector && !p.renderer->has_vector_output())
         throw InputError(p.renderer_mark.str() + ": renderer: this renderer has no vector output: write '" +
@@ -284,6 +355,8 @@ int cmd_render(const Options& o, bool validate_only) {
                      stats.restarts == 1 ? "" : "s", stats.bad_values, stats.bad_values == 1 ? "" : "s");
     return 0;
 }
+
+constexpr long long max_eval_steps = 1'000'000'000'000;
 
 std::string range_of(const ParamSpec& s) {
     const bool lo = std::isfinite(s.lo), hi = std::isfinite(s.hi);
@@ -365,7 +438,12 @@ int cmd_eval(const Options& o) {
     auto st = validate(reg, Kind::IterationScheme, parse_yaml(o.scheme, "<scheme>"), "scheme");
     auto t = std::dynamic_pointer_cast<const Transform>(build(reg, *tt));
     auto s = std::dynamic_pointer_cast<const IterationScheme>(build(reg, *st));
-    if (o.steps < 0) throw InputError("--steps: must be >= 0");
+    // Parsed here rather than by CLI11, which clamped an out-of-range count to the largest one.
+    long long steps = 0;
+    const auto [end, ec] = std::from_chars(o.steps.data(), o.steps.data() + o.steps.size(), steps);
+    if (ec != std::errc() || end != o.steps.data() + o.steps.size() || steps < 0 || steps > max_eval_steps)
+        throw InputError("--steps: expected a whole number from 0 to " + std::to_string(max_eval_steps) +
+                         ", got " + quote(o.steps));
     std::vector<double> xs, ys;
     std::string line;
     for (long lineno = 1; std::getline(std::cin, line); ++lineno) {
@@ -384,12 +462,14 @@ int cmd_eval(const Options& o) {
         }
         if (bad || *end1 || *end2 || !std::isfinite(x) || !std::isfinite(y))
             throw InputError("<stdin>:" + std::to_string(lineno) +
-                             ": expected two finite numbers 'x y', got '" + line + "'");
+                             ": expected two finite numbers 'x y', got " + quote(line));
         xs.push_back(x);
         ys.push_back(y);
     }
     Points<double> pts{xs.data(), ys.data(), xs.size()};
-    for (long long n = 0; n < o.steps; ++n) s->step(*t, pts, nullptr, std::uint64_t(n));
+    // No points, nothing to step (a huge --steps once spun here for ever on empty input).
+    if (!xs.empty())
+        for (long long n = 0; n < steps; ++n) s->step(*t, pts, nullptr, std::uint64_t(n));
     for (std::size_t i = 0; i < xs.size(); ++i) std::printf("%.17g %.17g\n", xs[i], ys[i]);
     return 0;
 }
@@ -435,7 +515,11 @@ int main(int argc, char** argv) {
     app.add_option("--plugin-dir", o.plugin_dirs, "Also load plugins from this folder (repeatable)");
 
     auto* render = app.add_subcommand("render", "Render a pipeline to an image");
-    render->add_option("config", o.config, "Pipeline file (YAML)")->required();
+    render
+        ->add_option("config", o.config,
+                     "Pipeline file (YAML), or an image fixpoint wrote: its recipe is rendered (without "
+                     "its output.path)")
+        ->required();
     render->add_option("-o,--output", o.out,
                        "Output image (.png, .exr, .tif; .svg or .pdf for renderers with vector output); "
                        "default: the config's output.path or <config>.png");
@@ -445,6 +529,9 @@ int main(int argc, char** argv) {
                      "Worker threads (default: all cores); the image does not depend on it")
         ->check(CLI::Range(1u, 4096u));
     render->add_flag("-q,--quiet", o.quiet, "No progress bar, no summary");
+    render->add_flag("--force", o.force,
+                     "Replace an existing output that was not named with -o (the config's output.path or "
+                     "the default name)");
     render->add_option("--vary", o.vary,
                        "Render a collection: one child per value (path.to.param=V1,V2,... or A..B), each to "
                        "OUT-<k>.png, and a contact sheet with captions to OUT");
@@ -459,6 +546,7 @@ int main(int argc, char** argv) {
     validate_cmd->add_option("--threads", o.threads, "Threads to check memory for")
         ->check(CLI::Range(1u, 4096u));
     validate_cmd->add_flag("-q,--quiet", o.quiet, "Print nothing when valid");
+    validate_cmd->add_flag("--force", o.force, "Check as render --force would");
     validate_cmd->add_option("--vary", o.vary, "Check every child of a collection (as render --vary)");
 
     auto* plugins = app.add_subcommand("plugins", "List the plugins found");
@@ -473,7 +561,8 @@ int main(int argc, char** argv) {
         ->required();
     eval->add_option("--scheme", o.scheme,
                      "Iteration scheme as a YAML flow mapping (default {type: picard})");
-    eval->add_option("--steps", o.steps, "Steps per point (default 1); step index n counts from 0");
+    eval->add_option("--steps", o.steps,
+                     "Steps per point (default 1, at most 10^12); step index n counts from 0");
 
     auto* recipe = app.add_subcommand("recipe", "Print the recipe embedded in an image");
     recipe->add_option("image", o.image, "Image written by fixpoint")->required();
@@ -523,7 +612,12 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "fixpoint: out of memory\n");
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "fixpoint: internal error: %s\n", e.what());
+        std::fprintf(stderr, "fixpoint: internal error: %s\n", excerpt(e.what(), 400).c_str());
+        return 1;
+    } catch (...) {
+        // A plugin may throw anything; it must not abort the process without a word.
+        std::fprintf(stderr, "fixpoint: internal error: an exception that is not a std::exception (thrown by "
+                             "a plugin?)\n");
         return 1;
     }
     return 1;

@@ -432,6 +432,9 @@ std::shared_ptr<const Object> build(const Registry& reg, const TObject& t) {
         throw;
     } catch (const std::exception& e) {
         throw InternalError(t.path + ": plugin '" + d.name + "' failed: " + e.what());
+    } catch (...) {
+        throw InternalError(t.path + ": plugin '" + d.name +
+                            "' failed with an exception that is not a std::exception");
     }
     auto unread = bag.unread();
     for (const auto& p : t.params) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <functional>
 #include <limits>
 #include <thread>
@@ -23,15 +24,34 @@ struct Sampler {
     double in(double a, double b) { return a + (b - a) * uniform_double(rng); }
 };
 
+const std::string not_std_exception = "an exception that is not a std::exception (throw fp::InputError or "
+                                      "another std::exception)";
+
 // Run `f` twice at once on two threads and once alone; all three must agree.
 template <class F>
 bool same_on_two_threads(F f) {
     auto a = f();
     decltype(a) b, c;
-    std::thread t1([&] { b = f(); });
-    std::thread t2([&] { c = f(); });
+    // An exception escaping a std::thread ends the process: carry it to this thread instead.
+    std::exception_ptr eb, ec;
+    std::thread t1([&] {
+        try {
+            b = f();
+        } catch (...) {
+            eb = std::current_exception();
+        }
+    });
+    std::thread t2([&] {
+        try {
+            c = f();
+        } catch (...) {
+            ec = std::current_exception();
+        }
+    });
     t1.join();
     t2.join();
+    if (eb) std::rethrow_exception(eb);
+    if (ec) std::rethrow_exception(ec);
     return a == b && a == c;
 }
 
@@ -641,6 +661,8 @@ void expect_refused(const Registry& reg, const PluginDescriptor& d, const CNode&
         // refused as it should be
     } catch (const std::exception& e) {
         f.push_back("parameters: " + what + " gave a non-parameter error: " + e.what());
+    } catch (...) {
+        f.push_back("parameters: " + what + " threw " + not_std_exception);
     }
 }
 
@@ -697,6 +719,9 @@ std::vector<std::string> run_conformance(const Registry& reg, const PluginEntry&
     } catch (const std::exception& err) {
         f.push_back(std::string("build: the example does not build: ") + err.what());
         return f;
+    } catch (...) {
+        f.push_back("build: the example does not build: it threw " + not_std_exception);
+        return f;
     }
     // Bad parameters are refused.
     {
@@ -743,8 +768,14 @@ std::vector<std::string> run_conformance(const Registry& reg, const PluginEntry&
             expect_refused(reg, d, n, "NaN in '" + nm + "'", f);
         }
     }
-    auto more = check_object(*obj, d.kind);
-    f.insert(f.end(), more.begin(), more.end());
+    try {
+        auto more = check_object(*obj, d.kind);
+        f.insert(f.end(), more.begin(), more.end());
+    } catch (const std::exception& err) {
+        f.push_back(std::string("checks: the plugin threw: ") + err.what());
+    } catch (...) {
+        f.push_back("checks: the plugin threw " + not_std_exception);
+    }
     return f;
 }
 

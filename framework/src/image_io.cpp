@@ -1,8 +1,10 @@
 // OpenImageIO output and input. Keep spdlog/fmt out of this file (see image_io.hpp).
 #include <fixpoint/errors.hpp>
 #include <fixpoint/host/image_io.hpp>
+#include <fixpoint/text.hpp>
 #include <fixpoint/version.hpp>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
@@ -32,6 +34,14 @@ Format format_for(const std::string& path) {
     if (ext == ".pdf") return Format::Pdf;
     throw InputError("'" + path + "': unknown output format '" + (ext.empty() ? "(no extension)" : ext) +
                      "' (use .png, .exr, .tif, .tiff, .svg or .pdf)");
+}
+
+bool is_recipe_image(const std::string& path) {
+    try {
+        return format_for(path) != Format::Pdf;
+    } catch (const InputError&) {
+        return false;
+    }
 }
 
 static fs::path temp_path_for(const fs::path& target) {
@@ -71,27 +81,22 @@ void write_image(const Image& img, const std::string& path, int bit_depth, const
     spec.attribute("Software", "fixpoint " FIXPOINT_VERSION);
     if (f == Format::Exr) spec.attribute("compression", "zip");
 
-    const fs::path target(path);
-    const fs::path tmp = temp_path_for(target);
     auto out = OIIO::ImageOutput::create(oiio_format);
     if (!out) throw InternalError(std::string("OpenImageIO has no writer for ") + oiio_format);
-    bool ok = out->open(tmp.string(), spec);
+    // OpenImageIO's writers do not all check their writes to a file: past a file-size limit (as
+    // on a full disk) the PNG and EXR writers reported success over a truncated file. So the
+    // image is encoded in memory and written by write_bytes, which checks every write, the
+    // fsync and the close, and leaves nothing behind when one fails.
+    OIIO::Filesystem::IOVecOutput mem;
+    if (!out->supports("ioproxy") || !out->set_ioproxy(&mem))
+        throw InternalError(std::string("OpenImageIO's ") + oiio_format + " writer cannot write to memory");
+    bool ok = out->open(path, spec);
     if (ok) ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
     if (ok) ok = out->close();
-    if (!ok) {
-        const std::string err = out->geterror();
-        out.reset();
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw InputError("cannot write '" + path + "': " + err);
-    }
+    if (!ok) throw InputError("cannot write '" + path + "': " + out->geterror());
     out.reset();
-    std::error_code ec;
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw InputError("cannot write '" + path + "': " + ec.message());
-    }
+    const auto& buf = mem.buffer();
+    write_bytes(reinterpret_cast<const char*>(buf.data()), buf.size(), path);
 }
 
 // The recipe an mfs SVG carries in <metadata id="fixpoint-recipe"> (see plugins/renderers/mfs_draw.hpp).
@@ -118,13 +123,17 @@ static Format format_for_or_png(const std::string& path) {
 }
 
 void write_bytes(const std::string& bytes, const std::string& path) {
+    write_bytes(bytes.data(), bytes.size(), path);
+}
+
+void write_bytes(const char* data, std::size_t size, const std::string& path) {
     const fs::path target(path);
     const fs::path tmp = temp_path_for(target);
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd < 0) throw InputError("cannot write '" + path + "': " + std::strerror(errno));
     std::size_t done = 0;
-    while (done < bytes.size()) {
-        const ssize_t w = ::write(fd, bytes.data() + done, bytes.size() - done);
+    while (done < size) {
+        const ssize_t w = ::write(fd, data + done, size - done);
         if (w < 0 && errno == EINTR) continue;
         if (w <= 0) {
             const std::string err = std::strerror(errno);
@@ -134,8 +143,11 @@ void write_bytes(const std::string& bytes, const std::string& path) {
         }
         done += std::size_t(w);
     }
-    if (::close(fd) != 0) {
-        const std::string err = std::strerror(errno);
+    // fsync, then close: either may be the first to report a full disk.
+    const bool synced = ::fsync(fd) == 0;
+    const std::string sync_err = synced ? "" : std::strerror(errno);
+    if (::close(fd) != 0 || !synced) {
+        const std::string err = synced ? std::strerror(errno) : sync_err;
         ::unlink(tmp.c_str());
         throw InputError("cannot write '" + path + "': " + err);
     }
@@ -148,6 +160,12 @@ void write_bytes(const std::string& bytes, const std::string& path) {
 }
 
 std::string read_recipe(const std::string& path) {
+    // A device or a pipe (/dev/zero) would be read for ever: a recipe lives in a file.
+    std::error_code ec;
+    const auto st = fs::status(path, ec);
+    if (ec) throw InputError("cannot read " + quote(path, 200) + ": " + ec.message());
+    if (!fs::is_regular_file(st))
+        throw InputError("cannot read " + quote(path, 200) + ": not a regular file");
     if (format_for_or_png(path) == Format::Svg) return read_svg_recipe(path);
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw InputError("cannot read '" + path + "': " + OIIO::geterror());
@@ -174,18 +192,34 @@ Image read_image(const std::string& path) {
     return img;
 }
 
+SheetLayout contact_sheet_layout(const std::vector<std::pair<int, int>>& sizes, int columns) {
+    SheetLayout L;
+    const int n = int(sizes.size());
+    for (const auto& [w, h] : sizes)
+        L.cell_width = std::max(L.cell_width, w), L.cell_height = std::max(L.cell_height, h);
+    if (columns <= 0) columns = int(std::ceil(std::sqrt(double(n))));
+    L.columns = std::max(1, std::min(columns, n));
+    const int rows = (n + L.columns - 1) / L.columns;
+    L.gap = std::max(2, L.cell_width / 64);
+    L.bar = std::max(18, std::min(48, L.cell_height / 10)); // caption bar under each child
+    L.width = std::int64_t(L.columns) * L.cell_width + std::int64_t(L.columns + 1) * L.gap;
+    L.height = std::int64_t(rows) * (L.cell_height + L.bar) + std::int64_t(rows + 1) * L.gap;
+    return L;
+}
+
 Image contact_sheet(const std::vector<Image>& children, const std::vector<std::string>& captions, int columns,
                     bool* captions_drawn) {
     const int n = int(children.size());
     if (n == 0) throw InternalError("contact sheet of no images");
-    int cw = 0, ch = 0;
-    for (const auto& c : children) cw = std::max(cw, c.width), ch = std::max(ch, c.height);
-    if (columns <= 0) columns = int(std::ceil(std::sqrt(double(n))));
-    columns = std::min(columns, n);
-    const int rows = (n + columns - 1) / columns;
-    const int gap = std::max(2, cw / 64);
-    const int bar = std::max(18, std::min(48, ch / 10)); // caption bar under each child
-    const int W = columns * cw + (columns + 1) * gap, H = rows * (ch + bar) + (rows + 1) * gap;
+    std::vector<std::pair<int, int>> sizes;
+    for (const auto& c : children) sizes.emplace_back(c.width, c.height);
+    const SheetLayout L = contact_sheet_layout(sizes, columns);
+    if (L.width > 1'000'000 || L.height > 1'000'000)
+        throw InputError("a contact sheet of " + std::to_string(L.width) + "x" + std::to_string(L.height) +
+                         " pixels is too large");
+    const int cw = L.cell_width, ch = L.cell_height, gap = L.gap, bar = L.bar;
+    columns = L.columns;
+    const int W = int(L.width), H = int(L.height);
     OIIO::ImageBuf sheet(OIIO::ImageSpec(W, H, 3, OIIO::TypeDesc::FLOAT));
     OIIO::ImageBufAlgo::zero(sheet);
     const char* font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";

@@ -1,4 +1,5 @@
 // The top level of a config file.
+#include <fixpoint/host/image_io.hpp>
 #include <fixpoint/host/pipeline.hpp>
 #include <fixpoint/text.hpp>
 #include <fixpoint/version.hpp>
@@ -9,12 +10,23 @@ namespace fp::host {
 
 Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets,
                        const std::string& vary) {
-    CNode root = load_yaml_file(path);
+    const bool image = is_recipe_image(path);
+    CNode root = image ? parse_yaml(read_recipe(path), path) : load_yaml_file(path);
     if (root.type == CNode::Type::Null)
         root = map_node(), root.mark = Mark{std::make_shared<const std::string>(path), 1, 1};
+    if (image)
+        if (CNode* out = root.find("output"); out && out->is_map())
+            for (std::size_t i = 0; i < out->keys.size(); ++i)
+                if (out->keys[i].first == "path") {
+                    out->keys.erase(out->keys.begin() + std::ptrdiff_t(i));
+                    out->key_marks.erase(out->key_marks.begin() + std::ptrdiff_t(i));
+                    break;
+                }
     for (const auto& s : sets) apply_override(root, s);
     if (!vary.empty()) apply_override(root, vary, "--vary");
-    return load_pipeline(reg, std::move(root));
+    Pipeline p = load_pipeline(reg, std::move(root));
+    p.from_image = image;
+    return p;
 }
 
 Pipeline load_pipeline(const Registry& reg, CNode root) {
@@ -40,6 +52,7 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
             if (k == "path") {
                 if (!v.is_scalar()) fail(v.mark, "output.path: expected a file name, got " + v.describe());
                 p.output_path = v.scalar;
+                p.output_mark = v.mark;
             } else if (k == "bit_depth") {
                 if (!v.is_scalar() || (v.scalar != "8" && v.scalar != "16"))
                     fail(v.mark, "output.bit_depth: must be 8 or 16, got " + v.describe());

@@ -1,5 +1,6 @@
 // Plugin registry: discovery, ABI check, duplicate names, lifetime.
 #include <fixpoint/host/registry.hpp>
+#include <fixpoint/text.hpp>
 
 #include <boost/dll/shared_library.hpp>
 
@@ -27,7 +28,14 @@ std::vector<fs::path> Registry::default_dirs() {
             const auto colon = s.find(':', start);
             const std::string part =
                 s.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
-            if (!part.empty()) dirs.emplace_back(part);
+            if (!part.empty()) {
+                // A folder the user named that is not there is a mistake to report, not to skip.
+                std::error_code ec2;
+                if (!fs::is_directory(part, ec2))
+                    throw InputError("FIXPOINT_PLUGIN_PATH: " + quote(part, 200) + " is not a folder" +
+                                     (ec2 ? " (" + ec2.message() + ")" : ""));
+                dirs.emplace_back(part);
+            }
             if (colon == std::string::npos) break;
             start = colon + 1;
         }
@@ -38,11 +46,35 @@ std::vector<fs::path> Registry::default_dirs() {
 void Registry::load_dir(const fs::path& dir) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) return;
+    const auto unreadable = [&dir](const std::error_code& e) {
+        return InputError("cannot read plugin folder " + quote(dir.string(), 200) + ": " + e.message());
+    };
     std::vector<fs::path> files;
-    for (const auto& e : fs::directory_iterator(dir, ec))
-        if (e.path().extension() == ".so" && e.is_regular_file()) files.push_back(e.path());
+    fs::directory_iterator it(dir, ec);
+    if (ec) throw unreadable(ec);
+    for (; it != fs::directory_iterator(); it.increment(ec)) {
+        if (ec) throw unreadable(ec);
+        if (it->path().extension() != ".so") continue;
+        // Follows links: a link loop or a dangling link named .so is an error of its own.
+        const bool regular = it->is_regular_file(ec);
+        if (ec)
+            throw InputError("cannot load plugin " + quote(it->path().string(), 200) + ": " + ec.message());
+        if (regular) files.push_back(it->path());
+    }
+    if (ec) throw unreadable(ec);
     std::sort(files.begin(), files.end()); // a fixed order: messages do not depend on the file system
     for (const auto& f : files) load_file(f);
+}
+
+// Boost.DLL 1.74 wraps dlerror() as "boost::dll::shared_library::load() failed (dlerror system
+// message: FILE: REASON): Bad file descriptor", the last part a stale errno: keep REASON.
+static std::string dlopen_reason(const std::string& what, const std::string& file) {
+    const std::string open = "(dlerror system message: ";
+    const auto a = what.find(open), b = what.rfind(')');
+    if (a == std::string::npos || b == std::string::npos || b < a) return excerpt(what, 200);
+    std::string r = what.substr(a + open.size(), b - a - open.size());
+    if (r.rfind(file + ": ", 0) == 0) r.erase(0, file.size() + 2);
+    return excerpt(r, 200);
 }
 
 static bool kebab(const char* s) {
@@ -65,7 +97,7 @@ const PluginEntry& Registry::load_file(const fs::path& file) {
         // Local binding: with global binding one plugin's helpers silently replace another's.
         lib->load(path, boost::dll::load_mode::rtld_now | boost::dll::load_mode::rtld_local);
     } catch (const std::exception& e) {
-        throw InputError("cannot load plugin '" + f + "': " + e.what());
+        throw InputError("cannot load plugin '" + f + "': " + dlopen_reason(e.what(), f));
     }
     if (!lib->has("fixpoint_abi") || !lib->has("fixpoint_descriptor"))
         throw InputError("'" + f +

@@ -3,11 +3,18 @@
 // output; nothing crashes, hangs or overwrites what it was not asked to.
 #include "cli.hpp"
 
+#include <fixpoint/host/image_io.hpp>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <vector>
 
 using fp::test::run_bad_input;
@@ -100,6 +107,327 @@ TEST(Hardening, SetMadeMappingsHaveAPosition) {
     EXPECT_EQ(run_bad_input("set_position_null", "renderer:\n",
                             {"validate", "bad.yaml", "--set", "renderer.type=chaos-game"}),
               "bad.yaml:1:1: renderer: missing required parameter 'maps' for chaos-game");
+}
+
+} // namespace
+
+namespace {
+
+// A shell command run in `dir` (bash, for ulimit and trap); its exit code and what it wrote to
+// standard error.
+struct Shell {
+    int rc = -1;
+    std::string err;
+};
+Shell shell(const std::string& dir, const std::string& command) {
+    const std::string err_file = dir + "/.stderr";
+    const std::string full =
+        "cd '" + dir + "' && bash -c '" + command + "' 2>'" + err_file + "' >/dev/null </dev/null";
+    const int status = std::system(full.c_str());
+    Shell r;
+    r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.err = fp::test::read_file(err_file);
+    std::filesystem::remove(err_file);
+    return r;
+}
+
+std::vector<std::string> files_in(const std::string& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+const std::string bin = FIXPOINT_BIN;
+
+// A PNG written to a full disk once reported success over a truncated file. The file-size limit
+// (SIGXFSZ ignored) makes every write past 4 KiB fail with EFBIG, as a full disk fails it.
+TEST(Hardening, AFailedPngWriteIsAnErrorAndLeavesNothing) {
+    const std::string dir = fp::test::scratch_dir("png_full_disk");
+    // 256 x 256 with many points: every format's file is larger than the limit.
+    fp::test::write_file(
+        dir + "/c.yaml",
+        fp::test::replace_once(fp::test::replace_once(fp::test::replace_once(base, "width: 64", "width: 256"),
+                                                      "height: 64", "height: 256"),
+                               "points: 20000", "points: 400000"));
+    for (const char* ext : {"png", "tif", "exr"}) {
+        const auto r =
+            shell(dir, "trap \"\" XFSZ; ulimit -f 4; exec " + bin + " render -q c.yaml -o out." + ext);
+        EXPECT_EQ(r.rc, 2) << ext << ": " << r.err;
+        EXPECT_EQ(r.err.rfind(std::string("cannot write 'out.") + ext + "': ", 0), 0u) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_EQ(files_in(dir), std::vector<std::string>{"c.yaml"}) << ext;
+    }
+    // Without the limit the same render writes.
+    const auto r = shell(dir, "exec " + bin + " render -q c.yaml -o out.png");
+    EXPECT_EQ(r.rc, 0) << r.err;
+}
+
+// Output is never overwritten unless asked: -o names it, or --force.
+TEST(Hardening, AnExistingOutputIsReplacedOnlyWhenAsked) {
+    const std::string dir = fp::test::scratch_dir("no_overwrite");
+    fp::test::write_file(dir + "/c.yaml", base + "output: {path: mine.png}\n");
+    fp::test::write_file(dir + "/mine.png", "precious");
+    auto r = run_cli({"render", "-q", dir + "/c.yaml"});
+    EXPECT_EQ(r.rc, 0) << r.err; // output.path is relative to the working folder, not the config's
+    const std::string cwd_copy = "mine.png";
+    std::filesystem::remove(cwd_copy);
+    // From the config's own folder: output.path exists.
+    auto s = shell(dir, "exec " + bin + " render -q c.yaml");
+    EXPECT_EQ(s.rc, 2);
+    EXPECT_EQ(
+        s.err,
+        "c.yaml:11:16: output.path: 'mine.png' exists: name it with -o to replace it, or add --force\n");
+    EXPECT_EQ(fp::test::read_file(dir + "/mine.png"), "precious");
+    s = shell(dir, "exec " + bin + " validate -q c.yaml");
+    EXPECT_EQ(s.rc, 2);
+    // The default name (config stem + .png) likewise.
+    fp::test::write_file(dir + "/d.yaml", base);
+    fp::test::write_file(dir + "/d.png", "precious");
+    s = shell(dir, "exec " + bin + " render -q d.yaml");
+    EXPECT_EQ(s.err, "'d.png' exists: name it with -o to replace it, or add --force\n");
+    EXPECT_EQ(fp::test::read_file(dir + "/d.png"), "precious");
+    // Asked: --force, or -o.
+    s = shell(dir, "exec " + bin + " render -q d.yaml --force");
+    EXPECT_EQ(s.rc, 0) << s.err;
+    EXPECT_NE(fp::test::read_file(dir + "/d.png"), "precious");
+    s = shell(dir, "exec " + bin + " render -q c.yaml -o mine.png");
+    EXPECT_EQ(s.rc, 0) << s.err;
+    EXPECT_NE(fp::test::read_file(dir + "/mine.png"), "precious");
+}
+
+// -o naming the config itself once overwrote the config (with --force too, never); a config
+// may be an image, whose recipe is rendered.
+TEST(Hardening, TheConfigIsNeverItsOwnOutput) {
+    const std::string dir = fp::test::scratch_dir("config_as_output");
+    fp::test::write_file(dir + "/c.yaml", base);
+    auto s = shell(dir, "exec " + bin + " render -q c.yaml -o c.png");
+    ASSERT_EQ(s.rc, 0) << s.err;
+    const std::string image = fp::test::read_file(dir + "/c.png");
+    for (const std::string extra : {"", " --force"}) {
+        s = shell(dir, "exec " + bin + " render -q c.png -o ./c.png" + extra);
+        EXPECT_EQ(s.rc, 2) << s.err;
+        EXPECT_EQ(s.err, "cannot write './c.png': it is the config being rendered\n");
+        EXPECT_EQ(fp::test::read_file(dir + "/c.png"), image);
+    }
+}
+
+// A recipe inside an image from elsewhere once chose where fixpoint wrote (its output.path).
+TEST(Hardening, ARecipeFromAnImageDoesNotChooseTheOutput) {
+    const std::string dir = fp::test::scratch_dir("recipe_output");
+    fp::test::write_file(dir + "/c.yaml", base);
+    auto s = shell(dir, "exec " + bin + " render -q c.yaml -o first.png");
+    ASSERT_EQ(s.rc, 0) << s.err;
+    // Forge an image whose recipe writes over victim.png (fixpoint never writes output.path into
+    // a recipe; another program could).
+    fp::test::write_file(dir + "/victim.png", "precious");
+    const std::string recipe = run_cli({"recipe", dir + "/first.png"}).out;
+    const fp::Image pixels = fp::host::read_image(dir + "/first.png");
+    fp::host::write_image(pixels, dir + "/forged.png", 8,
+                          fp::test::replace_once(recipe, "output:\n", "output:\n  path: victim.png\n"));
+    // Rendering the forged image's recipe: output.path is dropped; the default name is used.
+    s = shell(dir, "exec " + bin + " render -q forged.png");
+    EXPECT_EQ(s.rc, 2) << s.err; // the default, forged.png, is the image itself
+    EXPECT_EQ(s.err, "cannot write 'forged.png': it is the config being rendered\n");
+    s = shell(dir, "exec " + bin + " render -q forged.png -o again.png");
+    EXPECT_EQ(s.rc, 0) << s.err;
+    EXPECT_EQ(fp::test::read_file(dir + "/victim.png"), "precious");
+    // The image renders to the same bytes as its source.
+    EXPECT_EQ(fp::test::read_file(dir + "/again.png"), fp::test::read_file(dir + "/first.png"));
+    // Its recipe printed as a YAML file keeps output.path, but may not overwrite either.
+    s = shell(dir, bin + " recipe forged.png > again.yaml && exec " + bin + " render -q again.yaml");
+    EXPECT_EQ(s.rc, 2);
+    EXPECT_EQ(s.err.rfind("again.yaml:", 0), 0u) << s.err;
+    EXPECT_NE(
+        s.err.find(": output.path: 'victim.png' exists: name it with -o to replace it, or add --force\n"),
+        std::string::npos)
+        << s.err;
+    EXPECT_EQ(fp::test::read_file(dir + "/victim.png"), "precious");
+}
+
+TEST(Hardening, RecipeOfADeviceReturnsAtOnce) {
+    const auto r = run_cli({"recipe", "/dev/zero"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "cannot read '/dev/zero': not a regular file\n");
+}
+
+// eval once spun for ever with a huge --steps and no points, and clamped an out-of-range count.
+TEST(Hardening, EvalStepsAreBoundedAndEmptyInputReturns) {
+    const std::string t = "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}";
+    auto r = run_cli({"eval", t, "--steps", "1000000000000"}, "");
+    EXPECT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(r.out, "");
+    r = run_cli({"eval", t, "--steps", "99999999999999999999"}, "0.1 0.2\n");
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err,
+              "--steps: expected a whole number from 0 to 1000000000000, got '99999999999999999999'\n");
+    r = run_cli({"eval", t, "--steps", "-1"}, "0.1 0.2\n");
+    EXPECT_EQ(r.rc, 2);
+    r = run_cli({"eval", t, "--steps", "3"}, "1 2\n");
+    EXPECT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(r.out, "0.125 0.25\n");
+}
+
+// --vary A..B once overflowed past 64 bits and grew memory without bound; a collection was
+// checked for memory child by child, never as a whole with its contact sheet.
+TEST(Hardening, VaryRangesAndCollectionsAreBounded) {
+    const std::string dir = fp::test::scratch_dir("vary_bounds");
+    fp::test::write_file(dir + "/c.yaml", base);
+    const std::string c = dir + "/c.yaml";
+    auto r = run_cli({"validate", c, "--vary", "renderer.seed=-9223372036854775808..9223372036854775807"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err,
+              "--vary renderer.seed=-9223372036854775808..9223372036854775807: a range A..B with A <= B, at "
+              "most 1000 values\n");
+    r = run_cli({"validate", c, "--vary", "renderer.seed=1..99999999999999999999"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "--vary renderer.seed=1..99999999999999999999: a range A..B takes whole numbers from "
+                     "-9223372036854775808 to 9223372036854775807\n");
+    r = run_cli({"validate", c, "--vary", "renderer.seed=9223372036854775806..9223372036854775807", "-o",
+                 dir + "/s.png"});
+    EXPECT_EQ(r.rc, 0) << r.err;
+    // 1000 children of 4096 x 4096: each fits, the collection does not.
+    r = run_cli({"validate", c, "--vary", "renderer.seed=1..1000", "--set", "renderer.width=4096", "--set",
+                 "renderer.height=4096", "-o", dir + "/s.png"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err.rfind(c + ":2:3: renderer: a collection of 1000 children and their ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(" contact sheet needs "), std::string::npos) << r.err;
+}
+
+// One polygon of 40 000 vertices took 17.6 s to validate (every pair of edges tested). Under a
+// CPU-time limit far above what validation now takes, 100 000 vertices must validate.
+TEST(Hardening, ValidatingAHugePolygonIsNotQuadratic) {
+    const std::string dir = fp::test::scratch_dir("huge_polygon");
+    std::string yaml =
+        "renderer:\n  type: chaos-game\n  maps:\n    - {type: inversion, shape: {type: polygon, vertices: [";
+    const int n = 100000;
+    for (int i = 0; i < n; ++i) {
+        const double a = 2 * 3.141592653589793 * i / n;
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%s[%.9f, %.9f]", i ? ", " : "", std::cos(a), std::sin(a));
+        yaml += buf;
+    }
+    yaml += "]}}\n";
+    fp::test::write_file(dir + "/p.yaml", yaml);
+    const auto s = shell(dir, "ulimit -t 60; exec " + bin + " validate -q p.yaml -o p.png");
+    EXPECT_EQ(s.rc, 0) << s.err;
+}
+
+// Plugin folders: a link loop, a folder that cannot be read and a FIXPOINT_PLUGIN_PATH entry
+// that is not there are clear errors (once: exit 1, or silently ignored); a file that is no
+// library says why without Boost.DLL's stale errno (": Bad file descriptor").
+TEST(Hardening, PluginFolderProblemsAreReported) {
+    const std::string dir = fp::test::scratch_dir("plugin_folders");
+    std::filesystem::create_directories(dir + "/loop");
+    std::filesystem::create_symlink("loop.so", dir + "/loop/loop.so");
+    auto r = run_cli({"--plugin-dir", dir + "/loop", "plugins"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "cannot load plugin '" + dir + "/loop/loop.so': Too many levels of symbolic links\n");
+
+    std::filesystem::create_directories(dir + "/junk");
+    fp::test::write_file(dir + "/junk/junk.so", "not a library");
+    r = run_cli({"--plugin-dir", dir + "/junk", "plugins"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "cannot load plugin '" + dir + "/junk/junk.so': file too short\n");
+
+    auto s = shell(dir, "FIXPOINT_PLUGIN_PATH=" + dir + "/absent exec " + bin + " plugins");
+    EXPECT_EQ(s.rc, 2);
+    EXPECT_EQ(s.err,
+              "FIXPOINT_PLUGIN_PATH: '" + dir + "/absent' is not a folder (No such file or directory)\n");
+
+    // A folder its user cannot list (as root, through an unprivileged user, as root reads all).
+    std::filesystem::create_directories(dir + "/closed");
+    std::filesystem::permissions(dir + "/closed", std::filesystem::perms::none);
+    const std::string as_user = geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "";
+    s = shell(dir, as_user + bin + " --plugin-dir " + dir + "/closed plugins");
+    EXPECT_EQ(s.rc, 2) << s.err;
+    EXPECT_EQ(s.err, "cannot read plugin folder '" + dir + "/closed': Permission denied\n");
+    std::filesystem::permissions(dir + "/closed", std::filesystem::perms::owner_all);
+}
+
+// A plugin that throws something other than a std::exception once aborted the process, in a
+// render and in the conformance suite.
+TEST(Hardening, APluginThrowingANonStandardExceptionIsReported) {
+    const std::string fixtures = std::string(FIXPOINT_FIXTURES) + "/throws";
+    const std::string dir = fp::test::scratch_dir("throws_int");
+    const std::string yaml =
+        "renderer:\n  type: chaos-game\n  width: 32\n  height: 32\n  points: 1000\n  maps:\n"
+        "    - {type: inversion, shape: {type: throws-int, when: WHEN}}\n";
+    fp::test::write_file(dir + "/build.yaml", fp::test::replace_once(yaml, "WHEN", "build"));
+    fp::test::write_file(dir + "/inside.yaml", fp::test::replace_once(yaml, "WHEN", "inside"));
+    auto r = run_cli({"--plugin-dir", fixtures, "render", "-q", dir + "/build.yaml", "-o", dir + "/o.png"});
+    EXPECT_EQ(r.rc, 1);
+    EXPECT_EQ(r.err, "fixpoint: internal error: renderer.maps[0].shape: plugin 'throws-int' failed with an "
+                     "exception that is not a std::exception\n");
+    r = run_cli({"--plugin-dir", fixtures, "render", "-q", dir + "/inside.yaml", "-o", dir + "/o.png"});
+    EXPECT_EQ(r.rc, 1);
+    EXPECT_EQ(r.err,
+              "fixpoint: internal error: an exception that is not a std::exception (thrown by a plugin?)\n");
+    EXPECT_FALSE(std::filesystem::exists(dir + "/o.png"));
+    r = run_cli({"--plugin-dir", fixtures, "conformance", fixtures + "/throws-int.so"});
+    EXPECT_EQ(r.rc, 1);
+    EXPECT_NE(r.out.find("FAIL throws-int"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("not a std::exception"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("0 passed, 1 failed"), std::string::npos) << r.out;
+}
+
+} // namespace
+
+namespace {
+
+// Ctrl-C (SIGINT) after `delay` seconds of a render: how long the CLI takes to exit after it,
+// and its exit code (130: interrupted, nothing written).
+std::pair<double, int> interrupt_after(const std::string& dir, const std::string& config, double delay) {
+    const std::string cmd =
+        bin + " render -q " + config + " -o out.png & pid=$!; sleep " + std::to_string(delay) +
+        "; t0=$(date +%s%N); kill -INT $pid; wait $pid; rc=$?; t1=$(date +%s%N); echo $(( (t1 - "
+        "t0) / 1000000 )) $rc >&2";
+    const auto s = shell(dir, cmd);
+    int ms = -1, rc = -1;
+    std::sscanf(s.err.c_str() + (s.err.rfind('\n', s.err.size() - 2) == std::string::npos
+                                     ? 0
+                                     : s.err.rfind('\n', s.err.size() - 2) + 1),
+                "%d %d", &ms, &rc);
+    return {ms / 1000.0, rc};
+}
+
+// Cancel is polled within bounded work in every renderer: an orbit-trap tile whose orbits are
+// never caught once ran its whole max_iterations (never honoured); a superfractal zeroed its
+// buffers and an mfs its levels in memsets no poll could interrupt (10-16 s).
+TEST(Hardening, InterruptIsPromptInEveryRenderer) {
+    const std::string dir = fp::test::scratch_dir("interrupt");
+    fp::test::write_file(dir + "/orbit.yaml", R"(renderer:
+  type: orbit-trap
+  width: 64
+  height: 64
+  max_iterations: 100000000
+  mapping: {type: wallpaper, group: p4m, seed: 3}
+  traps: {type: circles, centres: [[100, 100]], radii: [0.001]}
+)");
+    fp::test::write_file(dir + "/super.yaml", R"(renderer:
+  type: superfractal
+  points_per_buffer: 20000000
+  steps: 1000
+  maps:
+    - {type: affine, coefficients: [0.5, 0.375, 0.5, -0.375, -0.0625, 0.5625]}
+    - {type: affine, coefficients: [0.5, -0.375, -0.5, -0.375, 0.5625, 1.0625]}
+)");
+    const std::string tri =
+        "{type: subdivision, points: [[0, 0], [1, 0], [0.5, 0.6666666666666666]], divisor: 2, "
+        "S: [2, 0, 0, 1, 1, 0, 1, 0, 1]}";
+    fp::test::write_file(dir + "/mfs.yaml",
+                         "renderer:\n  type: mfs\n  path: [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, "
+                         "0, 0]\n  maps:\n    - " +
+                             tri + "\n    - " + tri + "\n    - " + tri + "\n");
+    for (const char* config : {"orbit.yaml", "super.yaml", "mfs.yaml"})
+        for (double delay : {0.5, 1.5}) {
+            const auto [secs, rc] = interrupt_after(dir, config, delay);
+            EXPECT_EQ(rc, 130) << config << " after " << delay << " s";
+            // Measured here: under 0.4 s. The bound leaves room for a loaded or sanitized run.
+            EXPECT_LT(secs, 3.0) << config << " after " << delay << " s";
+            EXPECT_FALSE(std::filesystem::exists(dir + "/out.png")) << config;
+        }
 }
 
 } // namespace

@@ -2,6 +2,9 @@
 // their own fmt with exceptions turned off, which must not meet spdlog's fmt.
 #pragma once
 
+#include <cstdint>
+#include <utility>
+
 #include <fixpoint/render.hpp>
 
 #include <string>
@@ -13,6 +16,9 @@ enum class Format { Png, Exr, Tiff, Svg, Pdf };
 
 /// SVG and PDF: written by renderers with vector output (Renderer::render_vector).
 inline bool is_vector(Format f) { return f == Format::Svg || f == Format::Pdf; }
+
+/// Whether `path` names an image whose recipe can be rendered (.png, .exr, .tif, .tiff, .svg).
+bool is_recipe_image(const std::string& path);
 
 /// The format for an output path's extension (.png, .exr, .tif, .tiff, .svg, .pdf; any case).
 /// Throws fp::InputError for anything else.
@@ -29,6 +35,7 @@ void write_image(const Image& img, const std::string& path, int bit_depth, const
 
 /// Write a whole file (a vector document) atomically, as write_image does. Throws fp::InputError.
 void write_bytes(const std::string& bytes, const std::string& path);
+void write_bytes(const char* data, std::size_t size, const std::string& path);
 
 /// The recipe embedded in an image written by fixpoint. Throws fp::InputError.
 std::string read_recipe(const std::string& path);
@@ -39,6 +46,13 @@ Image read_image(const std::string& path);
 /// A contact sheet: the children in a grid of `columns` (0: about square), each with its
 /// caption in a bar beneath it (DejaVu Sans when installed, else OpenImageIO's default font; no
 /// caption, and `captions_drawn` false, when no font can be found).
+/// The geometry of a contact sheet of children of these sizes (64-bit: a sheet can be huge).
+struct SheetLayout {
+    int cell_width = 0, cell_height = 0, columns = 1, gap = 2, bar = 18;
+    std::int64_t width = 0, height = 0;
+};
+SheetLayout contact_sheet_layout(const std::vector<std::pair<int, int>>& sizes, int columns);
+
 Image contact_sheet(const std::vector<Image>& children, const std::vector<std::string>& captions, int columns,
                     bool* captions_drawn = nullptr);
 

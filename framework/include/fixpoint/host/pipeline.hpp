@@ -20,15 +20,18 @@ struct Pipeline {
     std::shared_ptr<const Renderer> renderer;
     Mark renderer_mark;
     std::string output_path; ///< from the config; empty when not given
+    Mark output_mark;        ///< where output.path stands (for messages about it)
+    bool from_image = false; ///< the config is the recipe of an image (its output.path is dropped)
     int bit_depth = 8;
     /// The resolved recipe: every default filled in, the version; no output path (so that
     /// rendering a recipe gives the same bytes whatever it is written to).
     std::string recipe;
 };
 
-/// Parse, apply the overrides, validate, build.
 /// Parse, apply the overrides (`sets`, then `vary`: one more assignment from --vary), validate,
-/// build.
+/// build. `path` may name an image fixpoint wrote (PNG, EXR, TIFF, SVG): its recipe is the
+/// config, without the recipe's output.path (an image from elsewhere does not choose where
+/// fixpoint writes).
 Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets,
                        const std::string& vary = "");
 Pipeline load_pipeline(const Registry& reg, CNode root);
