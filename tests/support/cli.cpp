@@ -3,40 +3,134 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <poll.h>
-#include <spawn.h>
 #include <sstream>
 #include <stdexcept>
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <thread>
 #include <unistd.h>
 
 extern char** environ;
 
 namespace fp::test {
 
-CliResult run_cli(const std::vector<std::string>& args, const std::string& input) {
-    int in[2], out[2], err[2];
-    if (pipe(in) || pipe(out) || pipe(err)) throw std::runtime_error("pipe failed");
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_adddup2(&fa, in[0], 0);
-    posix_spawn_file_actions_adddup2(&fa, out[1], 1);
-    posix_spawn_file_actions_adddup2(&fa, err[1], 2);
-    for (int fd : {in[0], in[1], out[0], out[1], err[0], err[1]}) posix_spawn_file_actions_addclose(&fa, fd);
+namespace {
+
+// The CLI under test is built with the same flags as this file (one build folder, one set
+// of flags), so this tells whether the CLI runs under ASan.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool asan_build = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool asan_build = true;
+#else
+constexpr bool asan_build = false;
+#endif
+#else
+constexpr bool asan_build = false;
+#endif
+
+// The child's environment: ours, with the limit handed to ASan in an ASan build (options
+// appended last win over the user's own ASAN_OPTIONS).
+std::vector<std::string> child_environment(const CliLimits& limits) {
+    std::vector<std::string> env;
+    for (char** e = environ; *e; ++e) env.emplace_back(*e);
+    if (asan_build && limits.address_space) {
+        const std::string cap = "max_allocation_size_mb=" +
+                                std::to_string(std::max<std::uint64_t>(1, limits.address_space >> 20));
+        auto it = std::find_if(env.begin(), env.end(),
+                               [](const std::string& v) { return v.starts_with("ASAN_OPTIONS="); });
+        if (it == env.end())
+            env.push_back("ASAN_OPTIONS=" + cap);
+        else
+            *it += (it->size() > std::strlen("ASAN_OPTIONS=") ? ":" : "") + cap;
+    }
+    return env;
+}
+
+// Make `fd` the child's `target` descriptor, open across exec (every pipe end is close-on-exec).
+void move_fd(int fd, int target) {
+    if (fd == target)
+        fcntl(fd, F_SETFD, 0);
+    else
+        dup2(fd, target);
+}
+
+} // namespace
+
+bool cli_address_space_limited() { return !asan_build; }
+
+std::uint64_t default_cli_address_space() {
+    const std::uint64_t threads = std::max(1u, std::thread::hardware_concurrency());
+    return (std::uint64_t(4) << 30) + threads * (std::uint64_t(128) << 20);
+}
+
+// fork and exec rather than posix_spawn, which cannot set a resource limit on the child.
+// Between fork and exec the child only makes async-signal-safe calls (the test process may
+// have threads): everything it needs is prepared before the fork.
+CliResult run_cli(const std::vector<std::string>& args, const std::string& input, const CliLimits& limits) {
+    int in[2], out[2], err[2], exec_status[2];
+    if (pipe2(in, O_CLOEXEC) || pipe2(out, O_CLOEXEC) || pipe2(err, O_CLOEXEC) ||
+        pipe2(exec_status, O_CLOEXEC))
+        throw std::runtime_error("pipe failed");
     std::vector<std::string> all = {FIXPOINT_BIN};
     all.insert(all.end(), args.begin(), args.end());
     std::vector<char*> argv;
     for (auto& a : all) argv.push_back(a.data());
     argv.push_back(nullptr);
-    pid_t pid;
-    if (posix_spawn(&pid, FIXPOINT_BIN, &fa, nullptr, argv.data(), environ) != 0)
-        throw std::runtime_error("cannot start " FIXPOINT_BIN);
-    posix_spawn_file_actions_destroy(&fa);
+    std::vector<std::string> env = child_environment(limits);
+    std::vector<char*> envp;
+    for (auto& e : env) envp.push_back(e.data());
+    envp.push_back(nullptr);
+    rlimit as{};
+    const bool limit_as =
+        cli_address_space_limited() && limits.address_space && getrlimit(RLIMIT_AS, &as) == 0;
+    // Never looser than the limit this process runs under.
+    if (limit_as) as.rlim_cur = std::min<rlim_t>(as.rlim_cur, rlim_t(limits.address_space));
+
+    // A child that dies before reading all its input (a crash, the limit) fails its test
+    // through its exit status; it must not kill the test process with SIGPIPE.
+    static const bool sigpipe_ignored = (std::signal(SIGPIPE, SIG_IGN), true);
+    (void)sigpipe_ignored;
+
+    const pid_t pid = fork();
+    if (pid < 0) throw std::runtime_error("cannot start " FIXPOINT_BIN ": fork failed");
+    if (pid == 0) {
+        int e = 0;
+        if (limit_as && setrlimit(RLIMIT_AS, &as) != 0) e = errno;
+        if (!e) {
+            std::signal(SIGPIPE, SIG_DFL); // an ignored signal would stay ignored across exec
+            move_fd(in[0], 0);
+            move_fd(out[1], 1);
+            move_fd(err[1], 2);
+            execve(FIXPOINT_BIN, argv.data(), envp.data());
+            e = errno;
+        }
+        // Tell the parent why, through the pipe that exec would have closed.
+        [[maybe_unused]] const ssize_t n = write(exec_status[1], &e, sizeof e);
+        _exit(127);
+    }
     close(in[0]);
     close(out[1]);
     close(err[1]);
+    close(exec_status[1]);
+    int exec_errno = 0;
+    ssize_t got;
+    do got = read(exec_status[0], &exec_errno, sizeof exec_errno);
+    while (got < 0 && errno == EINTR);
+    close(exec_status[0]);
+    if (got == sizeof exec_errno) {
+        for (int fd : {in[1], out[0], err[0]}) close(fd);
+        waitpid(pid, nullptr, 0);
+        throw std::runtime_error("cannot start " FIXPOINT_BIN ": " + std::string(std::strerror(exec_errno)));
+    }
     std::size_t written = 0;
     if (input.empty()) close(in[1]), in[1] = -1;
     CliResult r;
@@ -59,6 +153,7 @@ CliResult run_cli(const std::vector<std::string>& args, const std::string& input
             if (n <= 0 || written == input.size()) close(in[1]), in[1] = -1;
         }
     }
+    if (in[1] >= 0) close(in[1]);
     close(out[0]);
     close(err[0]);
     int status = 0;
@@ -89,12 +184,12 @@ std::string read_file(const std::string& path) {
 std::string source_dir() { return FIXPOINT_SOURCE_DIR; }
 
 std::string run_bad_input(const std::string& name, const std::string& yaml,
-                          const std::vector<std::string>& args) {
+                          const std::vector<std::string>& args, const CliLimits& limits) {
     const std::string dir = scratch_dir(name);
     write_file(dir + "/bad.yaml", yaml);
     const auto cwd = std::filesystem::current_path();
     std::filesystem::current_path(dir);
-    const auto r = run_cli(args);
+    const auto r = run_cli(args, "", limits);
     std::filesystem::current_path(cwd);
     EXPECT_EQ(r.rc, 2) << r.err;
     EXPECT_FALSE(r.err.empty());

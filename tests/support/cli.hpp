@@ -1,6 +1,7 @@
 // Run the fixpoint CLI as a user would, and capture what it prints.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -11,8 +12,27 @@ struct CliResult {
     std::string out, err;
 };
 
-/// Run build/bin/fixpoint with `args`, feeding `input` on stdin.
-CliResult run_cli(const std::vector<std::string>& args, const std::string& input = "");
+/// The default address-space limit of the CLI: 4 GiB, enough for every render of the tests,
+/// plus 128 MiB per hardware thread, since the CLI starts a worker per thread by default and
+/// each one reserves address space of its own (its stack, its malloc arena: 64 MiB).
+std::uint64_t default_cli_address_space();
+
+/// What the CLI may use. A bad input that makes the CLI allocate without bound then fails its
+/// test (out of memory: exit code 1, or a crash) instead of taking the machine.
+struct CliLimits {
+    /// RLIMIT_AS of the child, in bytes; 0: none.
+    std::uint64_t address_space = default_cli_address_space();
+};
+
+/// Whether run_cli applies CliLimits::address_space as RLIMIT_AS. Not in an ASan build
+/// (the CLI is built like the tests): ASan reserves terabytes of shadow memory, so any
+/// address-space limit would stop it at start; there the same number caps every single
+/// allocation instead (ASan's max_allocation_size_mb), which catches a runaway size.
+bool cli_address_space_limited();
+
+/// Run build/bin/fixpoint with `args`, feeding `input` on stdin, within `limits`.
+CliResult run_cli(const std::vector<std::string>& args, const std::string& input = "",
+                  const CliLimits& limits = {});
 
 /// A fresh empty folder under the build tree for one test.
 std::string scratch_dir(const std::string& name);
@@ -26,7 +46,8 @@ std::string read_file(const std::string& path);
 /// stderr and leaves nothing behind but bad.yaml. Returns that line without its newline.
 std::string run_bad_input(const std::string& name, const std::string& yaml,
                           const std::vector<std::string>& args = {"render", "--quiet", "bad.yaml", "-o",
-                                                                  "out.png"});
+                                                                  "out.png"},
+                          const CliLimits& limits = {});
 
 /// `s` with the first `from` replaced by `to`; throws when `from` is not in `s` (a test setup bug).
 std::string replace_once(std::string s, const std::string& from, const std::string& to);
