@@ -15,8 +15,17 @@ function(fixpoint_add_plugin name)
     VISIBILITY_INLINES_HIDDEN ON)
   # No FMA contraction: a vectorised loop and its scalar tail round alike, so batch results
   # equal point-by-point results and images do not depend on how points are batched.
-  target_compile_options(${name} PRIVATE -fno-gnu-unique -ffp-contract=off)
-  target_link_options(${name} PRIVATE -Wl,--no-undefined)
+  target_compile_options(${name} PRIVATE -ffp-contract=off)
+  # GCC only: clang does not know the flag, and never emits GNU-unique symbols anyway.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${name} PRIVATE -fno-gnu-unique)
+  endif()
+  # A plugin names no symbol that the SDK does not define. Not in a clang sanitizer build:
+  # clang links the sanitizer runtime (and libFuzzer's coverage hooks) into executables
+  # only, so a shared library leaves those symbols undefined until it is loaded.
+  if(NOT (FIXPOINT_SANITIZE AND CMAKE_CXX_COMPILER_ID STREQUAL "Clang"))
+    target_link_options(${name} PRIVATE -Wl,--no-undefined)
+  endif()
   if(DEFINED FIXPOINT_PLUGIN_OUTPUT_DIR)
     set_target_properties(${name} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${FIXPOINT_PLUGIN_OUTPUT_DIR})
   endif()
