@@ -385,6 +385,9 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
     // first. Which worker runs which block does not change the image (exact merge).
     std::atomic<size_t> next{0};
     const size_t items = spans.size() + 2;
+    const auto poll = [&ctx] {
+        if (ctx.cancelled()) throw fp::Cancelled();
+    };
     ctx.parallel_for(workers, [&](size_t, unsigned w) {
         if (w >= workers) throw fp::InternalError("chaos-game: worker index out of range");
         for (size_t it; (it = next.fetch_add(1, std::memory_order_relaxed)) < items;) {
@@ -392,18 +395,18 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
             if (it == 0) {
                 total.width = width_;
                 total.height = height_;
-                assign_huge(total.bins, px, fp::HistBin{});
+                assign_huge(total.bins, px, fp::HistBin{}, poll);
                 continue;
             }
             if (it == 1) {
-                assign_huge(pixels, px * 3, 0.0f);
+                assign_huge(pixels, px * 3, 0.0f, poll);
                 continue;
             }
             const size_t b = it - 2;
             const uint64_t c0 = spans[b].c0;
             const size_t nb = spans[b].nb;
             if (!scratch[w]) scratch[w] = std::make_unique<Scratch<T>>(maps_.size());
-            if (!hists[w].bins.get() && !hists[w].hits.get()) hists[w].alloc(px, colour_);
+            if (!hists[w].bins.get() && !hists[w].hits.get()) hists[w].alloc(px, colour_, poll);
             if (rules_ && colour_)
                 run_block<T, true, true>(c0, nb, *scratch[w], hists[w], results[b], ctx);
             else if (rules_)
@@ -430,6 +433,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
     // of the total afterwards (part of the fixed cost that limits the speed-up on 2 threads).
     std::vector<uint64_t> drawn(tasks, 0);
     ctx.parallel_for(tasks, [&](size_t t, unsigned) {
+        poll();
         const size_t b0 = t * rows_per_task * size_t(width_);
         const size_t b1 = std::min(px, b0 + rows_per_task * size_t(width_));
         fp::HistBin* out = total.bins.data();

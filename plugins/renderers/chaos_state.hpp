@@ -107,14 +107,21 @@ struct Buf {
 template <class U>
 struct HugeBuf {
     std::unique_ptr<U[], HugeFree> p;
-    void alloc(size_t n) {
+    /// `poll` is called between pieces of 64 MiB of zeroing (a worker's histogram of an
+    /// 8000 x 8000 render is 1 GiB): a cancel must not wait for the whole memset.
+    template <class Poll>
+    void alloc(size_t n, Poll poll) {
         constexpr size_t huge = 2u << 20;
         const size_t bytes = (std::max<size_t>(n, 1) * sizeof(U) + huge - 1) / huge * huge;
         p.reset(static_cast<U*>(::operator new(bytes, std::align_val_t(huge))));
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
         ::madvise(static_cast<void*>(p.get()), bytes, MADV_HUGEPAGE); // advice only: failure is harmless
 #endif
-        std::memset(static_cast<void*>(p.get()), 0, bytes);
+        constexpr size_t piece = size_t(64) << 20;
+        for (size_t done = 0; done < bytes; done += piece) {
+            poll();
+            std::memset(reinterpret_cast<char*>(p.get()) + done, 0, std::min(piece, bytes - done));
+        }
     }
     U* get() const { return p.get(); }
 };
@@ -123,8 +130,10 @@ struct HugeBuf {
 /// written (reserve, madvise the 2 MiB-aligned part, then assign): the 32 MiB total histogram
 /// and the 12 MiB image of a 1024 x 1024 render fault in as about 22 huge pages instead of
 /// 11264 small ones. Part of the fixed cost per render that does not scale with the threads.
-template <class V>
-void assign_huge(V& v, size_t n, const typename V::value_type& x) {
+/// `poll` is called between pieces of 64 MiB: filling gigabytes (an 8000 x 8000 histogram is
+/// 2 GiB) takes seconds, and a cancel must not wait for it.
+template <class V, class Poll>
+void assign_huge(V& v, size_t n, const typename V::value_type& x, Poll poll) {
     v.clear();
     v.shrink_to_fit();
     v.reserve(n);
@@ -134,7 +143,12 @@ void assign_huge(V& v, size_t n, const typename V::value_type& x) {
     const uintptr_t e = (reinterpret_cast<uintptr_t>(v.data()) + n * sizeof(x)) & ~(huge - 1);
     if (e > b) ::madvise(reinterpret_cast<void*>(b), e - b, MADV_HUGEPAGE); // advice only
 #endif
-    v.assign(n, x);
+    // Filled piece by piece within the reserved capacity (no reallocation).
+    const size_t piece = std::max<size_t>(1, (size_t(64) << 20) / sizeof(x));
+    for (size_t done = 0; done < n; done = v.size()) {
+        poll();
+        v.resize(std::min(n, done + piece), x);
+    }
 }
 
 /// A worker's histogram bin: {hits, r, g, b} in 32 bits each, 16 bytes, half of fp::HistBin,
@@ -181,12 +195,13 @@ struct WorkerHist {
     uint64_t since = 0;         ///< deposits into `hits` since the last flush
     uint32_t dummy = 0;
 
-    void alloc(size_t px, bool colour) {
+    template <class Poll>
+    void alloc(size_t px, bool colour, Poll poll) {
         if (colour) {
-            bins.alloc(px + 1);
+            bins.alloc(px + 1, poll);
             spills.reserve(256);
         } else {
-            hits.alloc(px + 1);
+            hits.alloc(px + 1, poll);
         }
         dummy = uint32_t(px);
     }
