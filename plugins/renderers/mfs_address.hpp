@@ -4,6 +4,7 @@
 #pragma once
 
 #include <fixpoint/errors.hpp>
+#include <fixpoint/text.hpp>
 
 #include <cstddef>
 #include <cstdint>
@@ -29,7 +30,7 @@ inline std::vector<std::vector<std::uint32_t>> parse_groups(const std::string& t
     std::string tok;
     auto flush = [&] {
         if (tok.empty()) return;
-        if (tok.size() > 6) throw fp::ParamError(param, std::string("'") + tok + "' is too large in " + what);
+        if (tok.size() > 6) throw fp::ParamError(param, fp::quote(tok) + " is too large in " + what);
         out.back().push_back(std::uint32_t(std::stoul(tok)));
         tok.clear();
     };
@@ -38,18 +39,18 @@ inline std::vector<std::vector<std::uint32_t>> parse_groups(const std::string& t
             tok += c;
         } else if (c == sep || c == ' ') {
             if (c == sep && tok.empty() && sep != ' ')
-                throw fp::ParamError(param, std::string("'") + text + "' is not " + what);
+                throw fp::ParamError(param, fp::quote(text) + " is not " + what);
             flush();
         } else if (c == ';') {
             flush();
-            if (out.back().empty()) throw fp::ParamError(param, std::string("'") + text + "' is not " + what);
+            if (out.back().empty()) throw fp::ParamError(param, fp::quote(text) + " is not " + what);
             out.emplace_back();
         } else {
-            throw fp::ParamError(param, std::string("'") + text + "' is not " + what);
+            throw fp::ParamError(param, fp::quote(text) + " is not " + what);
         }
     }
     flush();
-    if (out.back().empty()) throw fp::ParamError(param, std::string("'") + text + "' is not " + what);
+    if (out.back().empty()) throw fp::ParamError(param, fp::quote(text) + " is not " + what);
     return out;
 }
 
@@ -61,7 +62,7 @@ inline std::vector<Address> parse_addresses(const std::string& text, std::size_t
             if (v == 0 || v > maps) {
                 std::string shown;
                 for (std::size_t i = 0; i < g.size(); ++i) shown += (i ? "." : "") + std::to_string(g[i]);
-                throw fp::ParamError(param, "address " + shown + " does not exist: " +
+                throw fp::ParamError(param, "address " + fp::excerpt(shown) + " does not exist: " +
                                                 (maps == 1 ? std::string("there is 1 map, f1")
                                                            : "there are " + std::to_string(maps) +
                                                                  " maps, f1 to f" + std::to_string(maps)));
