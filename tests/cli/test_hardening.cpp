@@ -376,19 +376,24 @@ TEST(Hardening, APluginThrowingANonStandardExceptionIsReported) {
 
 namespace {
 
-// Ctrl-C (SIGINT) after `delay` seconds of a render: how long the CLI takes to exit after it,
-// and its exit code (130: interrupted, nothing written).
+// Ctrl-C (SIGINT) `delay` seconds into a render: how long the CLI takes to exit after it, and
+// its exit code (130: interrupted, nothing written). The delay counts from the moment the CLI
+// catches SIGINT (SigCgt in /proc): a background job of a script starts with SIGINT ignored, so
+// a signal sent before the CLI installs its handler (a slow start under a sanitizer) would be
+// lost and the render would run on.
 std::pair<double, int> interrupt_after(const std::string& dir, const std::string& config, double delay) {
     const std::string cmd =
-        bin + " render -q " + config + " -o out.png & pid=$!; sleep " + std::to_string(delay) +
-        "; t0=$(date +%s%N); kill -INT $pid; wait $pid; rc=$?; t1=$(date +%s%N); echo $(( (t1 - "
-        "t0) / 1000000 )) $rc >&2";
+        bin + " render -q " + config + " -o out.png & pid=$!; " +
+        "for i in $(seq 600); do c=$(awk \"/^SigCgt/{print \\$2}\" /proc/$pid/status 2>/dev/null); "
+        "[ -n \"$c\" ] && (( 0x$c & 2 )) && break; sleep 0.05; done; sleep " +
+        std::to_string(delay) +
+        "; t0=$(date +%s%N); kill -INT $pid; wait $pid; rc=$?; t1=$(date +%s%N); echo $(( (t1 - t0) / "
+        "1000000 )) "
+        "$rc >&2";
     const auto s = shell(dir, cmd);
     int ms = -1, rc = -1;
-    std::sscanf(s.err.c_str() + (s.err.rfind('\n', s.err.size() - 2) == std::string::npos
-                                     ? 0
-                                     : s.err.rfind('\n', s.err.size() - 2) + 1),
-                "%d %d", &ms, &rc);
+    const auto last = s.err.rfind('\n', s.err.size() - 2);
+    std::sscanf(s.err.c_str() + (last == std::string::npos ? 0 : last + 1), "%d %d", &ms, &rc);
     return {ms / 1000.0, rc};
 }
 
