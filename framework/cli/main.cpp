@@ -282,6 +282,7 @@ int cmd_collection(const Options& o, bool validate_only) {
     // The children's names come from the sheet's: named with -o, the sheet names them too.
     for (std::size_t k = 0; k < pipes.size(); ++k)
         check_output_for({child_path(out, k + 1), output.named, output.mark}, o);
+    if (g_interrupted.load()) throw Cancelled(); // during the checks above
     if (validate_only) {
         if (!o.quiet)
             spdlog::info("{}: valid: a collection of {} children to {}", o.config, pipes.size(), out);
@@ -290,7 +291,6 @@ int cmd_collection(const Options& o, bool validate_only) {
 
     // Every child is rendered and checked before anything is written: a failing child
     // leaves no files behind.
-    install_sigint();
     std::vector<Image> children;
     std::vector<std::string> captions;
     double total = 0;
@@ -319,6 +319,10 @@ int cmd_collection(const Options& o, bool validate_only) {
 }
 
 int cmd_render(const Options& o, bool validate_only) {
+    // Caught from the start, so that a Ctrl-C while plugins load and the config is checked is
+    // not lost: a background job of a script starts with SIGINT ignored, and the handler
+    // replaces that. The flag is checked once the checks are done and polled by the render.
+    install_sigint();
     if (!o.vary.empty()) return cmd_collection(o, validate_only);
     const Registry reg = make_registry(o);
     const Pipeline p = load_pipeline(reg, o.config, o.sets);
@@ -331,6 +335,7 @@ int cmd_render(const Options& o, bool validate_only) {
     if (vector && !p.renderer->has_vector_output())
         throw InputError(p.renderer_mark.str() + ": renderer: this renderer has no vector output: write '" +
                          out + "' as .png, .exr or .tif instead");
+    if (g_interrupted.load()) throw Cancelled(); // during the checks above
     if (validate_only) {
         if (!o.quiet)
             spdlog::info("{}: valid: a {}x{} render to {}", o.config, p.renderer->width(),
@@ -338,7 +343,6 @@ int cmd_render(const Options& o, bool validate_only) {
         return 0;
     }
 
-    install_sigint();
     RenderStats stats;
     double secs = 0;
     if (vector) {

@@ -24,6 +24,8 @@ std::string Mark::str() const {
            std::to_string(col);
 }
 
+CNode::CNode() = default;
+
 const CNode* CNode::find(const std::string& key) const {
     for (const auto& [k, v] : keys)
         if (k == key) return &v;

@@ -401,7 +401,7 @@ std::pair<double, int> interrupt_after(const std::string& dir, const std::string
 // never caught once ran its whole max_iterations (never honoured); a superfractal zeroed its
 // buffers and an mfs its levels in memsets no poll could interrupt (10-16 s).
 TEST(Hardening, InterruptIsPromptInEveryRenderer) {
-    const std::string dir = fp::test::scratch_dir("interrupt");
+    const std::string dir = fp::test::scratch_dir("interrupt_renderers");
     fp::test::write_file(dir + "/orbit.yaml", R"(renderer:
   type: orbit-trap
   width: 64

@@ -450,7 +450,8 @@ TEST(OrbitTrap, ColourMapIndexIsPowsIndex) {
             };
             table[i] = {mix(0), mix(1), mix(2)};
         }
-        auto index = [&](float ratio) {
+        // e and nc named explicitly: clang 14 does not capture structured bindings.
+        auto index = [&, e = e, nc = nc](float ratio) {
             const double v = std::pow(double(ratio), 1.0 / e);
             if (!(v < 1)) return nc - 1;
             const double f = v / (1 - v);

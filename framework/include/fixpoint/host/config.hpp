@@ -32,6 +32,11 @@ struct CNode {
     std::vector<Mark> key_marks;                     ///< Map: where each key stands
     Mark mark;
 
+    // Declared here, defined where CNode is complete: clang with libstdc++ 12 refuses the
+    // implicit constructor of a class holding std::pair<std::string, CNode> while the class
+    // is still incomplete.
+    CNode();
+
     bool is_map() const { return type == Type::Map; }
     bool is_seq() const { return type == Type::Sequence; }
     bool is_scalar() const { return type == Type::Scalar; }
