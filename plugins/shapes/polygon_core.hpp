@@ -61,10 +61,7 @@ inline std::string point_text(fp::Vec2 p) { return "(" + number_text(p.x) + ", "
 
 namespace detail {
 
-inline double cross(fp::Vec2 a, fp::Vec2 b) { return a.x * b.y - a.y * b.x; }
-inline fp::Vec2 sub(fp::Vec2 a, fp::Vec2 b) { return {a.x - b.x, a.y - b.y}; }
-/// > 0 when c lies to the left of the directed line a -> b.
-inline double orient(fp::Vec2 a, fp::Vec2 b, fp::Vec2 c) { return cross(sub(b, a), sub(c, a)); }
+// cross, sub and orient: polygon_simple.hpp.
 
 /// c, known to be collinear with segment ab, lies on it (closed).
 inline bool on_segment(fp::Vec2 a, fp::Vec2 b, fp::Vec2 c) {

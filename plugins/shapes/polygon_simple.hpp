@@ -21,9 +21,10 @@
 
 namespace fp_shapes::detail {
 
-inline double orient2(fp::Vec2 a, fp::Vec2 b, fp::Vec2 c) {
-    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-}
+inline double cross(fp::Vec2 a, fp::Vec2 b) { return a.x * b.y - a.y * b.x; }
+inline fp::Vec2 sub(fp::Vec2 a, fp::Vec2 b) { return {a.x - b.x, a.y - b.y}; }
+/// > 0 when c lies to the left of the directed line a -> b.
+inline double orient(fp::Vec2 a, fp::Vec2 b, fp::Vec2 c) { return cross(sub(b, a), sub(c, a)); }
 
 inline bool lex_less(fp::Vec2 a, fp::Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); }
 
@@ -47,18 +48,18 @@ std::optional<std::pair<std::size_t, std::size_t>> find_crossing(const std::vect
         if (a == b) return false;
         const Edge &A = e[a], &B = e[b];
         if (!lex_less(B.l, A.l) && !(A.l.x == B.l.x && A.l.y == B.l.y)) { // A entered first
-            const double s = orient2(A.l, A.r, B.l);
+            const double s = orient(A.l, A.r, B.l);
             if (s != 0) return s > 0;
-            const double t = orient2(A.l, A.r, B.r);
+            const double t = orient(A.l, A.r, B.r);
             return t != 0 ? t > 0 : a < b;
         }
         if (A.l.x == B.l.x && A.l.y == B.l.y) { // same left end: by the other ends
-            const double t = orient2(A.l, A.r, B.r);
+            const double t = orient(A.l, A.r, B.r);
             return t != 0 ? t > 0 : a < b;
         }
-        const double s = orient2(B.l, B.r, A.l); // B entered first
+        const double s = orient(B.l, B.r, A.l); // B entered first
         if (s != 0) return s < 0;
-        const double t = orient2(B.l, B.r, A.r);
+        const double t = orient(B.l, B.r, A.r);
         return t != 0 ? t < 0 : a < b;
     };
     // Events: every edge enters at its left end and leaves at its right end; at one point,
