@@ -24,9 +24,7 @@ Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::
                 }
     for (const auto& s : sets) apply_override(root, s);
     if (!vary.empty()) apply_override(root, vary, "--vary");
-    Pipeline p = load_pipeline(reg, std::move(root));
-    p.from_image = image;
-    return p;
+    return load_pipeline(reg, std::move(root));
 }
 
 Pipeline load_pipeline(const Registry& reg, CNode root) {

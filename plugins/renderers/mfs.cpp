@@ -191,8 +191,8 @@ Mfs::Mfs(const fp::ParamBag& p) {
                 throw fp::ParamError("maps", "maps[" + std::to_string(i) +
                                                  "].systems: IFS indices are whole " +
                                                  "numbers from 0, got " + fp::number_text(e));
-            // Every IFS below the largest index needs a map, so no index can reach the number of
-            // (map, IFS) pairs there are; this bound also keeps the cast below exact.
+            // A bound far above any real structure, which keeps the cast below exact; indices
+            // below it that leave an IFS without maps are refused after the sort.
             if (e > 1e9)
                 throw fp::ParamError("maps", "maps[" + std::to_string(i) + "].systems: IFS " + count_text(e) +
                                                  " is out of range: the maps' systems must number the IFSs "

@@ -107,7 +107,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
-#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -177,13 +176,10 @@ uint32_t last_positive(const std::vector<double>& cum) {
 }
 
 /// One generation of buffers: B * N points, buffer b at [b * N, (b + 1) * N).
-// Buffers are not zeroed: the start tasks or a step write every element before it is read.
-template <class T>
-using Buffer = fp_render::Buffer<T>;
-
 struct Generation {
-    Buffer<double> x, y;
-    Buffer<float> r, g, b; ///< empty when the colourer needs no colour
+    // Not zeroed: the start tasks or a step write every element before it is read.
+    fp_render::Buffer<double> x, y;
+    fp_render::Buffer<float> r, g, b; ///< empty when the colourer needs no colour
 };
 
 class Superfractal final : public fp::Renderer {

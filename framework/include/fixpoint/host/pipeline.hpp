@@ -21,7 +21,6 @@ struct Pipeline {
     Mark renderer_mark;
     std::string output_path; ///< from the config; empty when not given
     Mark output_mark;        ///< where output.path stands (for messages about it)
-    bool from_image = false; ///< the config is the recipe of an image (its output.path is dropped)
     int bit_depth = 8;
     /// The resolved recipe: every default filled in, the version; no output path (so that
     /// rendering a recipe gives the same bytes whatever it is written to).
