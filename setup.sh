@@ -28,7 +28,7 @@ packages=(
     libboost-dev libboost-filesystem-dev libyaml-cpp-dev libopenimageio-dev
     libspdlog-dev libfmt-dev libtbb-dev libcli11-dev libpcg-cpp-dev
     libgtest-dev libgmock-dev libbenchmark-dev clang-format fonts-dejavu-core
-    libcairo2-dev
+    libcairo2-dev libhwy-dev
 )
 quick=${FIXPOINT_QUICK:-}
 if [ -n "$quick" ] && [ -n "${CI:-}" ]; then

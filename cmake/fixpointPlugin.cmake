@@ -9,6 +9,12 @@ function(fixpoint_add_plugin name)
   endif()
   add_library(${name} MODULE ${ARGN})
   target_link_libraries(${name} PRIVATE fixpoint::sdk)
+  # The folder of the plugin's first source on the include path: Highway's foreach_target
+  # re-includes the source by the name in HWY_TARGET_INCLUDE (fixpoint/simd-inl.hpp).
+  list(GET ARGN 0 first_source)
+  get_filename_component(source_dir ${first_source} ABSOLUTE)
+  get_filename_component(source_dir ${source_dir} DIRECTORY)
+  target_include_directories(${name} PRIVATE ${source_dir})
   set_target_properties(${name} PROPERTIES
     PREFIX ""
     CXX_VISIBILITY_PRESET hidden

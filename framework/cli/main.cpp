@@ -10,6 +10,7 @@
 #include <fixpoint/host/progress.hpp>
 #include <fixpoint/host/registry.hpp>
 #include <fixpoint/host/runtime.hpp>
+#include <fixpoint/simd.hpp>
 #include <fixpoint/version.hpp>
 
 #include <CLI/CLI.hpp>
@@ -353,10 +354,11 @@ int cmd_render(const Options& o, bool validate_only) {
         write_image(img, out, p.bit_depth, p.recipe);
     }
     if (!o.quiet)
-        spdlog::info("{}: {} {} in {:.2f} s ({:.3g} {}/s, {} thread{}), {} restarted chain{}, {} bad value{}",
-                     out, stats.samples, stats.unit, secs, double(stats.samples) / std::max(secs, 1e-9),
-                     stats.unit, threads, threads == 1 ? "" : "s", stats.restarts,
-                     stats.restarts == 1 ? "" : "s", stats.bad_values, stats.bad_values == 1 ? "" : "s");
+        spdlog::info(
+            "{}: {} {} in {:.2f} s ({:.3g} {}/s, {} thread{}, {}), {} restarted chain{}, {} bad value{}", out,
+            stats.samples, stats.unit, secs, double(stats.samples) / std::max(secs, 1e-9), stats.unit,
+            threads, threads == 1 ? "" : "s", fp::simd::active_target(), stats.restarts,
+            stats.restarts == 1 ? "" : "s", stats.bad_values, stats.bad_values == 1 ? "" : "s");
     return 0;
 }
 
@@ -517,6 +519,17 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     Options o;
     app.add_option("--plugin-dir", o.plugin_dirs, "Also load plugins from this folder (repeatable)");
+    std::string simd;
+    app.add_option(
+           "--simd", simd,
+           "Instruction set of the vectorised kernels (default: the best this CPU has; the image "
+           "does not depend on it): one of " +
+               [] {
+                   std::string l;
+                   for (const auto& t : fp::simd::supported_targets()) l += (l.empty() ? "" : ", ") + t;
+                   return l;
+               }())
+        ->envname("FIXPOINT_SIMD");
 
     auto* render = app.add_subcommand("render", "Render a pipeline to an image");
     render
@@ -591,6 +604,14 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         std::fprintf(stderr, "fixpoint: %s (see fixpoint --help)\n", e.what());
+        return 2;
+    }
+
+    if (!simd.empty() && !fp::simd::force_target(simd)) {
+        std::string l;
+        for (const auto& t : fp::simd::supported_targets()) l += (l.empty() ? "" : ", ") + t;
+        std::fprintf(stderr, "fixpoint: --simd: %s is not an instruction set of this CPU (it has: %s)\n",
+                     quote(simd).c_str(), l.c_str());
         return 2;
     }
 

@@ -111,9 +111,9 @@
 // Errors (ParamError, by parameter): "view": "the view must be [xmin, xmax, ymin, ymax] with
 // xmin < xmax" (or "... with ymin < ymax"); "maps": "the list of maps is empty"; "height":
 // "the image is too large: width * height must be below 4294967295 pixels".
-#include "chaos_bookkeep.hpp"
-#include "chaos_fused.hpp"
-#include "chaos_state.hpp"
+#include "chaos-game/kernels.hpp"
+#include "chaos-game/state.hpp"
+#include "chaos-game/steady.hpp"
 #include "fit_view.hpp"
 #include "palette.hpp"
 
@@ -131,6 +131,45 @@
 #include <string>
 #include <type_traits>
 #include <vector>
+
+// The step's stages (chaos-game/kernels-inl.hpp), compiled once per instruction set of the
+// build and dispatched at run time.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "chaos-game/kernels-inl.hpp"
+#include <hwy/foreach_target.h> // IWYU pragma: keep
+
+#include "chaos-game/kernels-inl.hpp"
+
+namespace fp_chaos {
+HWY_EXPORT(draw_rules);
+HWY_EXPORT(draw_alias);
+HWY_EXPORT(group_f);
+HWY_EXPORT(group_d);
+HWY_EXPORT(scatter_f);
+HWY_EXPORT(scatter_d);
+HWY_EXPORT(bookkeep_f);
+HWY_EXPORT(bookkeep_d);
+HWY_EXPORT(fused_f);
+HWY_EXPORT(fused_d);
+HWY_EXPORT(deposit_colour);
+
+inline void group(const GroupArgs<float>& a) { HWY_DYNAMIC_DISPATCH(group_f)(a); }
+inline void group(const GroupArgs<double>& a) { HWY_DYNAMIC_DISPATCH(group_d)(a); }
+inline void scatter(const float* gx, const float* gy, const uint32_t* gi, size_t n, float* x, float* y) {
+    HWY_DYNAMIC_DISPATCH(scatter_f)(gx, gy, gi, n, x, y);
+}
+inline void scatter(const double* gx, const double* gy, const uint32_t* gi, size_t n, double* x, double* y) {
+    HWY_DYNAMIC_DISPATCH(scatter_d)(gx, gy, gi, n, x, y);
+}
+inline Counts bookkeep(const BookArgs<float>& a, bool colour) {
+    return HWY_DYNAMIC_DISPATCH(bookkeep_f)(a, colour);
+}
+inline Counts bookkeep(const BookArgs<double>& a, bool colour) {
+    return HWY_DYNAMIC_DISPATCH(bookkeep_d)(a, colour);
+}
+inline Counts fused(const FusedArgs<float>& a) { return HWY_DYNAMIC_DISPATCH(fused_f)(a); }
+inline Counts fused(const FusedArgs<double>& a) { return HWY_DYNAMIC_DISPATCH(fused_d)(a); }
+} // namespace fp_chaos
 
 namespace {
 
@@ -169,8 +208,15 @@ private:
     /// Steps 1-3 of a block step in chaos_fused.hpp's one pass when fused_ (1), and step 5
     /// too when the colourer needs no colour (2, sc set); 0 otherwise.
     template <class T, bool Rules, bool Colour>
-    int run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCounts& sc, uint32_t* hits,
-                  uint32_t* out, const uint32_t* lag, bool steady) const;
+    int run_fused(Scratch<T>& s, const BookArgs<T>& bv, Counts& sc, uint32_t* hits, const uint32_t* lag,
+                  bool steady) const;
+    template <class T>
+    const CircleTables<T>& circle_tables() const {
+        if constexpr (std::is_same_v<T, float>)
+            return fused_f_;
+        else
+            return fused_d_;
+    }
 
     int width_ = 512, height_ = 512;
     double xmin_ = -1.5, xmax_ = 1.5, ymin_ = -1.5, ymax_ = 1.5;
@@ -179,8 +225,9 @@ private:
     fp::Vec2 start_;
     fp::Box start_box_; ///< where random start points are drawn (the view unless start_box)
     bool rules_ = true, double_ = false, colour_ = true;
-    bool fused_ = false; ///< float chains run fp_chaos::fused_rules_step (see chaos_fused.hpp)
-    fp_chaos::FusedTables fused_tables_;
+    bool fused_ = false; ///< the fused step for inversions in circles (kernels-inl.hpp's fused_t)
+    CircleTables<float> fused_f_;
+    CircleTables<double> fused_d_;
     fp::Rgb background_;
 
     std::vector<std::shared_ptr<const fp::Transform>> maps_;
@@ -293,14 +340,19 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         q_[j] = uint32_t(std::max(1.0, std::floor(w[j] / sum * double(1u << 31) + 0.5)));
 
     // The fused step: every map a circle inversion (Transform::kernel), a Picard step, the
-    // rules on, float chains, AVX-512; `kernels: generic` turns it off (it gives the same
+    // rules on, at most table_size maps; `kernels: generic` turns it off (it gives the same
     // bytes: tests/unit/test_chaos_kernel.cpp).
-    if (FP_CHAOS_FUSED && p.string("kernels") == "auto" && rules_ && !double_ && region_maps_.size() == k) {
-        std::vector<fp::KnownKernel> kernels;
-        for (const auto& m : maps_) kernels.push_back(m->kernel());
-        fused_ = fp_chaos::fused_tables(kernels, q_, fused_tables_) && iteration_->is_picard();
-    } else {
-        (void)p.string("kernels");
+    if (p.string("kernels") == "auto" && rules_ && region_maps_.size() == k && k <= fp_chaos::table_size &&
+        iteration_->is_picard()) {
+        fused_ = true;
+        for (size_t j = 0; j < k && fused_; ++j) {
+            const fp::KnownKernel kk = maps_[j]->kernel();
+            fused_ = kk.kind == fp::KnownKernel::Kind::circle_inversion;
+            fused_f_.cx[j] = float(kk.cx), fused_f_.cy[j] = float(kk.cy), fused_f_.r2[j] = float(kk.r2);
+            fused_d_.cx[j] = kk.cx, fused_d_.cy[j] = kk.cy, fused_d_.r2[j] = kk.r2;
+            fused_f_.q[j] = fused_d_.q[j] = q_[j];
+        }
+        fused_f_.k = fused_d_.k = uint32_t(k);
     }
 
     // Walker's alias table (Vose's construction) with 32-bit thresholds: column c =
@@ -476,232 +528,55 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
 // Rules on: chosen[i] = the map drawn among those allowed for chain i (not its previous map,
 // not a map whose set holds its point) with probability q_j / (sum of allowed q); k when none
 // is allowed or the chain is inactive; restart[i] = 1 for active chains with none allowed.
+// One Transform::contains call per map with a set on the whole block, then the draw
+// (kernels-inl.hpp's draw_rules: one pcg32 output r per chain, u = floor(r * total / 2^32) in
+// [0, total), chosen = #{j : cum_j <= u}, the first map whose cumulative weight passes u).
 template <class T>
 void ChaosGame::choose_rules(Scratch<T>& s, size_t nb) const {
-    const size_t k = maps_.size();
     const fp::Points<const T> pts{s.x.get(), s.y.get(), nb};
-    unsigned char* __restrict inside = s.inside.get();
+    unsigned char* inside = s.inside.get();
     for (uint32_t j : region_maps_) maps_[j]->contains(pts, inside + size_t(j) * block_size);
-
-    uint64_t* __restrict rs = s.rs.get();
-    const uint64_t* __restrict ri = s.ri.get();
-    uint32_t* __restrict rnd = s.rnd.get();
-    uint32_t* __restrict tot = s.tot.get();
-    uint32_t* __restrict cum = s.cum.get();
-    uint32_t* __restrict chosen = s.chosen.get();
-    uint32_t* __restrict restart = s.restart.get();
-    const uint32_t* __restrict prev = s.prev.get();
-    const uint32_t* __restrict active = s.active.get();
-
-    // One pcg32 output r per chain; u = floor(r * total / 2^32) in [0, total); chosen =
-    // #{j : cum_j <= u}, the first map whose cumulative weight passes u (an allowed one, since
-    // the others add nothing).
-    FP_IVDEP
-    for (size_t i = 0; i < nb; ++i) rnd[i] = pcg_next(rs[i], ri[i]);
-#if FP_CHAOS_AVX512
-    {
-        // 16 chains per vector, the per-map tests as mask registers: two short loops over
-        // the maps per vector (the first keeps the masks for the second), nothing stored
-        // but the results.
-        std::uint16_t* __restrict okm = s.okm.get();
-        const __m512i one = _mm512_set1_epi32(1), vnone = _mm512_set1_epi32(int(k));
-        const __m128i zero8 = _mm_setzero_si128();
-        for (size_t i = 0; i < nb; i += 16) {
-            const __mmask16 live = nb - i >= 16 ? __mmask16(0xffff) : __mmask16((1u << (nb - i)) - 1u);
-            const __m512i p = _mm512_maskz_loadu_epi32(live, prev + i);
-            __m512i t = _mm512_setzero_si512();
-            for (size_t j = 0; j < k; ++j) {
-                const __mmask16 out = _mm_cmpeq_epi8_mask(
-                    _mm_loadu_si128(reinterpret_cast<const __m128i*>(inside + j * block_size + i)), zero8);
-                const __mmask16 ok = out & _mm512_cmpneq_epi32_mask(p, _mm512_set1_epi32(int(j)));
-                okm[j] = ok;
-                t = _mm512_mask_add_epi32(t, ok, t, _mm512_set1_epi32(int(q_[j])));
-            }
-            const __m512i r = _mm512_maskz_loadu_epi32(live, rnd + i);
-            // u = high 32 bits of r * t, lane by lane (the even lanes' products shifted down,
-            // the odd lanes' products have theirs in place): two 32 x 32 -> 64-bit multiplies
-            // (vpmuludq; the vector-extension form of this compiled to vpmullq, three times
-            // the work). GCC 12's -Wmaybe-uninitialized misfires inside _mm512_mul_epu32.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-            const __m512i lo = _mm512_srli_epi64(_mm512_mul_epu32(r, t), 32);
-            const __m512i hi = _mm512_mul_epu32(_mm512_srli_epi64(r, 32), _mm512_srli_epi64(t, 32));
-#pragma GCC diagnostic pop
-            const __m512i u = _mm512_mask_blend_epi32(__mmask16(0xaaaa), lo, hi);
-            __m512i cumv = _mm512_setzero_si512(), c = _mm512_setzero_si512();
-            for (size_t j = 0; j < k; ++j) {
-                const __mmask16 ok = okm[j];
-                cumv = _mm512_mask_add_epi32(cumv, ok, cumv, _mm512_set1_epi32(int(q_[j])));
-                c = _mm512_mask_add_epi32(c, _mm512_cmple_epu32_mask(cumv, u), c, one);
-            }
-            const __mmask16 act = _mm512_mask_cmpneq_epi32_mask(
-                live, _mm512_maskz_loadu_epi32(live, active + i), _mm512_setzero_si512());
-            const __mmask16 some = _mm512_cmpneq_epi32_mask(t, _mm512_setzero_si512());
-            _mm512_mask_storeu_epi32(chosen + i, live, _mm512_mask_blend_epi32(act & some, vnone, c));
-            _mm512_mask_storeu_epi32(restart + i, live, _mm512_maskz_mov_epi32(act & __mmask16(~some), one));
-        }
-        return;
-    }
-#endif
-    for (size_t i = 0; i < nb; ++i) tot[i] = 0;
-    for (size_t j = 0; j < k; ++j) {
-        const unsigned char* __restrict in = inside + j * block_size;
-        const uint32_t qj = q_[j], jj = uint32_t(j);
-        FP_IVDEP
-        for (size_t i = 0; i < nb; ++i) tot[i] += (in[i] == 0 && prev[i] != jj) ? qj : 0u;
-    }
-    FP_IVDEP
-    for (size_t i = 0; i < nb; ++i) {
-        rnd[i] = uint32_t((uint64_t(rnd[i]) * tot[i]) >> 32);
-        cum[i] = 0;
-        chosen[i] = 0;
-    }
-    for (size_t j = 0; j < k; ++j) {
-        const unsigned char* __restrict in = inside + j * block_size;
-        const uint32_t qj = q_[j], jj = uint32_t(j);
-        FP_IVDEP
-        for (size_t i = 0; i < nb; ++i) {
-            cum[i] += (in[i] == 0 && prev[i] != jj) ? qj : 0u;
-            chosen[i] += cum[i] <= rnd[i] ? 1u : 0u;
-        }
-    }
-    const uint32_t none = uint32_t(k);
-    FP_IVDEP
-    for (size_t i = 0; i < nb; ++i) {
-        const bool live = active[i] != 0;
-        restart[i] = (live && tot[i] == 0) ? 1u : 0u;
-        chosen[i] = (live && tot[i] != 0) ? chosen[i] : none;
-    }
+    DrawArgs a{s.rs.get(),     s.ri.get(),      s.prev.get(), s.active.get(),         inside,    block_size,
+               s.chosen.get(), s.restart.get(), nb,           uint32_t(maps_.size()), q_.data(), nullptr,
+               nullptr};
+    HWY_DYNAMIC_DISPATCH(fp_chaos::draw_rules)(a);
 }
 
 // Rules off: Walker's alias table, one pcg32 output per chain.
 template <class T>
 void ChaosGame::choose_alias(Scratch<T>& s, size_t nb) const {
-    const uint32_t k = uint32_t(maps_.size());
-    uint64_t* __restrict rs = s.rs.get();
-    const uint64_t* __restrict ri = s.ri.get();
-    uint32_t* __restrict chosen = s.chosen.get();
-    uint32_t* __restrict restart = s.restart.get();
-    const uint32_t* __restrict active = s.active.get();
-    const uint32_t* __restrict thr = alias_thr_.data();
-    const uint32_t* __restrict alias = alias_.data();
-    FP_IVDEP
-    for (size_t i = 0; i < nb; ++i) {
-        const uint64_t m = uint64_t(pcg_next(rs[i], ri[i])) * k;
-        const auto col = uint32_t(m >> 32), frac = uint32_t(m);
-        const uint32_t c = frac < thr[col] ? col : alias[col];
-        chosen[i] = active[i] ? c : k;
-        restart[i] = 0;
-    }
+    DrawArgs a{
+        s.rs.get(),     s.ri.get(),      s.prev.get(), s.active.get(),         nullptr, 0,
+        s.chosen.get(), s.restart.get(), nb,           uint32_t(maps_.size()), nullptr, alias_thr_.data(),
+        alias_.data()};
+    HWY_DYNAMIC_DISPATCH(fp_chaos::draw_alias)(a);
 }
 
 // ---------------------------------------------------------------- grouping by map
-#if FP_CHAOS_COMPRESS
-// One vector of chains: L lanes of T, their chosen maps as L 32-bit integers.
-template <class T>
-struct Lanes;
-template <>
-struct Lanes<float> {
-    static constexpr size_t L = 16;
-    using M = __mmask16;
-    using V = __m512;
-    using I = __m512i;
-    static M live(size_t n) { return n >= L ? M(0xffff) : M((1u << n) - 1u); }
-    static I maps(const uint32_t* c, M live, uint32_t none) {
-        return _mm512_mask_loadu_epi32(_mm512_set1_epi32(int(none)), live, c);
-    }
-    static M eq(I c, uint32_t j) { return _mm512_cmpeq_epi32_mask(c, _mm512_set1_epi32(int(j))); }
-    static V load(const float* p, M live) { return _mm512_maskz_loadu_ps(live, p); }
-    static void store(float* p, M live, V v) { _mm512_mask_storeu_ps(p, live, v); }
-    static void storeu(float* p, V v) { _mm512_storeu_ps(p, v); }
-    static V compress(M m, V v) { return _mm512_maskz_compress_ps(m, v); }
-    static V expandz(M m, const float* p) { return _mm512_maskz_expandloadu_ps(m, p); }
-    static V zero() { return _mm512_setzero_ps(); }
-    static V orv(V a, V b) { // bitwise (AVX-512F has no vorps)
-        return _mm512_castsi512_ps(_mm512_or_si512(_mm512_castps_si512(a), _mm512_castps_si512(b)));
-    }
-    static unsigned count(M m) { return unsigned(__builtin_popcount(unsigned(m))); }
-};
-template <>
-struct Lanes<double> {
-    static constexpr size_t L = 8;
-    using M = __mmask8;
-    using V = __m512d;
-    using I = __m256i;
-    static M live(size_t n) { return n >= L ? M(0xff) : M((1u << n) - 1u); }
-    static I maps(const uint32_t* c, M live, uint32_t none) {
-        return _mm256_mask_loadu_epi32(_mm256_set1_epi32(int(none)), live, c);
-    }
-    static M eq(I c, uint32_t j) { return _mm256_cmpeq_epi32_mask(c, _mm256_set1_epi32(int(j))); }
-    static V load(const double* p, M live) { return _mm512_maskz_loadu_pd(live, p); }
-    static void store(double* p, M live, V v) { _mm512_mask_storeu_pd(p, live, v); }
-    static void storeu(double* p, V v) { _mm512_storeu_pd(p, v); }
-    static V compress(M m, V v) { return _mm512_maskz_compress_pd(m, v); }
-    static V expandz(M m, const double* p) { return _mm512_maskz_expandloadu_pd(m, p); }
-    static V zero() { return _mm512_setzero_pd(); }
-    static V orv(V a, V b) {
-        return _mm512_castsi512_pd(_mm512_or_si512(_mm512_castpd_si512(a), _mm512_castpd_si512(b)));
-    }
-    static unsigned count(M m) { return unsigned(__builtin_popcount(unsigned(m))); }
-};
-#endif
-
 // Group the chains by chosen map (chains with chosen = k stay), call the iteration scheme
 // once per map on its points, and put the new points back.
 template <class T>
 void ChaosGame::move_chains(Scratch<T>& s, size_t nb, uint64_t n) const {
     const size_t k = maps_.size();
-    [[maybe_unused]] const auto none = uint32_t(k);
     T* __restrict x = s.x.get();
     T* __restrict y = s.y.get();
     T* __restrict gx = s.gx.get();
     T* __restrict gy = s.gy.get();
     const uint32_t* __restrict chosen = s.chosen.get();
     uint32_t* __restrict cnt = s.cnt.get();
-#if FP_CHAOS_COMPRESS
     if (k <= max_compress_maps) {
-        // Compress each map's lanes into its own segment (a full vector store: what lies past
-        // the segment's end is overwritten by the next store or never read). The counts live
-        // in a local array, which the stores cannot alias (no reload after each store).
-        using V = Lanes<T>;
-        uint32_t c0[max_compress_maps] = {};
-        for (size_t i = 0; i < nb; i += V::L) {
-            const auto live = V::live(nb - i);
-            const auto c = V::maps(chosen + i, live, none);
-            const auto vx = V::load(x + i, live), vy = V::load(y + i, live);
-            for (size_t j = 0; j < k; ++j) {
-                const auto m = V::eq(c, uint32_t(j));
-                V::storeu(gx + j * seg_stride + c0[j], V::compress(m, vx));
-                V::storeu(gy + j * seg_stride + c0[j], V::compress(m, vy));
-                c0[j] += V::count(m);
-            }
-        }
-        for (size_t j = 0; j < k; ++j)
-            if (c0[j])
-                iteration_->step(*maps_[j], fp::Points<T>{gx + j * seg_stride, gy + j * seg_stride, c0[j]},
-                                 nullptr, n);
-        // Expand back: the inverse permutation, lane by lane in the same order. Each map's
-        // lanes are expanded into zeros and the (disjoint) results or-ed together, so that the
-        // expansions do not wait on each other; the chains that did not move keep their point.
-        uint32_t c1[max_compress_maps] = {};
-        for (size_t i = 0; i < nb; i += V::L) {
-            const auto live = V::live(nb - i);
-            const auto c = V::maps(chosen + i, live, none);
-            auto ex = V::zero(), ey = V::zero();
-            typename V::M moved = 0;
-            for (size_t j = 0; j < k; ++j) {
-                const auto m = V::eq(c, uint32_t(j));
-                ex = V::orv(ex, V::expandz(m, gx + j * seg_stride + c1[j]));
-                ey = V::orv(ey, V::expandz(m, gy + j * seg_stride + c1[j]));
-                c1[j] += V::count(m);
-                moved |= m;
-            }
-            V::store(x + i, typename V::M(live & moved), ex);
-            V::store(y + i, typename V::M(live & moved), ey);
+        // Each map's points compressed into its own segment with their chains' indices
+        // (kernels-inl.hpp's group_t), one step call per map, then scattered back.
+        const uint32_t* __restrict gi = s.gi.get();
+        fp_chaos::group(GroupArgs<T>{x, y, chosen, gx, gy, s.gi.get(), cnt, seg_stride, nb, uint32_t(k)});
+        for (size_t j = 0; j < k; ++j) {
+            const size_t at = j * seg_stride, len = cnt[j];
+            if (!len) continue;
+            iteration_->step(*maps_[j], fp::Points<T>{gx + at, gy + at, len}, nullptr, n);
+            fp_chaos::scatter(gx + at, gy + at, gi + at, len, x, y);
         }
         return;
     }
-#endif
     // Counting sort into contiguous segments; perm remembers where each point came from.
     uint32_t* __restrict perm = s.perm.get();
     for (size_t j = 0; j <= k; ++j) cnt[j] = 0;
@@ -781,33 +656,27 @@ void ChaosGame::new_starts(Scratch<T>& s, const uint32_t* list, size_t m) const 
 }
 
 // ---------------------------------------------------------------- the fused step
+// Steps 1-3 of a block step in kernels-inl.hpp's one pass when fused_ (1), and step 5 too when
+// the colourer needs no colour (2, sc set); 0 otherwise.
 template <class T, bool Rules, bool Colour>
-int ChaosGame::run_fused(Scratch<T>& s, size_t nb, const BinView<T>& bv, StepCounts& sc, uint32_t* hits,
-                         uint32_t* out, const uint32_t* lag, bool steady) const {
-#if FP_CHAOS_FUSED
-    if constexpr (Rules && std::is_same_v<T, float>) {
-        if (!fused_) return 0;
-        const fp_chaos::FusedBlock b{s.x.get(),      s.y.get(),       s.rs.get(),
-                                     s.ri.get(),     s.prev.get(),    s.active.get(),
-                                     s.chosen.get(), s.restart.get(), nb};
-        if constexpr (Colour) {
-            fp_chaos::fused_rules_step<false>(fused_tables_, b);
-            return 1;
-        } else {
-            const fp_chaos::FusedBook bk{bv.xmin,      bv.xmax,      bv.ymin,      bv.ymax,        bv.scx,
-                                         bv.scy,       bv.W,         bv.H,         bv.dummy,       bv.skip,
-                                         s.age.get(),  s.idle.get(), s.left.get(), s.active.get(), out,
-                                         s.prev.get(), hits,         lag};
-            const fp_chaos::FusedCounts c =
-                steady ? fp_chaos::fused_rules_step<true, true>(fused_tables_, b, &bk)
-                       : fp_chaos::fused_rules_step<true>(fused_tables_, b, &bk);
-            sc.plotted = c.plotted, sc.bad = c.bad, sc.restarts = c.restarts, sc.still = c.still;
-            return 2;
-        }
-    }
-#endif
-    (void)s, (void)nb, (void)bv, (void)sc, (void)hits, (void)out, (void)lag, (void)steady;
-    return 0;
+int ChaosGame::run_fused(Scratch<T>& s, const BookArgs<T>& bv, Counts& sc, uint32_t* hits,
+                         const uint32_t* lag, bool steady) const {
+    if (!Rules || !fused_) return 0;
+    FusedArgs<T> f;
+    f.tables = &circle_tables<T>();
+    f.x = s.x.get();
+    f.y = s.y.get();
+    f.draw = DrawArgs{s.rs.get(), s.ri.get(),     s.prev.get(),    s.active.get(), nullptr,
+                      0,          s.chosen.get(), s.restart.get(), bv.nb,          uint32_t(maps_.size()),
+                      nullptr,    nullptr,        nullptr};
+    f.book = Colour ? nullptr : &bv;
+    f.hits = hits;
+    f.lag = lag;
+    f.steady = steady;
+    const Counts c = fp_chaos::fused(f);
+    if (Colour) return 1;
+    sc = c;
+    return 2;
 }
 
 // ---------------------------------------------------------------- one block of chains
@@ -843,8 +712,11 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
     }
     new_starts(s, list, nlive);
 
-    // Constants of the deposit.
-    BinView<T> bv;
+    // The bookkeeping's arrays and the constants of the deposit.
+    BookArgs<T> bv{s.x.get(),   s.y.get(),    s.chosen.get(),  s.prev.get(),
+                   s.age.get(), s.idle.get(), s.restart.get(), s.plotf.get(),
+                   s.idx.get(), s.left.get(), s.active.get(),  s.cr.get(),
+                   s.cg.get(),  s.cb.get(),   s.dep.get(),     nb};
     bv.xmin = T(xmin_), bv.xmax = T(xmax_), bv.ymin = T(ymin_), bv.ymax = T(ymax_);
     bv.scx = T(double(width_) / (xmax_ - xmin_)), bv.scy = T(double(height_) / (ymax_ - ymin_));
     bv.W = uint32_t(width_), bv.H = uint32_t(height_);
@@ -889,8 +761,8 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
 
         // 1-3. Choose a map per chain (k = does not move this step); group the chains by map,
         // one step call per map, back in place. Or all of it in one fused pass.
-        StepCounts sc;
-        if (Rules && !Colour && std::is_same_v<T, float> && fused_ && steady_left == 0) {
+        Counts sc;
+        if (Rules && !Colour && fused_ && steady_left == 0) {
             if (steady_wait > 0) {
                 --steady_wait;
             } else {
@@ -900,7 +772,8 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
             }
         }
         const bool steady = steady_left > 0;
-        const int fused = run_fused<T, Rules, Colour>(s, nb, bv, sc, hits, out, lag, steady);
+        bv.idx = out;
+        const int fused = run_fused<T, Rules, Colour>(s, bv, sc, hits, lag, steady);
         if (steady) {
             sc.still = uint32_t(live);
             ++steady_steps;
@@ -927,15 +800,15 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
         }
 
         // 5. Bookkeeping, bin indices and colour values, branch-free over the block.
-        if (fused != 2) sc = bookkeep<Colour>(s, nb, bv);
+        if (fused != 2) sc = fp_chaos::bookkeep(bv, Colour);
 
         // 6. Deposit: one 4 x 32-bit add per chain, or one 32-bit increment when counting
         // hits only (the unplotted land in the last bin).
         if constexpr (Colour) {
+            uint32_t* const b32 = reinterpret_cast<uint32_t*>(bins);
             for (size_t i = 0; i < nb; ++i) {
-                Cnt4& b = bins[idx[i]];
-                b += widen(dep[i]);
-                if (__builtin_expect(b[0] == spill_hits, 0)) hist.spill(idx[i]);
+                i = HWY_DYNAMIC_DISPATCH(fp_chaos::deposit_colour)(b32, idx, dep, i, nb, spill_hits);
+                if (i < nb) hist.spill(idx[i]);
             }
         } else {
             if (fused == 2) {

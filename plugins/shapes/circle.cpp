@@ -24,7 +24,84 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <type_traits>
 #include <vector>
+
+// The batch arithmetic is in the per-target section below (fixpoint/simd-inl.hpp): compiled
+// for every instruction set of the build, dispatched at run time.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "circle.cpp"
+#include <hwy/foreach_target.h> // IWYU pragma: keep
+
+#include <fixpoint/simd-inl.hpp>
+
+HWY_BEFORE_NAMESPACE();
+namespace fp_circle::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+namespace fs = fp::simd::HWY_NAMESPACE;
+
+/// inside: dx * dx + dy * dy < r2, with d = p - c.
+template <class T>
+void inside_t(T cx, T cy, T r2, fp::Points<const T> p, unsigned char* out) {
+    const hn::ScalableTag<T> d;
+    const auto vcx = hn::Set(d, cx), vcy = hn::Set(d, cy), vr2 = hn::Set(d, r2);
+    fs::test_points(d, p, out, [&](auto x, auto y) {
+        const auto dx = hn::Sub(x, vcx), dy = hn::Sub(y, vcy);
+        return hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), vr2);
+    });
+}
+void inside_f(float cx, float cy, float r2, fp::Points<const float> p, unsigned char* out) {
+    inside_t(cx, cy, r2, p, out);
+}
+void inside_d(double cx, double cy, double r2, fp::Points<const double> p, unsigned char* out) {
+    inside_t(cx, cy, r2, p, out);
+}
+
+/// The inversion factor about the centre: r2 / (dx * dx + dy * dy).
+template <class T>
+void factor_t(T r2, fp::Points<const T> dd, T* s) {
+    const hn::ScalableTag<T> d;
+    const auto vr2 = hn::Set(d, r2);
+    fs::eval_points(
+        d, dd, s, [&](auto dx, auto dy) { return hn::Div(vr2, hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy))); });
+}
+void factor_f(float r2, fp::Points<const float> dd, float* s) { factor_t(r2, dd, s); }
+void factor_d(double r2, fp::Points<const double> dd, double* s) { factor_t(r2, dd, s); }
+
+/// The ray exit from o (w = o - c, c0 = w.w - R^2): a = d.d, h = w.d, s = sqrt(h^2 - a c0),
+/// t = (s - h) / a when h <= 0, else -c0 / (h + s); +inf for a zero direction. Both branches
+/// are computed and one kept (the other's division by zero, if any, is discarded).
+template <class T>
+void ray_t(T wx, T wy, T c0, fp::Points<const T> dd, T* t) {
+    const hn::ScalableTag<T> d;
+    const auto vwx = hn::Set(d, wx), vwy = hn::Set(d, wy), vc0 = hn::Set(d, c0), zero = hn::Zero(d);
+    const auto inf = hn::Set(d, std::numeric_limits<T>::infinity());
+    fs::eval_points(d, dd, t, [&](auto dx, auto dy) {
+        const auto a = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
+        const auto h = hn::Add(hn::Mul(vwx, dx), hn::Mul(vwy, dy));
+        const auto s = hn::Sqrt(hn::Sub(hn::Mul(h, h), hn::Mul(a, vc0)));
+        const auto r =
+            hn::IfThenElse(hn::Le(h, zero), hn::Div(hn::Sub(s, h), a), hn::Div(hn::Neg(vc0), hn::Add(h, s)));
+        return hn::IfThenElse(hn::Gt(a, zero), r, inf);
+    });
+}
+void ray_f(float wx, float wy, float c0, fp::Points<const float> dd, float* t) { ray_t(wx, wy, c0, dd, t); }
+void ray_d(double wx, double wy, double c0, fp::Points<const double> dd, double* t) {
+    ray_t(wx, wy, c0, dd, t);
+}
+
+} // namespace fp_circle::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace fp_circle {
+HWY_EXPORT(inside_f);
+HWY_EXPORT(inside_d);
+HWY_EXPORT(factor_f);
+HWY_EXPORT(factor_d);
+HWY_EXPORT(ray_f);
+HWY_EXPORT(ray_d);
+} // namespace fp_circle
 
 namespace {
 
@@ -74,22 +151,23 @@ public:
     }
 
 private:
-    template <class T>
-    void inside_t(fp::Points<const T> p, unsigned char* out) const {
-        const T cx = T(c_.x), cy = T(c_.y), r2 = T(r2_);
-        for (std::size_t i = 0; i < p.n; ++i) {
-            const T dx = p.x[i] - cx, dy = p.y[i] - cy;
-            out[i] = dx * dx + dy * dy < r2 ? 1 : 0;
-        }
+    void inside_t(fp::Points<const float> p, unsigned char* out) const {
+        HWY_DYNAMIC_DISPATCH(fp_circle::inside_f)(float(c_.x), float(c_.y), float(r2_), p, out);
+    }
+    void inside_t(fp::Points<const double> p, unsigned char* out) const {
+        HWY_DYNAMIC_DISPATCH(fp_circle::inside_d)(c_.x, c_.y, r2_, p, out);
     }
 
     // w = o - c and c0 are computed once per batch in double and only then rounded to T, so
     // the float path keeps its precision for a small circle far from the origin.
-    template <class T>
-    void ray_t(fp::Vec2 o, fp::Points<const T> d, T* t) const {
+    void ray_t(fp::Vec2 o, fp::Points<const float> d, float* t) const {
         const double wxd = o.x - c_.x, wyd = o.y - c_.y;
-        const T wx = T(wxd), wy = T(wyd), c0 = T((wxd * wxd + wyd * wyd) - r2_);
-        for (std::size_t i = 0; i < d.n; ++i) t[i] = ray_pt(wx, wy, c0, d.x[i], d.y[i]);
+        HWY_DYNAMIC_DISPATCH(fp_circle::ray_f)
+        (float(wxd), float(wyd), float((wxd * wxd + wyd * wyd) - r2_), d, t);
+    }
+    void ray_t(fp::Vec2 o, fp::Points<const double> d, double* t) const {
+        const double wxd = o.x - c_.x, wyd = o.y - c_.y;
+        HWY_DYNAMIC_DISPATCH(fp_circle::ray_d)(wxd, wyd, (wxd * wxd + wyd * wyd) - r2_, d, t);
     }
 
     template <class T>
@@ -99,17 +177,10 @@ private:
             for (std::size_t i = 0; i < d.n; ++i) s[i] *= s[i];
             return;
         }
-        const T r2 = T(r2_);
-        for (std::size_t i = 0; i < d.n; ++i) s[i] = r2 / (d.x[i] * d.x[i] + d.y[i] * d.y[i]);
-    }
-
-    template <class T>
-    static T ray_pt(T wx, T wy, T c0, T dx, T dy) {
-        const T a = dx * dx + dy * dy;
-        const T h = wx * dx + wy * dy;
-        const T s = std::sqrt(h * h - a * c0);
-        const T t = h <= T(0) ? (s - h) / a : -c0 / (h + s);
-        return a > T(0) ? t : std::numeric_limits<T>::infinity();
+        if constexpr (std::is_same_v<T, float>)
+            HWY_DYNAMIC_DISPATCH(fp_circle::factor_f)(float(r2_), d, s);
+        else
+            HWY_DYNAMIC_DISPATCH(fp_circle::factor_d)(r2_, d, s);
     }
 
     fp::Vec2 c_;
@@ -120,3 +191,4 @@ private:
 
 FIXPOINT_PLUGIN(fp::describe<Circle>(fp::Kind::Shape, "circle", "the disc of given centre and radius",
                                      params))
+#endif // HWY_ONCE

@@ -35,6 +35,92 @@
 #include <string>
 #include <vector>
 
+// The loops around the shape's batch call are in the per-target section below
+// (fixpoint/simd-inl.hpp), dispatched at run time.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "inversion.cpp"
+#include <hwy/foreach_target.h> // IWYU pragma: keep
+
+#include <fixpoint/simd-inl.hpp>
+
+HWY_BEFORE_NAMESPACE();
+namespace fp_inversion::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+namespace fs = fp::simd::HWY_NAMESPACE;
+
+/// d = p - o for the n points of a chunk (inactive ones: the zero direction); whether any is
+/// active.
+template <class T>
+bool directions_t(T ox, T oy, const T* x, const T* y, const unsigned char* m, T* dx, T* dy, std::size_t n) {
+    const hn::ScalableTag<T> d;
+    const auto vox = hn::Set(d, ox), voy = hn::Set(d, oy);
+    std::copy_n(x, n, dx);
+    std::copy_n(y, n, dy);
+    fs::map_points(d, fp::Points<T>{dx, dy, n}, nullptr, [&](auto& vx, auto& vy) {
+        vx = hn::Sub(vx, vox);
+        vy = hn::Sub(vy, voy);
+    });
+    if (!m) return true;
+    bool any = false;
+    for (std::size_t i = 0; i < n; ++i) {
+        dx[i] = m[i] ? dx[i] : T(0);
+        dy[i] = m[i] ? dy[i] : T(0);
+        any |= m[i] != 0;
+    }
+    return any;
+}
+bool directions_f(float ox, float oy, const float* x, const float* y, const unsigned char* m, float* dx,
+                  float* dy, std::size_t n) {
+    return directions_t(ox, oy, x, y, m, dx, dy, n);
+}
+bool directions_d(double ox, double oy, const double* x, const double* y, const unsigned char* m, double* dx,
+                  double* dy, std::size_t n) {
+    return directions_t(ox, oy, x, y, m, dx, dy, n);
+}
+
+/// p' = o + t (p - o) for the active points (p - o recomputed: the same bits as the chunk's d).
+template <class T>
+void finish_t(T ox, T oy, fp::Points<T> p, const unsigned char* m, const T* t) {
+    const hn::ScalableTag<T> d;
+    const auto vox = hn::Set(d, ox), voy = hn::Set(d, oy);
+    fs::map_points_with(d, p, m, t, [&](auto& x, auto& y, auto s) {
+        x = hn::Add(vox, hn::Mul(s, hn::Sub(x, vox)));
+        y = hn::Add(voy, hn::Mul(s, hn::Sub(y, voy)));
+    });
+}
+void finish_f(float ox, float oy, fp::Points<float> p, const unsigned char* m, const float* t) {
+    finish_t(ox, oy, p, m, t);
+}
+void finish_d(double ox, double oy, fp::Points<double> p, const unsigned char* m, const double* t) {
+    finish_t(ox, oy, p, m, t);
+}
+
+} // namespace fp_inversion::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace fp_inversion {
+HWY_EXPORT(directions_f);
+HWY_EXPORT(directions_d);
+HWY_EXPORT(finish_f);
+HWY_EXPORT(finish_d);
+
+inline bool directions(float ox, float oy, const float* x, const float* y, const unsigned char* m, float* dx,
+                       float* dy, std::size_t n) {
+    return HWY_DYNAMIC_DISPATCH(directions_f)(ox, oy, x, y, m, dx, dy, n);
+}
+inline bool directions(double ox, double oy, const double* x, const double* y, const unsigned char* m,
+                       double* dx, double* dy, std::size_t n) {
+    return HWY_DYNAMIC_DISPATCH(directions_d)(ox, oy, x, y, m, dx, dy, n);
+}
+inline void finish(float ox, float oy, fp::Points<float> p, const unsigned char* m, const float* t) {
+    HWY_DYNAMIC_DISPATCH(finish_f)(ox, oy, p, m, t);
+}
+inline void finish(double ox, double oy, fp::Points<double> p, const unsigned char* m, const double* t) {
+    HWY_DYNAMIC_DISPATCH(finish_d)(ox, oy, p, m, t);
+}
+} // namespace fp_inversion
+
 namespace {
 
 constexpr fp::ParamSpec params[] = {
@@ -89,35 +175,11 @@ private:
         T dx[fp::chunk_size], dy[fp::chunk_size], t[fp::chunk_size];
         for (std::size_t begin = 0; begin < p.n; begin += fp::chunk_size) {
             const std::size_t n = std::min(fp::chunk_size, p.n - begin);
-            T* x = p.x + begin;
-            T* y = p.y + begin;
+            const fp::Points<T> c = p.sub(begin, n);
             const unsigned char* m = mask ? mask + begin : nullptr;
-            if (m) {
-                bool any = false;
-                for (std::size_t i = 0; i < n; ++i) {
-                    dx[i] = m[i] ? x[i] - ox : T(0);
-                    dy[i] = m[i] ? y[i] - oy : T(0);
-                    any |= m[i] != 0;
-                }
-                if (!any) continue;
-            } else {
-                for (std::size_t i = 0; i < n; ++i) {
-                    dx[i] = x[i] - ox;
-                    dy[i] = y[i] - oy;
-                }
-            }
+            if (!fp_inversion::directions(ox, oy, c.x, c.y, m, dx, dy, n)) continue;
             shape_->inversion_factor(o_, fp::Points<const T>{dx, dy, n}, t);
-            if (m) {
-                for (std::size_t i = 0; i < n; ++i) {
-                    x[i] = m[i] ? ox + t[i] * dx[i] : x[i];
-                    y[i] = m[i] ? oy + t[i] * dy[i] : y[i];
-                }
-            } else {
-                for (std::size_t i = 0; i < n; ++i) {
-                    x[i] = ox + t[i] * dx[i];
-                    y[i] = oy + t[i] * dy[i];
-                }
-            }
+            fp_inversion::finish(ox, oy, c, m, t);
         }
     }
 
@@ -131,3 +193,4 @@ FIXPOINT_PLUGIN(
     fp::describe<Inversion>(fp::Kind::Transform, "inversion",
                             "star-shaped set inversion p' = o + t_b^2 (p - o) (paper 01, eq. (4))", params)
         .with_example("{shape: {type: circle, centre: [0, 0], radius: 1}}"))
+#endif // HWY_ONCE

@@ -151,7 +151,7 @@ TEST(Render, SummaryLine) {
     // Not a terminal: no progress bar, just the summary.
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_NE(r.err.find("300000 points in "), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("points/s, 2 threads), "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("points/s, 2 threads, "), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("restarted chain"), std::string::npos) << r.err;
 }
 

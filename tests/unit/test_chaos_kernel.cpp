@@ -1,11 +1,22 @@
-// chaos-game's fused step for circle inversions (plugins/renderers/chaos_fused.hpp): the
-// known-kernel contract of `inversion` in a `circle`, is_picard, the fused step
-// against the generic step's arithmetic written out per chain, and whole renders with
-// `kernels: auto` and `kernels: generic` giving the same bytes.
+// chaos-game's fused step for circle inversions (plugins/renderers/chaos-game/kernels-inl.hpp):
+// the known-kernel contract of `inversion` in a `circle`, is_picard, the fused step on every
+// instruction set this machine has against the generic step's arithmetic written out per
+// chain, and whole renders with `kernels: auto` and `kernels: generic` giving the same bytes.
 #include <fixpoint/host/host.hpp>
 #include <fixpoint/host/runtime.hpp>
+#include <fixpoint/simd.hpp>
 
-#include "../../plugins/renderers/chaos_fused.hpp"
+// The renderer's kernels, compiled here for every target too (the plugin keeps its own
+// copies hidden), so that the test can call them directly.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "renderers/chaos-game/kernels-inl.hpp"
+#include <hwy/foreach_target.h> // IWYU pragma: keep
+
+#include "renderers/chaos-game/kernels-inl.hpp"
+
+namespace fp_chaos {
+HWY_EXPORT(fused_f);
+} // namespace fp_chaos
 
 #include <gtest/gtest.h>
 
@@ -96,7 +107,6 @@ TEST(ChaosKernel, OnlyPicardIsPicard) {
     EXPECT_FALSE(host().make<fp::IterationScheme>("{type: s-iteration, alpha: 0.7, beta: 0.5}")->is_picard());
 }
 
-#if FP_CHAOS_FUSED
 // The generic step written out for one chain: Circle::inside, choose_rules' draw, Inversion.
 uint32_t pcg_next(uint64_t& state, uint64_t inc) {
     const uint64_t old = state;
@@ -114,67 +124,78 @@ TEST(ChaosKernel, FusedStepIsTheGenericStep) {
     for (std::size_t j = 0; j < cx.size(); ++j)
         kk.push_back({fp::KnownKernel::Kind::circle_inversion, cx[j], cy[j], r2[j]});
     const std::vector<uint32_t> q = {100, 300, 50, 700, 1u << 30, 9};
-    fp_chaos::FusedTables t;
-    ASSERT_TRUE(fp_chaos::fused_tables(kk, q, t));
+    fp_chaos::CircleTables<float> t;
+    for (std::size_t j = 0; j < kk.size(); ++j)
+        t.cx[j] = float(cx[j]), t.cy[j] = float(cy[j]), t.r2[j] = float(r2[j]), t.q[j] = q[j];
+    t.k = uint32_t(kk.size());
     const std::size_t k = cx.size();
 
-    for (std::size_t nb : {std::size_t(1), std::size_t(37), std::size_t(512)}) {
-        std::vector<float> x(nb), y(nb);
-        std::vector<uint64_t> rs(nb), ri(nb);
-        std::vector<uint32_t> prev(nb), active(nb), chosen(nb, 99), restart(nb, 99);
-        fp::Rng g = fp::chain_stream(7, nb);
-        for (std::size_t i = 0; i < nb; ++i) {
-            // Points over [-1.5, 1.5]^2: some inside one or two circles; a few NaN and exact
-            // centres (an infinite factor).
-            x[i] = float(-1.5 + 3 * fp::uniform_double(g));
-            y[i] = float(-1.5 + 3 * fp::uniform_double(g));
-            if (i % 50 == 7) x[i] = std::numeric_limits<float>::quiet_NaN();
-            if (i % 50 == 11) x[i] = 0, y[i] = 0;
-            prev[i] = uint32_t(fp::uniform_below(g, uint32_t(k + 1)));
-            active[i] = i % 13 == 5 ? 0u : 1u;
-            rs[i] = uint64_t(g()) << 32 | g();
-            ri[i] = (uint64_t(i) << 1) | 1u;
-        }
-        std::vector<float> ex = x, ey = y;
-        std::vector<uint64_t> ers = rs;
-        std::vector<uint32_t> echosen(nb), erestart(nb);
-        for (std::size_t i = 0; i < nb; ++i) {
-            std::vector<bool> ok(k);
-            uint32_t tot = 0;
-            for (std::size_t j = 0; j < k; ++j) {
-                const float dx = x[i] - float(cx[j]), dy = y[i] - float(cy[j]);
-                ok[j] = !(dx * dx + dy * dy < float(r2[j])) && prev[i] != j;
-                tot += ok[j] ? q[j] : 0u;
+    for (const std::string& target : fp::simd::supported_targets())
+        for (std::size_t nb : {std::size_t(1), std::size_t(37), std::size_t(512)}) {
+            SCOPED_TRACE(target);
+            ASSERT_TRUE(fp::simd::force_target(target));
+            // The kernels work on whole vectors: arrays of a block's size (512).
+            std::vector<float> x(512), y(512);
+            std::vector<uint64_t> rs(512), ri(512);
+            std::vector<uint32_t> prev(512), active(512), chosen(512, 99), restart(512, 99);
+            fp::Rng g = fp::chain_stream(7, nb);
+            for (std::size_t i = 0; i < nb; ++i) {
+                // Points over [-1.5, 1.5]^2: some inside one or two circles; a few NaN and exact
+                // centres (an infinite factor).
+                x[i] = float(-1.5 + 3 * fp::uniform_double(g));
+                y[i] = float(-1.5 + 3 * fp::uniform_double(g));
+                if (i % 50 == 7) x[i] = std::numeric_limits<float>::quiet_NaN();
+                if (i % 50 == 11) x[i] = 0, y[i] = 0;
+                prev[i] = uint32_t(fp::uniform_below(g, uint32_t(k + 1)));
+                active[i] = i % 13 == 5 ? 0u : 1u;
+                rs[i] = uint64_t(g()) << 32 | g();
+                ri[i] = (uint64_t(i) << 1) | 1u;
             }
-            const uint32_t u = uint32_t((uint64_t(pcg_next(ers[i], ri[i])) * tot) >> 32);
-            uint32_t cum = 0, c = 0;
-            for (std::size_t j = 0; j < k; ++j) {
-                cum += ok[j] ? q[j] : 0u;
-                c += cum <= u ? 1u : 0u;
+            std::vector<float> ex = x, ey = y;
+            std::vector<uint64_t> ers = rs;
+            std::vector<uint32_t> echosen(nb), erestart(nb);
+            for (std::size_t i = 0; i < nb; ++i) {
+                std::vector<bool> ok(k);
+                uint32_t tot = 0;
+                for (std::size_t j = 0; j < k; ++j) {
+                    const float dx = x[i] - float(cx[j]), dy = y[i] - float(cy[j]);
+                    ok[j] = !(dx * dx + dy * dy < float(r2[j])) && prev[i] != j;
+                    tot += ok[j] ? q[j] : 0u;
+                }
+                const uint32_t u = uint32_t((uint64_t(pcg_next(ers[i], ri[i])) * tot) >> 32);
+                uint32_t cum = 0, c = 0;
+                for (std::size_t j = 0; j < k; ++j) {
+                    cum += ok[j] ? q[j] : 0u;
+                    c += cum <= u ? 1u : 0u;
+                }
+                const bool mv = active[i] && tot != 0;
+                echosen[i] = mv ? c : uint32_t(k);
+                erestart[i] = active[i] && tot == 0 ? 1u : 0u;
+                if (mv) {
+                    const float ox = float(cx[c]), oy = float(cy[c]);
+                    const float dx = x[i] - ox, dy = y[i] - oy, s = float(r2[c]) / (dx * dx + dy * dy);
+                    ex[i] = ox + s * dx;
+                    ey[i] = oy + s * dy;
+                }
             }
-            const bool mv = active[i] && tot != 0;
-            echosen[i] = mv ? c : uint32_t(k);
-            erestart[i] = active[i] && tot == 0 ? 1u : 0u;
-            if (mv) {
-                const float ox = float(cx[c]), oy = float(cy[c]);
-                const float dx = x[i] - ox, dy = y[i] - oy, s = float(r2[c]) / (dx * dx + dy * dy);
-                ex[i] = ox + s * dx;
-                ey[i] = oy + s * dy;
+            fp_chaos::FusedArgs<float> f{};
+            f.tables = &t;
+            f.x = x.data();
+            f.y = y.data();
+            f.draw = fp_chaos::DrawArgs{
+                rs.data(),      ri.data(), prev.data(), active.data(), nullptr, 0,      chosen.data(),
+                restart.data(), nb,        uint32_t(k), nullptr,       nullptr, nullptr};
+            HWY_DYNAMIC_DISPATCH(fp_chaos::fused_f)(f);
+            for (std::size_t i = 0; i < nb; ++i) {
+                EXPECT_EQ(chosen[i], echosen[i]) << nb << " " << i;
+                EXPECT_EQ(restart[i], erestart[i]) << nb << " " << i;
+                EXPECT_EQ(rs[i], ers[i]) << nb << " " << i;
+                EXPECT_TRUE(same_bits(x[i], ex[i])) << nb << " " << i << " " << x[i] << " " << ex[i];
+                EXPECT_TRUE(same_bits(y[i], ey[i])) << nb << " " << i << " " << y[i] << " " << ey[i];
             }
         }
-        fp_chaos::fused_rules_step<false>(t, fp_chaos::FusedBlock{x.data(), y.data(), rs.data(), ri.data(),
-                                                                  prev.data(), active.data(), chosen.data(),
-                                                                  restart.data(), nb});
-        for (std::size_t i = 0; i < nb; ++i) {
-            EXPECT_EQ(chosen[i], echosen[i]) << nb << " " << i;
-            EXPECT_EQ(restart[i], erestart[i]) << nb << " " << i;
-            EXPECT_EQ(rs[i], ers[i]) << nb << " " << i;
-            EXPECT_TRUE(same_bits(x[i], ex[i])) << nb << " " << i << " " << x[i] << " " << ex[i];
-            EXPECT_TRUE(same_bits(y[i], ey[i])) << nb << " " << i << " " << y[i] << " " << ey[i];
-        }
-    }
+    fp::simd::force_target("");
 }
-#endif
 
 struct Render {
     fp::Image img;
@@ -212,8 +233,10 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
         // Hits only, skip 0, 700 chains (a block of 512 and a partial one; on 2 threads blocks of
         // 128 at the end).
         bench + "points: 200000, chains: 700, skip: 0, seed: 4, colourer: {type: density}, " + circles_maps(),
-        // Double chains (no fused path): the same either way.
+        // Double chains, hits only and with colour: the same either way.
         bench + "points: 100000, precision: double, colourer: {type: density}, " + circles_maps(),
+        bench + "points: 100000, chains: 300, precision: double, colourer: {type: map-colour}, " +
+            circles_maps(),
     };
     for (const auto& r : recipes) {
         const Render a = render("{" + r + "}", 1);

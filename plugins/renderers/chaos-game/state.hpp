@@ -19,25 +19,12 @@
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
-#if defined(__SSE4_1__)
-#include <immintrin.h>
-#endif
-// The loops over a block's arrays have no dependences between iterations: tell GCC, so that
-// they vectorise without run-time alias checks (GCC ignores __restrict on local pointers).
+// The scalar loops over a block's arrays have no dependences between iterations: tell GCC,
+// so that they vectorise without run-time alias checks (GCC ignores __restrict on locals).
 #if defined(__GNUC__) && !defined(__clang__)
 #define FP_IVDEP _Pragma("GCC ivdep")
 #else
 #define FP_IVDEP
-#endif
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-#define FP_CHAOS_COMPRESS 1
-#else
-#define FP_CHAOS_COMPRESS 0
-#endif
-#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512BW__)
-#define FP_CHAOS_AVX512 1
-#else
-#define FP_CHAOS_AVX512 0
 #endif
 
 namespace fp_chaos {
@@ -160,23 +147,13 @@ typedef uint32_t Cnt4 __attribute__((vector_size(16)));
 typedef uint64_t Bin4 __attribute__((vector_size(32)));
 constexpr uint32_t spill_hits = 65536;
 
-/// What a point adds, {1, r, g, b}, packed in 16 bits each into one 64-bit word, and its
-/// widening to a bin's 4 x 32 bits (one instruction with SSE4.1).
-inline Cnt4 widen(uint64_t d) {
-#if defined(__SSE4_1__)
-    return Cnt4(_mm_cvtepu16_epi32(_mm_cvtsi64_si128(std::int64_t(d))));
-#else
-    return Cnt4{uint32_t(d & 0xffffu), uint32_t((d >> 16) & 0xffffu), uint32_t((d >> 32) & 0xffffu),
-                uint32_t(d >> 48)};
-#endif
-}
-
-/// With AVX-512, chains are grouped by map with compress / expand instructions into one
-/// staging segment per map (up to this many maps); beyond, or without AVX-512, by a scalar
-/// counting sort into contiguous segments. Both give the same points in the same order.
+/// Chains are grouped by map with compress stores into one staging segment per map (up to
+/// this many maps); beyond, by a scalar counting sort into contiguous segments. Both give the
+/// same points in the same order.
 constexpr size_t max_compress_maps = 16;
-/// A map's staging segment: room for a whole block plus one full vector stored past its end.
-constexpr size_t seg_stride = block_size + 16;
+/// A map's staging segment: room for a whole block plus one full vector of the widest target
+/// stored past its end (64 lanes: SVE-2048).
+constexpr size_t seg_stride = block_size + 64;
 
 /// Hits-only histograms (a colourer that needs no colour) are flushed into 64 bits after this
 /// many deposits, before any 32-bit counter can overflow (a step deposits at most a block).
@@ -230,11 +207,11 @@ struct Scratch {
     Buf<uint32_t> active; // 0 / 1
     // per-step scratch
     Buf<unsigned char> inside; // k rows of block_size
-    Buf<uint32_t> rnd, tot, cum, chosen, perm, idx, idx2, restart, plotf, cnt;
+    Buf<uint32_t> chosen, perm, idx, idx2, restart, plotf, cnt;
     Buf<uint64_t> dep; // packed {1, r, g, b} of each chain's point
     Buf<unsigned char> moved;
-    Buf<std::uint16_t> okm; // the allowed-map masks of one vector of chains, one per map
-    Buf<T> gx, gy;
+    Buf<T> gx, gy;    // the staging segments of the grouping by map
+    Buf<uint32_t> gi; // the chain of each staged point
     // start points
     Buf<T> sx, sy;
     Buf<uint32_t> pend;
@@ -245,20 +222,17 @@ struct Scratch {
         x.alloc(B), y.alloc(B), rs.alloc(B), ri.alloc(B), left.alloc(B);
         prev.alloc(B), age.alloc(B), idle.alloc(B), cr.alloc(B), cg.alloc(B), cb.alloc(B), active.alloc(B);
         inside.alloc(k * B);
-        rnd.alloc(B), tot.alloc(B), cum.alloc(B), chosen.alloc(B), perm.alloc(B), idx.alloc(B), idx2.alloc(B),
-            restart.alloc(B);
+        chosen.alloc(B), perm.alloc(B), idx.alloc(B), idx2.alloc(B), restart.alloc(B);
         plotf.alloc(B), cnt.alloc(k + 1), dep.alloc(B);
-        moved.alloc(B), okm.alloc(k), gx.alloc(staging(k)), gy.alloc(staging(k));
+        moved.alloc(B), gx.alloc(staging(k)), gy.alloc(staging(k)), gi.alloc(staging(k));
         sx.alloc(B), sy.alloc(B), pend.alloc(B), hit.alloc(B), any.alloc(B);
     }
 
-    static size_t staging(size_t k) {
-        return FP_CHAOS_COMPRESS && k <= max_compress_maps ? k * seg_stride : block_size;
-    }
+    static size_t staging(size_t k) { return k <= max_compress_maps ? k * seg_stride : block_size; }
     static uint64_t bytes(size_t k) {
         const uint64_t B = block_size;
-        return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + k + 10 * 4 + 8 + 1 + 4 + 2) +
-               2 * sizeof(T) * staging(k) + 12 * (k + 2) + 2 * k + 64 * 40;
+        return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + k + 7 * 4 + 8 + 1 + 4 + 2) +
+               (2 * sizeof(T) + 4) * staging(k) + 12 * (k + 2) + 64 * 40;
     }
 };
 

@@ -1,0 +1,585 @@
+// chaos-game's step stages on the SIMD layer: compiled once per instruction set of the build
+// (Highway's foreach_target, from chaos-game.cpp) and dispatched at run time. The stages and
+// what they compute are described in chaos-game.cpp's header; kernels.hpp holds their
+// arguments. Each kernel works on whole vectors of chains: the block arrays hold block_size
+// entries (a multiple of every target's lane count), so the lanes past the block's last chain
+// are computed too (their values are never read) and only the counts are masked to the block.
+//
+// Integer lanes have the width of the chains' type (U = uint32_t for float, uint64_t for
+// double), so that a chain's coordinates and its integer state share one lane layout; the
+// 32-bit arrays are widened on load and narrowed on store for double, the 64-bit ones (pcg32
+// states, points left) are split in two for float.
+//
+// Floating point: + - * / and comparisons only, in the order of the scalar descriptions (no
+// MulAdd), so every target gives the bits of the others (tests/unit/test_simd_targets.cpp).
+
+#if defined(FP_CHAOS_KERNELS_INL_HPP_) == defined(HWY_TARGET_TOGGLE)
+#ifdef FP_CHAOS_KERNELS_INL_HPP_
+#undef FP_CHAOS_KERNELS_INL_HPP_
+#else
+#define FP_CHAOS_KERNELS_INL_HPP_
+#endif
+
+#include "kernels.hpp"
+
+#include <fixpoint/simd-inl.hpp>
+
+#include <hwy/highway.h>
+
+#include <cstddef>
+#include <cstdint>
+
+HWY_BEFORE_NAMESPACE();
+namespace fp_chaos::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+using std::size_t;
+using std::uint32_t;
+using std::uint64_t;
+
+constexpr uint64_t pcg_mult_v = 6364136223846793005ull;
+
+// ---------------------------------------------------------------- lanes of 32-bit data
+/// The 32-bit array p as integer lanes of DU (widened for 64-bit lanes).
+template <class DU>
+HWY_INLINE hn::Vec<DU> load32(DU du, const uint32_t* p) {
+    if constexpr (sizeof(hn::TFromD<DU>) == 4) {
+        return hn::LoadU(du, p);
+    } else {
+        const hn::Rebind<uint32_t, DU> d32;
+        return hn::PromoteTo(du, hn::LoadU(d32, p));
+    }
+}
+
+template <class DU>
+HWY_INLINE void store32(DU du, hn::Vec<DU> v, uint32_t* p) {
+    if constexpr (sizeof(hn::TFromD<DU>) == 4) {
+        hn::StoreU(v, du, p);
+    } else {
+        const hn::Rebind<uint32_t, DU> d32;
+        hn::StoreU(hn::TruncateTo(d32, v), d32, p);
+    }
+}
+
+/// Bytes (0 / non-zero) as a mask of DU's lanes: set where the byte is 0.
+template <class DU>
+HWY_INLINE hn::Mask<DU> zero_bytes(DU du, const unsigned char* p) {
+    const hn::Rebind<uint8_t, DU> d8;
+    if constexpr (sizeof(hn::TFromD<DU>) == 4) {
+        return hn::Eq(hn::PromoteTo(du, hn::LoadU(d8, p)), hn::Zero(du));
+    } else {
+        const hn::Rebind<uint32_t, DU> d32;
+        return hn::Eq(hn::PromoteTo(du, hn::PromoteTo(d32, hn::LoadU(d8, p))), hn::Zero(du));
+    }
+}
+
+/// The high 32 bits of a * b for 32-bit values a, b in DU's lanes.
+template <class DU>
+HWY_INLINE hn::Vec<DU> mul_high32(DU du, hn::Vec<DU> a, hn::Vec<DU> b) {
+#if HWY_TARGET == HWY_SCALAR
+    using U = hn::TFromD<DU>;
+    return hn::Set(du, U((uint64_t(hn::GetLane(a)) * uint64_t(hn::GetLane(b))) >> 32));
+#else
+    if constexpr (sizeof(hn::TFromD<DU>) == 4) {
+        const hn::Repartition<uint64_t, DU> d64;
+        const auto even = hn::MulEven(a, b);
+        const auto odd = hn::MulEven(hn::BitCast(du, hn::ShiftRight<32>(hn::BitCast(d64, a))),
+                                     hn::BitCast(du, hn::ShiftRight<32>(hn::BitCast(d64, b))));
+        return hn::OddEven(hn::BitCast(du, odd), hn::BitCast(du, hn::ShiftRight<32>(even)));
+    } else {
+        const hn::Repartition<uint32_t, DU> d32;
+        return hn::ShiftRight<32>(hn::MulEven(hn::BitCast(d32, a), hn::BitCast(d32, b)));
+    }
+#endif
+}
+
+/// a * b for values whose product is below 2^32 (bin indices).
+template <class DU>
+HWY_INLINE hn::Vec<DU> mul_small(DU du, hn::Vec<DU> a, hn::Vec<DU> b) {
+#if HWY_TARGET == HWY_SCALAR
+    return hn::Set(du, hn::TFromD<DU>(hn::GetLane(a) * hn::GetLane(b)));
+#else
+    if constexpr (sizeof(hn::TFromD<DU>) == 4) {
+        (void)du;
+        return hn::Mul(a, b);
+    } else {
+        const hn::Repartition<uint32_t, DU> d32;
+        return hn::MulEven(hn::BitCast(d32, a), hn::BitCast(d32, b));
+    }
+#endif
+}
+
+// ---------------------------------------------------------------- pcg32
+#if HWY_TARGET != HWY_SCALAR
+/// s * pcg_mult + inc, modulo 2^64 (Highway's 64-bit multiply: one instruction where the
+/// target has it, 32 x 32 -> 64-bit products elsewhere).
+template <class D64>
+HWY_INLINE hn::Vec<D64> pcg_advance(D64 d64, hn::Vec<D64> s, hn::Vec<D64> inc) {
+    return hn::Add(hn::Mul(s, hn::Set(d64, pcg_mult_v)), inc);
+}
+#endif
+
+/// One pcg32 output per lane (XSH-RR 64/32, output of the previous state: fp::Rng), the
+/// states at rs advanced.
+template <class DU>
+HWY_INLINE hn::Vec<DU> pcg_next(DU du, uint64_t* rs, const uint64_t* ri) {
+#if HWY_TARGET == HWY_SCALAR
+    // One lane: fp_chaos::pcg_next's arithmetic (state.hpp).
+    const uint64_t old = rs[0];
+    rs[0] = old * pcg_mult_v + ri[0];
+    const auto x = uint32_t(((old >> 18) ^ old) >> 27);
+    const auto rot = uint32_t(old >> 59);
+    return hn::Set(du, hn::TFromD<DU>((x >> rot) | (x << ((32u - rot) & 31u))));
+#else
+    const hn::Repartition<uint64_t, DU> d64;
+    if constexpr (sizeof(hn::TFromD<DU>) == 4) {
+        const size_t h = hn::Lanes(d64);
+        const auto o0 = hn::LoadU(d64, rs), o1 = hn::LoadU(d64, rs + h);
+        hn::StoreU(pcg_advance(d64, o0, hn::LoadU(d64, ri)), d64, rs);
+        hn::StoreU(pcg_advance(d64, o1, hn::LoadU(d64, ri + h)), d64, rs + h);
+        const auto xs = [](auto o) { return hn::ShiftRight<27>(hn::Xor(hn::ShiftRight<18>(o), o)); };
+        // The low 32 bits of each 64-bit lane are its even 32-bit lane.
+        const auto x = hn::ConcatEven(du, hn::BitCast(du, xs(o1)), hn::BitCast(du, xs(o0)));
+        const auto r = hn::ConcatEven(du, hn::BitCast(du, hn::ShiftRight<59>(o1)),
+                                      hn::BitCast(du, hn::ShiftRight<59>(o0)));
+        return hn::Or(hn::Shr(x, r), hn::Shl(x, hn::And(hn::Sub(hn::Set(du, 32), r), hn::Set(du, 31))));
+    } else {
+        const auto o = hn::LoadU(du, rs);
+        hn::StoreU(pcg_advance(du, o, hn::LoadU(du, ri)), du, rs);
+        const auto m32 = hn::Set(du, 0xffffffffull);
+        const auto x = hn::And(hn::ShiftRight<27>(hn::Xor(hn::ShiftRight<18>(o), o)), m32);
+        const auto r = hn::ShiftRight<59>(o);
+        const auto rl = hn::And(hn::Sub(hn::Set(du, 32), r), hn::Set(du, 31));
+        return hn::And(hn::Or(hn::Shr(x, r), hn::Shl(x, rl)), m32);
+    }
+#endif
+}
+
+// ---------------------------------------------------------------- points left
+/// left[i] -= 1 where `dec`; returns the lanes whose count is still non-zero.
+template <class DU>
+HWY_INLINE hn::Mask<DU> count_down(DU du, uint64_t* left, hn::Mask<DU> dec) {
+#if HWY_TARGET == HWY_SCALAR
+    left[0] -= hn::AllTrue(du, dec) ? 1u : 0u;
+    return hn::Ne(hn::Set(du, hn::TFromD<DU>(left[0] != 0 ? 1 : 0)), hn::Zero(du));
+#else
+    if constexpr (sizeof(hn::TFromD<DU>) == 4) {
+        const hn::Repartition<uint64_t, DU> d64;
+        const hn::RebindToSigned<DU> di;
+        const hn::Half<decltype(di)> dh;
+        const hn::Rebind<int64_t, decltype(dh)> di64;
+        const size_t h = hn::Lanes(d64);
+        const auto m = hn::BitCast(di, hn::VecFromMask(du, dec)); // -1 or 0
+        const auto l0 =
+            hn::Add(hn::LoadU(d64, left), hn::BitCast(d64, hn::PromoteTo(di64, hn::LowerHalf(dh, m))));
+        const auto l1 =
+            hn::Add(hn::LoadU(d64, left + h), hn::BitCast(d64, hn::PromoteTo(di64, hn::UpperHalf(dh, m))));
+        hn::StoreU(l0, d64, left);
+        hn::StoreU(l1, d64, left + h);
+        const auto z = hn::Zero(d64);
+        const auto nz0 = hn::BitCast(du, hn::VecFromMask(d64, hn::Ne(l0, z)));
+        const auto nz1 = hn::BitCast(du, hn::VecFromMask(d64, hn::Ne(l1, z)));
+        return hn::MaskFromVec(hn::ConcatEven(du, nz1, nz0));
+    } else {
+        const auto l = hn::Sub(hn::LoadU(du, left), hn::IfThenElseZero(dec, hn::Set(du, 1)));
+        hn::StoreU(l, du, left);
+        return hn::Ne(l, hn::Zero(du));
+    }
+#endif
+}
+
+// ---------------------------------------------------------------- the draw
+/// Rules on: the total allowed weight t, then u = high 32 bits of r * t and chosen = #{j :
+/// cum_j <= u}; `ok(j)` is the mask of the chains for which map j is allowed. KMax bounds k
+/// at compile time, so that the loops over the maps unroll (k <= 16 in practice); the masks
+/// are kept as bits between the two loops.
+template <size_t KMax, class DU, class Ok>
+HWY_INLINE hn::Vec<DU> draw_allowed(DU du, const uint32_t* q, uint32_t k, hn::Vec<DU> r, hn::Vec<DU>& tot,
+                                    Ok&& ok) {
+    using U = hn::TFromD<DU>;
+    uint8_t bits[KMax][(fp::simd::HWY_NAMESPACE::max_lanes<U> + 7) / 8];
+    // (IfThenElse(m, Add(a, b), a): one masked add where the target has them.)
+    tot = hn::Zero(du);
+    for (size_t j = 0; j < KMax; ++j) {
+        if (j == k) break;
+        const auto m = ok(uint32_t(j));
+        hn::StoreMaskBits(du, m, bits[j]);
+        tot = hn::IfThenElse(m, hn::Add(tot, hn::Set(du, U(q[j]))), tot);
+    }
+    const auto u = mul_high32(du, r, tot);
+    auto cum = hn::Zero(du), c = hn::Zero(du);
+    const auto one = hn::Set(du, U(1));
+    for (size_t j = 0; j < KMax; ++j) {
+        if (j == k) break;
+        cum = hn::IfThenElse(hn::LoadMaskBits(du, bits[j]), hn::Add(cum, hn::Set(du, U(q[j]))), cum);
+        c = hn::IfThenElse(hn::Gt(cum, u), c, hn::Add(c, one));
+    }
+    return c;
+}
+
+/// draw_allowed with the loops unrolled for up to 16 maps.
+template <class DU, class Ok>
+HWY_INLINE hn::Vec<DU> draw_any(DU du, const uint32_t* q, uint32_t k, hn::Vec<DU> r, hn::Vec<DU>& tot,
+                                Ok&& ok) {
+    if (k <= 16) return draw_allowed<16>(du, q, k, r, tot, ok);
+    return draw_allowed<fp_chaos::table_size>(du, q, k, r, tot, ok);
+}
+
+template <class DU>
+HWY_INLINE void draw_rules_t(DU du, const fp_chaos::DrawArgs& args) {
+    const fp_chaos::DrawArgs a = args; // a local copy: see fused_t
+    using U = hn::TFromD<DU>;
+    const size_t N = hn::Lanes(du);
+    const auto none = hn::Set(du, U(a.k)), one = hn::Set(du, U(1)), zero = hn::Zero(du);
+    for (size_t i = 0; i < a.nb; i += N) {
+        const auto p = load32(du, a.prev + i);
+        const auto act = hn::Ne(load32(du, a.active + i), zero);
+        const auto r = pcg_next(du, a.rs + i, a.ri + i);
+        auto tot = zero;
+        const auto c = draw_any(du, a.q, a.k, r, tot, [&](uint32_t j) {
+            return hn::And(zero_bytes(du, a.inside + j * a.row + i), hn::Ne(p, hn::Set(du, U(j))));
+        });
+        const auto some = hn::Ne(tot, zero);
+        store32(du, hn::IfThenElse(hn::And(act, some), c, none), a.chosen + i);
+        store32(du, hn::IfThenElseZero(hn::AndNot(some, act), one), a.restart + i);
+    }
+}
+
+void draw_rules(const fp_chaos::DrawArgs& a) { draw_rules_t(hn::ScalableTag<uint32_t>(), a); }
+
+/// Rules off: Walker's alias table. m = r * k; column m >> 32, kept when the low 32 bits are
+/// below its threshold, else its alias. (The table lookups are scalar: gathers are not faster
+/// for a table of a few entries.)
+void draw_alias(const fp_chaos::DrawArgs& a) {
+    const hn::ScalableTag<uint32_t> du;
+    const size_t N = hn::Lanes(du);
+    for (size_t i = 0; i < a.nb; i += N) hn::StoreU(pcg_next(du, a.rs + i, a.ri + i), du, a.chosen + i);
+    for (size_t i = 0; i < a.nb; ++i) {
+        const uint64_t m = uint64_t(a.chosen[i]) * a.k;
+        const auto col = uint32_t(m >> 32), frac = uint32_t(m);
+        const uint32_t c = frac < a.thr[col] ? col : a.alias[col];
+        a.chosen[i] = a.active[i] ? c : a.k;
+        a.restart[i] = 0;
+    }
+}
+
+// ---------------------------------------------------------------- grouping by map
+template <class T>
+HWY_INLINE void group_t(const fp_chaos::GroupArgs<T>& args) {
+    const fp_chaos::GroupArgs<T> a = args; // a local copy: see fused_t
+    uint32_t counts[fp_chaos::table_size] = {};
+    const hn::ScalableTag<T> d;
+    const hn::RebindToUnsigned<decltype(d)> du;
+    using U = hn::TFromD<decltype(du)>;
+    const size_t N = hn::Lanes(d);
+    for (size_t i = 0; i < a.nb; i += N) {
+        const size_t live = a.nb - i < N ? a.nb - i : N;
+        const auto c = hn::IfThenElse(hn::RebindMask(du, hn::FirstN(d, live)), load32(du, a.chosen + i),
+                                      hn::Set(du, U(a.k)));
+        const auto x = hn::LoadU(d, a.x + i), y = hn::LoadU(d, a.y + i);
+        const auto ix = hn::Iota(du, U(i));
+        for (uint32_t j = 0; j < a.k; ++j) {
+            const auto mu = hn::Eq(c, hn::Set(du, U(j)));
+            const auto m = hn::RebindMask(d, mu);
+            const size_t at = size_t(j) * a.stride + counts[j];
+            // Compress in registers and store whole vectors (the segments have room for one
+            // past their end): a compressing store to memory is slow on some CPUs.
+            const size_t n = hn::CountTrue(d, m);
+            hn::StoreU(hn::Compress(x, m), d, a.gx + at);
+            hn::StoreU(hn::Compress(y, m), d, a.gy + at);
+            store32(du, hn::Compress(ix, mu), a.gi + at);
+            counts[j] += uint32_t(n);
+        }
+    }
+    for (uint32_t j = 0; j < a.k; ++j) a.counts[j] = counts[j];
+}
+
+void group_f(const fp_chaos::GroupArgs<float>& a) { group_t(a); }
+void group_d(const fp_chaos::GroupArgs<double>& a) { group_t(a); }
+
+/// The way back: x[gi[t]] = gx[t] for the n points of one segment.
+template <class T>
+HWY_INLINE void scatter_t(const T* gx, const T* gy, const uint32_t* gi, size_t n, T* x, T* y) {
+    const hn::ScalableTag<T> d;
+    const hn::RebindToSigned<decltype(d)> di;
+    const size_t N = hn::Lanes(d);
+    size_t t = 0;
+    for (; t + N <= n; t += N) {
+        const auto idx = hn::BitCast(di, load32(hn::RebindToUnsigned<decltype(d)>(), gi + t));
+        hn::ScatterIndex(hn::LoadU(d, gx + t), d, x, idx);
+        hn::ScatterIndex(hn::LoadU(d, gy + t), d, y, idx);
+    }
+    for (; t < n; ++t) {
+        x[gi[t]] = gx[t];
+        y[gi[t]] = gy[t];
+    }
+}
+
+void scatter_f(const float* gx, const float* gy, const uint32_t* gi, size_t n, float* x, float* y) {
+    scatter_t(gx, gy, gi, n, x, y);
+}
+void scatter_d(const double* gx, const double* gy, const uint32_t* gi, size_t n, double* x, double* y) {
+    scatter_t(gx, gy, gi, n, x, y);
+}
+
+// ---------------------------------------------------------------- bookkeeping
+/// round(c * 65535) of a colour clamped to [0, 1] (NaN to 0), as 32-bit integers.
+template <class DF>
+HWY_INLINE hn::Vec<hn::RebindToSigned<DF>> quantise(DF df, const float* p) {
+    const hn::RebindToSigned<DF> di;
+    const auto zero = hn::Zero(df), one = hn::Set(df, 1.0f);
+    const auto c = hn::LoadU(df, p);
+    const auto c0 = hn::IfThenElse(hn::Gt(c, zero), c, zero);
+    const auto c1 = hn::IfThenElse(hn::Lt(c0, one), c0, one);
+    return hn::ConvertTo(di, hn::Add(hn::Mul(c1, hn::Set(df, 65535.0f)), hn::Set(df, 0.5f)));
+}
+
+/// dep[i] = 1 | r << 16 | g << 32 | b << 48 for the lanes of one vector of chains.
+template <class D>
+HWY_INLINE void pack_colours(D, const fp_chaos::BookArgs<hn::TFromD<D>>& a, size_t i) {
+    const hn::Rebind<float, D> df;
+    const hn::Rebind<uint32_t, D> d32;
+    const auto qr = hn::BitCast(d32, quantise(df, a.cr + i)), qg = hn::BitCast(d32, quantise(df, a.cg + i));
+    const auto qb = hn::BitCast(d32, quantise(df, a.cb + i));
+    const auto lo = hn::Or(hn::Set(d32, 1u), hn::ShiftLeft<16>(qr));
+    const auto hi = hn::Or(qg, hn::ShiftLeft<16>(qb));
+#if HWY_TARGET == HWY_SCALAR
+    a.dep[i] = uint64_t(hn::GetLane(lo)) | uint64_t(hn::GetLane(hi)) << 32;
+#else
+    if constexpr (sizeof(hn::TFromD<D>) == 4) {
+        const hn::Half<decltype(d32)> dh;
+        const hn::Rebind<uint64_t, decltype(dh)> d64;
+        const size_t h = hn::Lanes(d64);
+        const auto w0 = hn::Or(hn::PromoteTo(d64, hn::LowerHalf(dh, lo)),
+                               hn::ShiftLeft<32>(hn::PromoteTo(d64, hn::LowerHalf(dh, hi))));
+        const auto w1 = hn::Or(hn::PromoteTo(d64, hn::UpperHalf(dh, lo)),
+                               hn::ShiftLeft<32>(hn::PromoteTo(d64, hn::UpperHalf(dh, hi))));
+        hn::StoreU(w0, d64, a.dep + i);
+        hn::StoreU(w1, d64, a.dep + i + h);
+    } else {
+        const hn::Rebind<uint64_t, D> d64;
+        hn::StoreU(hn::Or(hn::PromoteTo(d64, lo), hn::ShiftLeft<32>(hn::PromoteTo(d64, hi))), d64, a.dep + i);
+    }
+#endif
+}
+
+/// The bin index of plotted points (see chaos-game.cpp's "Binning"): dummy when not plotted.
+template <class D>
+HWY_INLINE hn::Vec<hn::RebindToUnsigned<D>> bin_index(D d, const fp_chaos::BookArgs<hn::TFromD<D>>& a,
+                                                      hn::Vec<D> x, hn::Vec<D> y, hn::Mask<D> plot) {
+    const hn::RebindToUnsigned<D> du;
+    using U = hn::TFromD<decltype(du)>;
+    const auto xmin = hn::Set(d, a.xmin), ymax = hn::Set(d, a.ymax);
+    const auto in = hn::And(hn::And(plot, hn::And(hn::Ge(x, xmin), hn::Lt(x, hn::Set(d, a.xmax)))),
+                            hn::And(hn::Gt(y, hn::Set(d, a.ymin)), hn::Le(y, ymax)));
+    const auto fx = hn::IfThenElseZero(in, hn::Mul(hn::Sub(x, xmin), hn::Set(d, a.scx)));
+    const auto fy = hn::IfThenElseZero(in, hn::Mul(hn::Sub(ymax, y), hn::Set(d, a.scy)));
+    // floor of f in [0, 2^23) (the products are below the image size, 65536): truncated,
+    // then 2^23 (2^52) added, whose sum is exact and has the integer in its mantissa. The
+    // same integers as a converting instruction, without the overflow fix-up that Highway's
+    // ConvertTo adds (values this small never overflow).
+    auto trunc = [&](hn::Vec<D> f) {
+        constexpr hn::TFromD<D> big =
+            sizeof(U) == 4 ? hn::TFromD<D>(8388608.0) : hn::TFromD<D>(4503599627370496.0);
+        const auto sum = hn::BitCast(du, hn::Add(hn::Trunc(f), hn::Set(d, big)));
+        return hn::Sub(sum, hn::BitCast(du, hn::Set(d, big)));
+    };
+    const auto ix = hn::Min(trunc(fx), hn::Set(du, U(a.W - 1)));
+    const auto iy = hn::Min(trunc(fy), hn::Set(du, U(a.H - 1)));
+    return hn::IfThenElse(hn::RebindMask(du, in), hn::Add(mul_small(du, iy, hn::Set(du, U(a.W))), ix),
+                          hn::Set(du, U(a.dummy)));
+}
+
+template <class T>
+HWY_INLINE fp_chaos::Counts bookkeep_t(const fp_chaos::BookArgs<T>& args, bool colour) {
+    const fp_chaos::BookArgs<T> a = args; // a local copy: see fused_t
+    const hn::ScalableTag<T> d;
+    const hn::RebindToUnsigned<decltype(d)> du;
+    using U = hn::TFromD<decltype(du)>;
+    const size_t N = hn::Lanes(d);
+    const auto one = hn::Set(du, U(1)), zero = hn::Zero(du);
+    const auto none = hn::Set(du, U(a.none)), skip = hn::Set(du, U(a.skip));
+    fp_chaos::Counts n;
+    for (size_t i = 0; i < a.nb; i += N) {
+        const auto live = hn::RebindMask(du, hn::FirstN(d, a.nb - i < N ? a.nb - i : N));
+        const auto x = hn::LoadU(d, a.x + i), y = hn::LoadU(d, a.y + i);
+        const auto c = load32(du, a.chosen + i);
+        const auto mv = hn::Lt(c, none);
+        const auto fin = hn::RebindMask(
+            du, hn::And(fp::simd::HWY_NAMESPACE::finite(x), fp::simd::HWY_NAMESPACE::finite(y)));
+        const auto isbad = hn::AndNot(fin, mv);
+        const auto age = load32(du, a.age + i);
+        const auto old = hn::Not(hn::Lt(age, skip));
+        const auto plot = hn::And(hn::And(mv, fin), old);
+        store32(du, hn::Add(age, hn::IfThenElseZero(hn::AndNot(old, mv), one)), a.age + i);
+        store32(du, hn::IfThenElse(mv, c, load32(du, a.prev + i)), a.prev + i);
+        store32(du, hn::IfThenZeroElse(plot, load32(du, a.idle + i)), a.idle + i);
+        const auto rs = hn::Or(load32(du, a.restart + i), hn::IfThenElseZero(isbad, hn::Set(du, U(2))));
+        store32(du, rs, a.restart + i);
+        store32(du, hn::IfThenElseZero(plot, one), a.plotf + i);
+        store32(du, bin_index(d, a, x, y, hn::RebindMask(d, plot)), a.idx + i);
+        n.plotted += hn::CountTrue(du, hn::And(live, plot));
+        n.bad += uint32_t(hn::CountTrue(du, hn::And(live, isbad)));
+        n.restarts += uint32_t(hn::CountTrue(du, hn::And(live, hn::Ne(rs, zero))));
+        const auto nz = count_down(du, a.left + i, plot);
+        const auto act = hn::And(nz, hn::Ne(load32(du, a.active + i), zero));
+        store32(du, hn::IfThenElseZero(act, one), a.active + i);
+        n.still += uint32_t(hn::CountTrue(du, hn::And(live, act)));
+        if (colour) pack_colours(d, a, i);
+    }
+    return n;
+}
+
+fp_chaos::Counts bookkeep_f(const fp_chaos::BookArgs<float>& a, bool colour) { return bookkeep_t(a, colour); }
+fp_chaos::Counts bookkeep_d(const fp_chaos::BookArgs<double>& a, bool colour) {
+    return bookkeep_t(a, colour);
+}
+
+// ---------------------------------------------------------------- the deposit with colour
+/// From point `from` on, bins[idx[i]] += {1, r, g, b} (dep[i]'s four 16-bit fields widened to
+/// a bin's four 32-bit counters), until a bin's hits reach `spill`: returns that point's
+/// index, for the caller to spill the bin before going on from the next one; nb when done.
+size_t deposit_colour(uint32_t* bins, const uint32_t* idx, const uint64_t* dep, size_t from, size_t nb,
+                      uint32_t spill) {
+#if HWY_TARGET == HWY_SCALAR
+    for (size_t i = from; i < nb; ++i) {
+        uint32_t* b = bins + 4 * size_t(idx[i]);
+        const uint64_t v = dep[i];
+        b[0] += uint32_t(v & 0xffffu), b[1] += uint32_t((v >> 16) & 0xffffu);
+        b[2] += uint32_t((v >> 32) & 0xffffu), b[3] += uint32_t(v >> 48);
+        if (HWY_UNLIKELY(b[0] == spill)) return i;
+    }
+#else
+    const hn::FixedTag<uint32_t, 4> d4;
+    const hn::FixedTag<uint16_t, 4> d16;
+    for (size_t i = from; i < nb; ++i) {
+        uint32_t* b = bins + 4 * size_t(idx[i]);
+        const auto v = hn::Add(hn::LoadU(d4, b),
+                               hn::PromoteTo(d4, hn::LoadU(d16, reinterpret_cast<const uint16_t*>(dep + i))));
+        hn::StoreU(v, d4, b);
+        if (HWY_UNLIKELY(hn::GetLane(v) == spill)) return i;
+    }
+#endif
+    return nb;
+}
+
+// ---------------------------------------------------------------- the fused circle step
+/// The per-lane value of a map's parameter: a table lookup when the maps fit one vector, else
+/// a selection per map (the same values).
+template <class D>
+HWY_INLINE hn::Vec<D> per_map(D d, const hn::TFromD<D>* table, uint32_t k,
+                              hn::Vec<hn::RebindToUnsigned<D>> c) {
+    const hn::RebindToUnsigned<D> du;
+    using U = hn::TFromD<decltype(du)>;
+    if (k <= hn::Lanes(d)) {
+        const auto idx = hn::Min(c, hn::Set(du, U(k - 1)));
+        return hn::TableLookupLanes(hn::LoadU(d, table), hn::IndicesFromVec(d, idx));
+    }
+    auto v = hn::Set(d, table[0]);
+    for (uint32_t j = 1; j < k; ++j)
+        v = hn::IfThenElse(hn::RebindMask(d, hn::Eq(c, hn::Set(du, U(j)))), hn::Set(d, table[j]), v);
+    return v;
+}
+
+template <class T, bool Book, bool Steady>
+HWY_INLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
+    const hn::ScalableTag<T> d;
+    const hn::RebindToUnsigned<decltype(d)> du;
+    using U = hn::TFromD<decltype(du)>;
+    const size_t N = hn::Lanes(d);
+    // Local copies: the stores through the arrays cannot alias them, so that nothing is
+    // reloaded after each store.
+    const fp_chaos::FusedArgs<T> f = args;
+    const fp_chaos::CircleTables<T> t = *f.tables;
+    const fp_chaos::DrawArgs a = f.draw;
+    fp_chaos::BookArgs<T> bkv{};
+    if (Book) bkv = *f.book;
+    const fp_chaos::BookArgs<T>* const bk = &bkv;
+    const uint32_t k = t.k;
+    const auto one = hn::Set(du, U(1)), zero = hn::Zero(du), none = hn::Set(du, U(k));
+    fp_chaos::Counts n;
+    for (size_t i = 0; i < a.nb; i += N) {
+        const size_t nl = a.nb - i < N ? a.nb - i : N;
+        const auto live = hn::RebindMask(du, hn::FirstN(d, nl));
+        const auto x = hn::LoadU(d, f.x + i), y = hn::LoadU(d, f.y + i);
+        const auto p = load32(du, a.prev + i);
+        const auto act = hn::And(live, hn::Ne(load32(du, a.active + i), zero));
+        // Inside tests (Circle::inside: dx * dx + dy * dy < r2): a map is allowed where that
+        // fails (NaN included) and it is not the previous one.
+        const auto r = pcg_next(du, a.rs + i, a.ri + i);
+        auto tot = zero;
+        const auto c = draw_any(du, t.q, k, r, tot, [&](uint32_t j) {
+            const auto dx = hn::Sub(x, hn::Set(d, t.cx[j])), dy = hn::Sub(y, hn::Set(d, t.cy[j]));
+            const auto in = hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Set(d, t.r2[j]));
+            return hn::AndNot(hn::RebindMask(du, in), hn::Ne(p, hn::Set(du, U(j))));
+        });
+        const auto some = hn::Ne(tot, zero);
+        const auto mv = hn::And(act, some);
+        const auto rst = hn::IfThenElseZero(hn::AndNot(some, act), one);
+        if (!Book) {
+            store32(du, hn::IfThenElse(mv, c, none), a.chosen + i);
+            store32(du, rst, a.restart + i);
+        }
+        // The inversion in the chosen circle (Inversion with Circle::inversion_factor).
+        const auto ox = per_map(d, t.cx, k, c), oy = per_map(d, t.cy, k, c), r2 = per_map(d, t.r2, k, c);
+        const auto dx = hn::Sub(x, ox), dy = hn::Sub(y, oy);
+        const auto s = hn::Div(r2, hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)));
+        const auto mvf = hn::RebindMask(d, mv);
+        const auto nx = hn::IfThenElse(mvf, hn::Add(ox, hn::Mul(s, dx)), x);
+        const auto ny = hn::IfThenElse(mvf, hn::Add(oy, hn::Mul(s, dy)), y);
+        hn::StoreU(nx, d, f.x + i);
+        hn::StoreU(ny, d, f.y + i);
+        if constexpr (Book) {
+            // The bookkeeping of bookkeep_t on (nx, ny), in registers.
+            const auto fin = hn::RebindMask(
+                du, hn::And(fp::simd::HWY_NAMESPACE::finite(nx), fp::simd::HWY_NAMESPACE::finite(ny)));
+            const auto isbad = hn::AndNot(fin, mv);
+            auto plot = hn::And(mv, fin);
+            if constexpr (!Steady) {
+                const auto age = load32(du, bk->age + i);
+                const auto old = hn::Not(hn::Lt(age, hn::Set(du, U(bk->skip))));
+                plot = hn::And(plot, old);
+                store32(du, hn::Add(age, hn::IfThenElseZero(hn::AndNot(old, mv), one)), bk->age + i);
+                store32(du, hn::IfThenZeroElse(plot, load32(du, bk->idle + i)), bk->idle + i);
+                n.plotted += hn::CountTrue(du, plot);
+            }
+            store32(du, hn::IfThenElse(mv, c, p), bk->prev + i);
+            const auto rs = hn::Or(rst, hn::IfThenElseZero(isbad, hn::Set(du, U(2))));
+            store32(du, rs, a.restart + i);
+            const auto restarts = hn::And(live, hn::Ne(rs, zero));
+            if (HWY_UNLIKELY(!hn::AllFalse(du, restarts))) {
+                n.bad += uint32_t(hn::CountTrue(du, isbad));
+                n.restarts += uint32_t(hn::CountTrue(du, restarts));
+            }
+            store32(du, bin_index(d, *bk, nx, ny, hn::RebindMask(d, plot)), bk->idx + i);
+            if constexpr (!Steady) {
+                const auto still = hn::And(count_down(du, bk->left + i, plot), act);
+                store32(du, hn::IfThenElseZero(still, one), bk->active + i);
+                n.still += uint32_t(hn::CountTrue(du, still));
+            }
+            if (f.lag) {
+                // The previous step's bins, whose addresses are known from the start: their
+                // cache misses overlap this vector's arithmetic. A whole vector's without a
+                // bound test per increment (those branches would take issue slots).
+                if (nl == N)
+                    for (size_t l = 0; l < hn::MaxLanes(d); ++l) ++f.hits[f.lag[i + l]];
+                else
+                    for (size_t l = 0; l < nl; ++l) ++f.hits[f.lag[i + l]];
+            }
+        }
+    }
+    return n;
+}
+
+template <class T>
+HWY_INLINE fp_chaos::Counts fused_any(const fp_chaos::FusedArgs<T>& f) {
+    if (!f.book) return fused_t<T, false, false>(f);
+    return f.steady ? fused_t<T, true, true>(f) : fused_t<T, true, false>(f);
+}
+
+fp_chaos::Counts fused_f(const fp_chaos::FusedArgs<float>& f) { return fused_any(f); }
+fp_chaos::Counts fused_d(const fp_chaos::FusedArgs<double>& f) { return fused_any(f); }
+
+} // namespace fp_chaos::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#endif // per-target include guard

@@ -1,0 +1,101 @@
+// chaos-game's step stages: the arguments of the vectorised kernels (kernels-inl.hpp, compiled
+// for every instruction set of the build and dispatched at run time by chaos-game.cpp).
+// Everything here is plain data: the kernels see arrays, never a plugin.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace fp_chaos {
+
+/// Entries of the per-map tables (weights, circles): a whole vector of the widest target
+/// (64 float lanes of SVE-2048) so that a table loads as one vector; k above the lane count
+/// of the target at hand selects per map instead of by table lookup (the same values).
+constexpr std::size_t table_size = 64;
+
+/// The draw of a map per chain (paper 01's rules as masks, or Walker's alias table).
+struct DrawArgs {
+    std::uint64_t* rs;           ///< pcg32 states, advanced by one output per chain
+    const std::uint64_t* ri;     ///< pcg32 increments
+    const std::uint32_t* prev;   ///< previous map (k: none)
+    const std::uint32_t* active; ///< 0 / 1
+    const unsigned char* inside; ///< rules: k rows of block_size bytes (1: the map's set holds the point)
+    std::size_t row;             ///< the stride of `inside`
+    std::uint32_t* chosen;       ///< out: the map, k when none (inactive, or none allowed)
+    std::uint32_t* restart;      ///< out: 1 for an active chain with no allowed map, else 0
+    std::size_t nb;              ///< chains
+    std::uint32_t k;             ///< maps
+    const std::uint32_t* q;      ///< rules: integer weights (sum below 2^32)
+    const std::uint32_t* thr;    ///< alias: thresholds
+    const std::uint32_t* alias;  ///< alias: the other map of each column
+};
+
+/// Bookkeeping of a step (see chaos_bookkeep.hpp's description).
+template <class T>
+struct BookArgs {
+    const T* x;
+    const T* y;
+    const std::uint32_t* chosen;
+    std::uint32_t* prev;
+    std::uint32_t* age;
+    std::uint32_t* idle;
+    std::uint32_t* restart; ///< bit 0 set by the draw, bit 1 (bad value) added here
+    std::uint32_t* plotf;
+    std::uint32_t* idx;
+    std::uint64_t* left;
+    std::uint32_t* active;
+    const float* cr;
+    const float* cg;
+    const float* cb;
+    std::uint64_t* dep; ///< packed {1, r, g, b} (colour only)
+    std::size_t nb;
+    T xmin = 0, xmax = 0, ymin = 0, ymax = 0, scx = 0, scy = 0;
+    std::uint32_t W = 0, H = 0, dummy = 0, skip = 0, none = 0;
+};
+
+struct Counts {
+    std::uint64_t plotted = 0;
+    std::uint32_t bad = 0, restarts = 0, still = 0;
+};
+
+/// Grouping by map: each map's points compressed into its own segment of the staging arrays
+/// (stride `stride`), with the chains' indices; counts per map out.
+template <class T>
+struct GroupArgs {
+    const T* x;
+    const T* y;
+    const std::uint32_t* chosen;
+    T* gx;
+    T* gy;
+    std::uint32_t* gi;
+    std::uint32_t* counts; ///< k entries
+    std::size_t stride;
+    std::size_t nb;
+    std::uint32_t k;
+};
+
+/// The fused step's tables: every map an inversion in a circle (fp::KnownKernel).
+template <class T>
+struct CircleTables {
+    alignas(64) T cx[table_size] = {};
+    alignas(64) T cy[table_size] = {};
+    alignas(64) T r2[table_size] = {};
+    std::uint32_t q[table_size] = {};
+    std::uint32_t k = 0;
+};
+
+/// The fused step: the draw, the inversion, and with `book` (hits only) the bookkeeping, in
+/// one pass; `lag` (or null) the previous step's bins, deposited into `hits` during it.
+template <class T>
+struct FusedArgs {
+    const CircleTables<T>* tables;
+    T* x;
+    T* y;
+    DrawArgs draw;           ///< inside, q, thr and alias unused
+    const BookArgs<T>* book; ///< null: draw and move only (the caller's bookkeep follows)
+    std::uint32_t* hits;
+    const std::uint32_t* lag;
+    bool steady; ///< with book: the block is in a steady run (see chaos_bookkeep.hpp)
+};
+
+} // namespace fp_chaos

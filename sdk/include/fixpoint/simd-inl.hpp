@@ -1,0 +1,217 @@
+// The SIMD layer's kernel side: loop drivers over point batches, written once on Google
+// Highway and compiled for every target of the build (see fixpoint/simd.hpp for the host
+// side and the rules that keep renders the same bytes on every target).
+//
+// A plugin puts its per-point arithmetic in a per-target section and dispatches to it:
+//
+//   // my-shape.cpp
+//   #undef HWY_TARGET_INCLUDE
+//   #define HWY_TARGET_INCLUDE "my-shape.cpp"  // this file, as found on the include path
+//   #include <hwy/foreach_target.h>           // compiles what follows once per target
+//   #include <fixpoint/simd-inl.hpp>
+//   HWY_BEFORE_NAMESPACE();
+//   namespace my_shape::HWY_NAMESPACE {
+//   namespace hn = hwy::HWY_NAMESPACE;
+//   namespace fs = fp::simd::HWY_NAMESPACE;
+//   void inside_f(const Params& c, fp::Points<const float> p, unsigned char* out) {
+//       const hn::ScalableTag<float> d;
+//       fs::test_points(d, p, out, [&](auto x, auto y) { return hn::Lt(..., ...); });
+//   }
+//   }  // namespace my_shape::HWY_NAMESPACE
+//   HWY_AFTER_NAMESPACE();
+//   #if HWY_ONCE
+//   namespace my_shape {
+//   HWY_EXPORT(inside_f);
+//   ... HWY_DYNAMIC_DISPATCH(inside_f)(params, p, out);   // in the plugin's class
+//   }
+//   #endif
+//
+// (fixpoint_add_plugin puts the plugin's own folder on the include path.) The drivers below
+// take a lambda on whole vectors: full vectors straight from the arrays, the last partial
+// one through a small buffer on the stack (no read or write past the batch's end on any
+// target), and fp::Mask honoured lane by lane. No FMA (MulAdd) and no approximate
+// reciprocals in kernels: the same recipe must give the same bytes on every target.
+
+// Per-target include guard (Highway's convention): this file is compiled once per target.
+#if defined(FIXPOINT_SIMD_INL_HPP_) == defined(HWY_TARGET_TOGGLE)
+#ifdef FIXPOINT_SIMD_INL_HPP_
+#undef FIXPOINT_SIMD_INL_HPP_
+#else
+#define FIXPOINT_SIMD_INL_HPP_
+#endif
+
+#include <fixpoint/batch.hpp>
+
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+HWY_BEFORE_NAMESPACE();
+namespace fp::simd::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+/// The most lanes of T a vector of any target holds (stack buffers for the tails).
+template <class T>
+constexpr std::size_t max_lanes = HWY_MAX_BYTES / sizeof(T);
+
+/// The lane mask of n bytes of an fp::Mask (non-zero = active).
+template <class D>
+HWY_INLINE hn::Mask<D> load_mask(D d, const unsigned char* m) {
+    using T = hn::TFromD<D>;
+    using U = hwy::MakeUnsigned<T>;
+    const hn::RebindToUnsigned<D> du;
+    alignas(HWY_MAX_BYTES) U wide[max_lanes<T>];
+    const std::size_t n = hn::Lanes(d);
+    for (std::size_t i = 0; i < n; ++i) wide[i] = m[i] ? U(1) : U(0);
+    return hn::RebindMask(d, hn::Ne(hn::Load(du, wide), hn::Zero(du)));
+}
+
+/// n bytes, 1 where the mask is set, else 0 (32-bit lanes: narrowed in registers).
+template <class D>
+HWY_INLINE void store_mask(D d, hn::Mask<D> m, unsigned char* out, std::size_t n) {
+    using T = hn::TFromD<D>;
+    if constexpr (sizeof(T) == 4) {
+        const hn::RebindToSigned<D> di;
+        const hn::Rebind<std::uint8_t, D> d8;
+        const auto b = hn::DemoteTo(d8, hn::IfThenElseZero(hn::RebindMask(di, m), hn::Set(di, 1)));
+        if (n == hn::Lanes(d)) {
+            hn::StoreU(b, d8, out);
+        } else {
+            alignas(HWY_MAX_BYTES) std::uint8_t buf[max_lanes<T>];
+            hn::Store(b, d8, buf);
+            std::copy_n(buf, n, out);
+        }
+    } else {
+        using U = hwy::MakeUnsigned<T>;
+        const hn::RebindToUnsigned<D> du;
+        alignas(HWY_MAX_BYTES) U wide[max_lanes<T>];
+        hn::Store(hn::IfThenElseZero(hn::RebindMask(du, m), hn::Set(du, U(1))), du, wide);
+        for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<unsigned char>(wide[i]);
+    }
+}
+
+/// p[i] <- f(p[i]) for the active points: f(x, y) takes two vectors by reference and
+/// replaces them. Inactive lanes (mask) keep their values whatever f computes for them.
+template <class D, class F>
+HWY_INLINE void map_points(D d, fp::Points<hn::TFromD<D>> p, fp::Mask mask, F&& f) {
+    using T = hn::TFromD<D>;
+    const std::size_t N = hn::Lanes(d);
+    std::size_t i = 0;
+    for (; i + N <= p.n; i += N) {
+        auto x = hn::LoadU(d, p.x + i), y = hn::LoadU(d, p.y + i);
+        const auto x0 = x, y0 = y;
+        f(x, y);
+        if (mask) {
+            const auto m = load_mask(d, mask + i);
+            x = hn::IfThenElse(m, x, x0);
+            y = hn::IfThenElse(m, y, y0);
+        }
+        hn::StoreU(x, d, p.x + i);
+        hn::StoreU(y, d, p.y + i);
+    }
+    if (i == p.n) return;
+    const std::size_t r = p.n - i;
+    alignas(HWY_MAX_BYTES) T bx[max_lanes<T>] = {}, by[max_lanes<T>] = {};
+    unsigned char bm[max_lanes<T>] = {};
+    std::copy_n(p.x + i, r, bx);
+    std::copy_n(p.y + i, r, by);
+    if (mask) std::copy_n(mask + i, r, bm);
+    auto x = hn::Load(d, bx), y = hn::Load(d, by);
+    const auto x0 = x, y0 = y;
+    f(x, y);
+    if (mask) {
+        const auto m = load_mask(d, bm);
+        x = hn::IfThenElse(m, x, x0);
+        y = hn::IfThenElse(m, y, y0);
+    }
+    hn::Store(x, d, bx);
+    hn::Store(y, d, by);
+    std::copy_n(bx, r, p.x + i);
+    std::copy_n(by, r, p.y + i);
+}
+
+/// map_points with one more array read alongside: f(x, y, e) with e the vector of extra[i].
+template <class D, class F>
+HWY_INLINE void map_points_with(D d, fp::Points<hn::TFromD<D>> p, fp::Mask mask, const hn::TFromD<D>* extra,
+                                F&& f) {
+    using T = hn::TFromD<D>;
+    const std::size_t N = hn::Lanes(d);
+    std::size_t i = 0;
+    for (; i + N <= p.n; i += N) {
+        auto x = hn::LoadU(d, p.x + i), y = hn::LoadU(d, p.y + i);
+        const auto x0 = x, y0 = y;
+        f(x, y, hn::LoadU(d, extra + i));
+        if (mask) {
+            const auto m = load_mask(d, mask + i);
+            x = hn::IfThenElse(m, x, x0);
+            y = hn::IfThenElse(m, y, y0);
+        }
+        hn::StoreU(x, d, p.x + i);
+        hn::StoreU(y, d, p.y + i);
+    }
+    if (i == p.n) return;
+    const std::size_t r = p.n - i;
+    alignas(HWY_MAX_BYTES) T bx[max_lanes<T>] = {}, by[max_lanes<T>] = {}, be[max_lanes<T>] = {};
+    unsigned char bm[max_lanes<T>] = {};
+    std::copy_n(p.x + i, r, bx);
+    std::copy_n(p.y + i, r, by);
+    std::copy_n(extra + i, r, be);
+    if (mask) std::copy_n(mask + i, r, bm);
+    auto x = hn::Load(d, bx), y = hn::Load(d, by);
+    const auto x0 = x, y0 = y;
+    f(x, y, hn::Load(d, be));
+    if (mask) {
+        const auto m = load_mask(d, bm);
+        x = hn::IfThenElse(m, x, x0);
+        y = hn::IfThenElse(m, y, y0);
+    }
+    hn::Store(x, d, bx);
+    hn::Store(y, d, by);
+    std::copy_n(bx, r, p.x + i);
+    std::copy_n(by, r, p.y + i);
+}
+
+/// out[i] = 1 where f(x, y) (a mask) holds for point i, else 0.
+template <class D, class F>
+HWY_INLINE void test_points(D d, fp::Points<const hn::TFromD<D>> p, unsigned char* out, F&& f) {
+    using T = hn::TFromD<D>;
+    const std::size_t N = hn::Lanes(d);
+    std::size_t i = 0;
+    for (; i + N <= p.n; i += N) store_mask(d, f(hn::LoadU(d, p.x + i), hn::LoadU(d, p.y + i)), out + i, N);
+    if (i == p.n) return;
+    const std::size_t r = p.n - i;
+    alignas(HWY_MAX_BYTES) T bx[max_lanes<T>] = {}, by[max_lanes<T>] = {};
+    std::copy_n(p.x + i, r, bx);
+    std::copy_n(p.y + i, r, by);
+    store_mask(d, f(hn::Load(d, bx), hn::Load(d, by)), out + i, r);
+}
+
+/// out[i] = f(x, y) (a vector) for point i.
+template <class D, class F>
+HWY_INLINE void eval_points(D d, fp::Points<const hn::TFromD<D>> p, hn::TFromD<D>* out, F&& f) {
+    using T = hn::TFromD<D>;
+    const std::size_t N = hn::Lanes(d);
+    std::size_t i = 0;
+    for (; i + N <= p.n; i += N) hn::StoreU(f(hn::LoadU(d, p.x + i), hn::LoadU(d, p.y + i)), d, out + i);
+    if (i == p.n) return;
+    const std::size_t r = p.n - i;
+    alignas(HWY_MAX_BYTES) T bx[max_lanes<T>] = {}, by[max_lanes<T>] = {}, bo[max_lanes<T>];
+    std::copy_n(p.x + i, r, bx);
+    std::copy_n(p.y + i, r, by);
+    hn::Store(f(hn::Load(d, bx), hn::Load(d, by)), d, bo);
+    std::copy_n(bo, r, out + i);
+}
+
+/// Finite lanes (neither NaN nor infinite): x - x == 0.
+template <class V>
+HWY_INLINE auto finite(V x) {
+    return hn::Eq(hn::Sub(x, x), hn::Zero(hn::DFromV<V>()));
+}
+
+} // namespace fp::simd::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#endif // per-target include guard

@@ -1,0 +1,99 @@
+// The SIMD layer's promise (fixpoint/simd.hpp): the same recipe gives the same bytes on every
+// instruction set the kernels dispatch to. Each recipe is rendered with dispatch pinned to
+// each target this machine has (fp::simd::force_target), from the portable one-lane SCALAR
+// up to the widest, and compared with the best target's image and counts.
+#include <fixpoint/host/host.hpp>
+#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/simd.hpp>
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace {
+
+fp::host::Host& host() {
+    static fp::host::Host h;
+    return h;
+}
+
+struct Render {
+    fp::Image img;
+    fp::RenderStats stats;
+};
+
+Render render(const std::string& yaml, unsigned threads) {
+    auto r = host().make<fp::Renderer>(yaml);
+    fp::host::Runtime rt(threads, nullptr);
+    Render out;
+    out.img = r->render(rt, out.stats);
+    return out;
+}
+
+const std::string circles = "maps: [{type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.65}}, "
+                            "{type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.65}}, "
+                            "{type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.65}}, "
+                            "{type: inversion, shape: {type: circle, centre: [0, 0], radius: 0.4}}]";
+const std::string frame = "type: chaos-game, width: 80, height: 80, view: [-1.2, 1.2, -1.2, 1.2], ";
+
+// One recipe per kernel path: the fused circle step (hits only and with colour, float and
+// double), the generic step (grouping, draw with rules, bookkeeping), the alias draw of an
+// affine IFS with the flame colourer, Gumowski-Mira in double, inversions in polygons and
+// stars, a circle inverted about an off-centre point (ray exits), another iteration scheme.
+const std::vector<std::string> recipes = {
+    frame + "points: 200000, chains: 700, colourer: {type: density}, " + circles,
+    frame + "points: 200000, chains: 300, colourer: {type: map-colour}, " + circles,
+    frame + "points: 100000, precision: double, colourer: {type: density}, " + circles,
+    frame + "points: 100000, precision: double, colourer: {type: flame}, " + circles,
+    frame + "points: 150000, kernels: generic, colourer: {type: map-colour}, " + circles,
+    frame + "points: 150000, kernels: generic, precision: double, colourer: {type: flame}, " + circles,
+    "type: chaos-game, width: 64, height: 64, view: [0, 1, 0, 1], points: 200000, chains: 333, "
+    "colourer: {type: flame}, maps: [{type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}, "
+    "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0]}, {type: affine, coefficients: [0.5, 0, 0, 0.5, "
+    "0.25, 0.5]}]",
+    "type: chaos-game, width: 64, height: 64, view: [-15, 15, -15, 15], points: 100000, chains: 1, skip: 0, "
+    "start: [0, 0.5], precision: double, colourer: {type: density}, maps: [{type: gumowski-mira, alpha: 0, "
+    "mu: -0.31}]",
+    frame +
+        "points: 100000, colourer: {type: map-colour}, maps: [{type: inversion, shape: {type: polygon, "
+        "vertices: [[-0.3, -0.3], [0.4, -0.2], [0.1, 0.5]]}}, {type: inversion, shape: {type: star-polygon, "
+        "points: 5, inner_radius: 0.2, outer_radius: 0.5, centre: [0.7, 0.1]}}, {type: inversion, shape: "
+        "{type: circle, "
+        "centre: [-0.6, 0.5], radius: 0.45}, centre: [-0.5, 0.45]}]",
+    frame +
+        "points: 100000, iteration: {type: s-iteration, alpha: 0.7, beta: 0.5}, colourer: {type: flame}, " +
+        circles,
+};
+
+TEST(SimdTargets, EveryTargetGivesTheSameBytes) {
+    const std::vector<std::string> targets = fp::simd::supported_targets();
+    ASSERT_FALSE(targets.empty());
+    // At least the portable one-lane target and a vector one on any machine fixpoint builds on.
+    EXPECT_GE(targets.size(), 2u);
+    for (const auto& r : recipes) {
+        ASSERT_TRUE(fp::simd::force_target(""));
+        const Render best = render("{" + r + "}", 2);
+        EXPECT_GT(best.stats.drawn, 0u) << r;
+        for (const auto& t : targets) {
+            ASSERT_TRUE(fp::simd::force_target(t)) << t;
+            EXPECT_EQ(fp::simd::active_target(), t);
+            const Render other = render("{" + r + "}", t == targets.back() ? 1 : 3);
+            EXPECT_TRUE(best.img.pixels == other.img.pixels) << t << ": " << r;
+            EXPECT_EQ(best.stats.samples, other.stats.samples) << t << ": " << r;
+            EXPECT_EQ(best.stats.drawn, other.stats.drawn) << t << ": " << r;
+            EXPECT_EQ(best.stats.restarts, other.stats.restarts) << t << ": " << r;
+        }
+    }
+    EXPECT_TRUE(fp::simd::force_target(""));
+    EXPECT_EQ(fp::simd::active_target(), targets.front());
+}
+
+TEST(SimdTargets, UnknownTargetsAreRefused) {
+    const std::string before = fp::simd::active_target();
+    EXPECT_FALSE(fp::simd::force_target("avx9000"));
+    EXPECT_EQ(fp::simd::active_target(), before);
+    EXPECT_TRUE(fp::simd::force_target("best"));
+}
+
+} // namespace
