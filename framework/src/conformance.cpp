@@ -173,30 +173,48 @@ template <class T>
 void check_known_kernel(const Transform& t, const std::vector<double>& x0, const std::vector<double>& y0,
                         Findings& f) {
     const KnownKernel k = t.kernel();
-    if (k.kind == KnownKernel::Kind::none) return;
-    if (k.kind != KnownKernel::Kind::circle_inversion) {
+    using Kind = KnownKernel::Kind;
+    if (k.kind == Kind::none) return;
+    if (k.kind != Kind::circle_inversion && k.kind != Kind::affine && k.kind != Kind::gumowski_mira) {
         f.push_back("transform: kernel() reports an unknown kind");
         return;
     }
     const std::size_t n = x0.size();
     std::vector<T> x(x0.begin(), x0.end()), y(y0.begin(), y0.end());
-    std::vector<unsigned char> in(n);
-    t.contains(Points<const T>{x.data(), y.data(), n}, in.data());
+    std::vector<unsigned char> in(n, 0);
+    if (k.kind == Kind::circle_inversion) t.contains(Points<const T>{x.data(), y.data(), n}, in.data());
     t.apply(Points<T>{x.data(), y.data(), n}, nullptr);
     const T cx = T(k.cx), cy = T(k.cy), r2 = T(k.r2);
+    T c[6];
+    for (int i = 0; i < 6; ++i) c[i] = T(k.c[i]);
     std::size_t bad = 0;
     for (std::size_t i = 0; i < n; ++i) {
-        const T dx = T(x0[i]) - cx, dy = T(y0[i]) - cy, d2 = dx * dx + dy * dy, s = r2 / d2;
-        const T ex = cx + s * dx, ey = cy + s * dy;
+        const T px = T(x0[i]), py = T(y0[i]);
+        T ex = 0, ey = 0;
+        unsigned char ein = 0;
+        if (k.kind == Kind::circle_inversion) {
+            const T dx = px - cx, dy = py - cy, d2 = dx * dx + dy * dy, s = r2 / d2;
+            ex = cx + s * dx, ey = cy + s * dy, ein = d2 < r2 ? 1 : 0;
+        } else if (k.kind == Kind::affine) {
+            ex = (c[0] * px + c[1] * py) + c[4];
+            ey = (c[2] * px + c[3] * py) + c[5];
+        } else {
+            auto g = [&](T u) {
+                const T u2 = u * u;
+                return c[1] * u + (c[2] * u2) / (T(1) + u2);
+            };
+            ex = (py + (c[0] * (T(1) - (T(0.05) * py) * py)) * py) + g(px);
+            ey = -px + g(ex);
+        }
         bad += std::memcmp(&ex, &x[i], sizeof(T)) != 0 || std::memcmp(&ey, &y[i], sizeof(T)) != 0 ||
-               in[i] != (d2 < r2 ? 1 : 0);
+               in[i] != ein;
     }
+    static const char* const names[] = {"", "inversion in a circle", "an affine map",
+                                        "the Gumowski-Mira map"};
     if (bad)
-        f.push_back(
-            std::string("transform: kernel() promises inversion in a circle, but apply() or contains() "
-                        "differs from it (") +
-            (sizeof(T) == 4 ? "float" : "double") + ") for " + std::to_string(bad) + " of " +
-            std::to_string(n) + " points");
+        f.push_back(std::string("transform: kernel() promises ") + names[std::size_t(k.kind)] +
+                    ", but apply() or contains() differs from it (" + (sizeof(T) == 4 ? "float" : "double") +
+                    ") for " + std::to_string(bad) + " of " + std::to_string(n) + " points");
 }
 
 void check_transform(const Transform& t, Findings& f) {
@@ -563,6 +581,24 @@ void check_colourer(const Colourer& c, Findings& f) {
         one[i] = r, one[n + i] = g, one[2 * n + i] = b;
     }
     if (all != one) f.push_back("colourer: update() on a batch differs from point-by-point");
+    if (const ColourRule rule = c.colour_rule(); rule != ColourRule::none) {
+        // The promise of colour_rule(), bit for bit (renderers apply the rule themselves).
+        std::size_t bad = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const Rgb m = maps[idx[i]];
+            const float e[3] = {rule == ColourRule::map ? m.r : (r0[i] + m.r) * 0.5f,
+                                rule == ColourRule::map ? m.g : (g0[i] + m.g) * 0.5f,
+                                rule == ColourRule::map ? m.b : (b0[i] + m.b) * 0.5f};
+            for (int ch = 0; ch < 3; ++ch) bad += std::memcmp(&e[ch], &all[ch * n + i], sizeof(float)) != 0;
+        }
+        if (rule != ColourRule::map && rule != ColourRule::average)
+            f.push_back("colourer: colour_rule() reports an unknown rule");
+        else if (bad)
+            f.push_back("colourer: colour_rule() promises " +
+                        std::string(rule == ColourRule::map ? "the map's colour" : "the running average") +
+                        ", but update() differs from it in " + std::to_string(bad) + " of " +
+                        std::to_string(3 * n) + " values");
+    }
     if (!same_on_two_threads(batch))
         f.push_back("colourer: results differ when evaluated from two threads at once");
     Histogram h;

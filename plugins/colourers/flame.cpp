@@ -32,6 +32,8 @@ public:
                                      [](float old, float c) { return (old + c) * 0.5f; });
     }
 
+    fp::ColourRule colour_rule() const override { return fp::ColourRule::average; }
+
     /// The work of resolve() and resolve_parallel() (tone_map.hpp's Resolving); ctx null: serial.
     void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
         fp_colourers::tone_map(h, background, rgb, true, gamma_, brightness_, ctx);

@@ -29,6 +29,8 @@ public:
                                      [](float, float c) { return c; });
     }
 
+    fp::ColourRule colour_rule() const override { return fp::ColourRule::map; }
+
     /// The work of resolve() and resolve_parallel() (tone_map.hpp's Resolving); ctx null: serial.
     void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
         fp_colourers::tone_map(h, background, rgb, log_, gamma_, 1.0, ctx);

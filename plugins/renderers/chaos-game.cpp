@@ -205,17 +205,17 @@ private:
     void new_starts(Scratch<T>& s, const uint32_t* list, size_t m) const;
     template <class T>
     void move_chains(Scratch<T>& s, size_t nb, uint64_t n) const;
-    /// Steps 1-3 of a block step in chaos_fused.hpp's one pass when fused_ (1), and step 5
-    /// too when the colourer needs no colour (2, sc set); 0 otherwise.
-    template <class T, bool Rules, bool Colour>
-    int run_fused(Scratch<T>& s, const BookArgs<T>& bv, Counts& sc, uint32_t* hits, const uint32_t* lag,
-                  bool steady) const;
+    /// A block step in kernels-inl.hpp's fused pass: the draw, the maps, the colours and the
+    /// bookkeeping (steps 1-5).
     template <class T>
-    const CircleTables<T>& circle_tables() const {
+    Counts run_fused(Scratch<T>& s, const BookArgs<T>& bv, uint32_t* hits, const uint32_t* lag,
+                     bool steady) const;
+    template <class T>
+    const LaneTables<T>& lane_tables() const {
         if constexpr (std::is_same_v<T, float>)
-            return fused_f_;
+            return *lanes_f_;
         else
-            return fused_d_;
+            return *lanes_d_;
     }
 
     int width_ = 512, height_ = 512;
@@ -225,9 +225,9 @@ private:
     fp::Vec2 start_;
     fp::Box start_box_; ///< where random start points are drawn (the view unless start_box)
     bool rules_ = true, double_ = false, colour_ = true;
-    bool fused_ = false; ///< the fused step for inversions in circles (kernels-inl.hpp's fused_t)
-    CircleTables<float> fused_f_;
-    CircleTables<double> fused_d_;
+    bool fused_ = false; ///< the fused step (kernels-inl.hpp's fused_t) runs every block step
+    std::shared_ptr<LaneTables<float>> lanes_f_;
+    std::shared_ptr<LaneTables<double>> lanes_d_;
     fp::Rgb background_;
 
     std::vector<std::shared_ptr<const fp::Transform>> maps_;
@@ -339,22 +339,6 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     for (size_t j = 0; j < k; ++j)
         q_[j] = uint32_t(std::max(1.0, std::floor(w[j] / sum * double(1u << 31) + 0.5)));
 
-    // The fused step: every map a circle inversion (Transform::kernel), a Picard step, the
-    // rules on, at most table_size maps; `kernels: generic` turns it off (it gives the same
-    // bytes: tests/unit/test_chaos_kernel.cpp).
-    if (p.string("kernels") == "auto" && rules_ && region_maps_.size() == k && k <= fp_chaos::table_size &&
-        iteration_->is_picard()) {
-        fused_ = true;
-        for (size_t j = 0; j < k && fused_; ++j) {
-            const fp::KnownKernel kk = maps_[j]->kernel();
-            fused_ = kk.kind == fp::KnownKernel::Kind::circle_inversion;
-            fused_f_.cx[j] = float(kk.cx), fused_f_.cy[j] = float(kk.cy), fused_f_.r2[j] = float(kk.r2);
-            fused_d_.cx[j] = kk.cx, fused_d_.cy[j] = kk.cy, fused_d_.r2[j] = kk.r2;
-            fused_f_.q[j] = fused_d_.q[j] = q_[j];
-        }
-        fused_f_.k = fused_d_.k = uint32_t(k);
-    }
-
     // Walker's alias table (Vose's construction) with 32-bit thresholds: column c =
     // floor(u * k), kept when the fraction's 32 bits are below thr[c], else alias[c].
     alias_thr_.assign(k, 0xffffffffu);
@@ -378,6 +362,51 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         }
     }
     // What is left (rounding) is full: its column keeps itself (thr = max, alias = self).
+
+    // The fused step: every map a known kernel of one kind (Transform::kernel: inversions in
+    // circles about their centres, affine maps, Gumowski-Mira maps), a Picard step, at most
+    // table_size maps, and a colourer that needs no colour or whose update is a ColourRule;
+    // `kernels: generic` turns it off (it gives the same bytes: tests/unit/test_chaos_kernel.cpp).
+    const fp::ColourRule crule = colourer_->colour_rule();
+    if (p.string("kernels") == "auto" && iteration_->is_picard() && k <= fp_chaos::table_size &&
+        (!colour_ || crule != fp::ColourRule::none)) {
+        std::vector<fp::KnownKernel> kk;
+        for (const auto& m : maps_) kk.push_back(m->kernel());
+        const auto kind = kk[0].kind;
+        fused_ = kind != fp::KnownKernel::Kind::none;
+        for (const auto& x : kk) fused_ = fused_ && x.kind == kind;
+        if (fused_) {
+            lanes_f_ = std::make_shared<LaneTables<float>>();
+            lanes_d_ = std::make_shared<LaneTables<double>>();
+            auto fill = [&](auto& t) {
+                using T = std::remove_reference_t<decltype(t.p[0][0])>;
+                using U = typename std::remove_reference_t<decltype(t)>::U;
+                t.k = uint32_t(k);
+                t.rules = rules_;
+                t.kind = kind == fp::KnownKernel::Kind::circle_inversion ? LaneKind::circle
+                         : kind == fp::KnownKernel::Kind::affine         ? LaneKind::affine
+                                                                         : LaneKind::gumowski_mira;
+                t.colour = !colour_                       ? LaneColour::none
+                           : crule == fp::ColourRule::map ? LaneColour::map
+                                                          : LaneColour::average;
+                for (size_t j = 0; j < k; ++j) {
+                    if (kind == fp::KnownKernel::Kind::circle_inversion) {
+                        t.p[0][j] = T(kk[j].cx), t.p[1][j] = T(kk[j].cy), t.p[2][j] = T(kk[j].r2);
+                    } else {
+                        for (int i = 0; i < 6; ++i) t.p[i][j] = T(kk[j].c[i]);
+                    }
+                    t.q[j] = q_[j];
+                    t.thr[j] = U(alias_thr_[j]);
+                    t.alias[j] = U(alias_[j]);
+                    t.cr[j] = colours_[j].r, t.cg[j] = colours_[j].g, t.cb[j] = colours_[j].b;
+                }
+            };
+            fill(*lanes_f_);
+            fill(*lanes_d_);
+        }
+    } else {
+        (void)p.string("kernels");
+    }
 }
 
 uint64_t ChaosGame::work_units() const {
@@ -656,27 +685,19 @@ void ChaosGame::new_starts(Scratch<T>& s, const uint32_t* list, size_t m) const 
 }
 
 // ---------------------------------------------------------------- the fused step
-// Steps 1-3 of a block step in kernels-inl.hpp's one pass when fused_ (1), and step 5 too when
-// the colourer needs no colour (2, sc set); 0 otherwise.
-template <class T, bool Rules, bool Colour>
-int ChaosGame::run_fused(Scratch<T>& s, const BookArgs<T>& bv, Counts& sc, uint32_t* hits,
-                         const uint32_t* lag, bool steady) const {
-    if (!Rules || !fused_) return 0;
+template <class T>
+Counts ChaosGame::run_fused(Scratch<T>& s, const BookArgs<T>& bv, uint32_t* hits, const uint32_t* lag,
+                            bool steady) const {
     FusedArgs<T> f;
-    f.tables = &circle_tables<T>();
-    f.x = s.x.get();
-    f.y = s.y.get();
+    f.tables = &lane_tables<T>();
     f.draw = DrawArgs{s.rs.get(), s.ri.get(),     s.prev.get(),    s.active.get(), nullptr,
                       0,          s.chosen.get(), s.restart.get(), bv.nb,          uint32_t(maps_.size()),
                       nullptr,    nullptr,        nullptr};
-    f.book = Colour ? nullptr : &bv;
+    f.book = bv;
     f.hits = hits;
     f.lag = lag;
     f.steady = steady;
-    const Counts c = fp_chaos::fused(f);
-    if (Colour) return 1;
-    sc = c;
-    return 2;
+    return fp_chaos::fused(f);
 }
 
 // ---------------------------------------------------------------- one block of chains
@@ -759,48 +780,47 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
             reported = done;
         }
 
-        // 1-3. Choose a map per chain (k = does not move this step); group the chains by map,
-        // one step call per map, back in place. Or all of it in one fused pass.
+        // 1-5 in one fused pass (the maps known kernels of one kind), or: 1-3. choose a map
+        // per chain (k = does not move this step), group the chains by map, one step call per
+        // map, back in place; 4. colours (not when the colourer needs none); 5. bookkeeping,
+        // bin indices and colour values, branch-free over the block.
         Counts sc;
-        if (Rules && !Colour && fused_ && steady_left == 0) {
-            if (steady_wait > 0) {
-                --steady_wait;
-            } else {
-                const SteadyCheck c = steady_budget(s, nb, bv.skip);
-                steady_left = c.budget;
-                steady_wait = c.wait;
+        if (fused_) {
+            if (!Colour && steady_left == 0) {
+                if (steady_wait > 0) {
+                    --steady_wait;
+                } else {
+                    const SteadyCheck c = steady_budget(s, nb, bv.skip);
+                    steady_left = c.budget;
+                    steady_wait = c.wait;
+                }
             }
-        }
-        const bool steady = steady_left > 0;
-        bv.idx = out;
-        const int fused = run_fused<T, Rules, Colour>(s, bv, sc, hits, lag, steady);
-        if (steady) {
-            sc.still = uint32_t(live);
-            ++steady_steps;
-            // The end of a steady run: a restart (its chain must wait out its skip again), or
-            // as many steps as the block's fewest points left, less one.
-            if (--steady_left == 0 || sc.restarts) {
-                sc.plotted = settle_steady(s, nb, steady_steps);
-                steady_left = steady_steps = 0;
+            const bool steady = steady_left > 0;
+            bv.idx = out;
+            sc = run_fused<T>(s, bv, hits, lag, steady);
+            if (steady) {
+                sc.still = uint32_t(live);
+                ++steady_steps;
+                // The end of a steady run: a restart (its chain must wait out its skip again),
+                // or as many steps as the block's fewest points left, less one.
+                if (--steady_left == 0 || sc.restarts) {
+                    sc.plotted = settle_steady(s, nb, steady_steps);
+                    steady_left = steady_steps = 0;
+                }
             }
-        }
-        if (!fused) {
+        } else {
             if constexpr (Rules)
                 choose_rules(s, nb);
             else
                 choose_alias(s, nb);
             move_chains(s, nb, n);
+            if constexpr (Colour) {
+                FP_IVDEP
+                for (size_t i = 0; i < nb; ++i) moved[i] = chosen[i] < none ? 1 : 0;
+                colourer_->update(chosen, fp::ColourState{cr, cg, cb, nb}, colours_.data(), moved);
+            }
+            sc = fp_chaos::bookkeep(bv, Colour);
         }
-
-        // 4. Colours (not when the colourer needs none).
-        if constexpr (Colour) {
-            FP_IVDEP
-            for (size_t i = 0; i < nb; ++i) moved[i] = chosen[i] < none ? 1 : 0;
-            colourer_->update(chosen, fp::ColourState{cr, cg, cb, nb}, colours_.data(), moved);
-        }
-
-        // 5. Bookkeeping, bin indices and colour values, branch-free over the block.
-        if (fused != 2) sc = fp_chaos::bookkeep(bv, Colour);
 
         // 6. Deposit: one 4 x 32-bit add per chain, or one 32-bit increment when counting
         // hits only (the unplotted land in the last bin).
@@ -811,7 +831,7 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
                 if (i < nb) hist.spill(idx[i]);
             }
         } else {
-            if (fused == 2) {
+            if (fused_) {
                 lag = out;
                 out = out == s.idx.get() ? s.idx2.get() : s.idx.get();
             } else {

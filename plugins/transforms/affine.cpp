@@ -93,6 +93,13 @@ public:
         HWY_DYNAMIC_DISPATCH(fp_affine::apply_d)(k_, p, mask);
     }
 
+    fp::KnownKernel kernel() const override {
+        fp::KnownKernel k;
+        k.kind = fp::KnownKernel::Kind::affine;
+        for (int i = 0; i < 6; ++i) k.c[i] = k_[i];
+        return k;
+    }
+
     bool is_involution() const override {
         return a_ * a_ + b_ * c_ == 1 && a_ * b_ + b_ * d_ == 0 && c_ * a_ + d_ * c_ == 0 &&
                c_ * b_ + d_ * d_ == 1 && a_ * e_ + b_ * f_ + e_ == 0 && c_ * e_ + d_ * f_ + f_ == 0;

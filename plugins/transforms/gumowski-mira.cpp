@@ -89,6 +89,13 @@ public:
         HWY_DYNAMIC_DISPATCH(fp_gm::apply_d)(k_, p, mask);
     }
 
+    fp::KnownKernel kernel() const override {
+        fp::KnownKernel k;
+        k.kind = fp::KnownKernel::Kind::gumowski_mira;
+        for (int i = 0; i < 3; ++i) k.c[i] = k_[i];
+        return k;
+    }
+
     fp::Box sample_domain() const override { return {-20, 20, -20, 20}; }
 
 private:

@@ -80,7 +80,7 @@ TEST(ChaosKernel, InversionInACircleAboutItsCentreIsAKnownKernel) {
     check(0.0);
 }
 
-TEST(ChaosKernel, OtherInversionsAreNotKnownKernels) {
+TEST(ChaosKernel, OtherMapsAreOtherKernels) {
     // A centre moved inside the circle (paper 01 Fig. 4) and a square: the general formula.
     EXPECT_EQ(host()
                   .make<fp::Transform>("{type: inversion, shape: {type: circle, centre: [0, 0], radius: 1}, "
@@ -95,9 +95,15 @@ TEST(ChaosKernel, OtherInversionsAreNotKnownKernels) {
             ->kernel()
             .kind,
         fp::KnownKernel::Kind::none);
-    EXPECT_EQ(
-        host().make<fp::Transform>("{type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}")->kernel().kind,
-        fp::KnownKernel::Kind::none);
+    // Affine and Gumowski-Mira maps are kernels of their own kinds, with their coefficients.
+    const fp::KnownKernel a =
+        host().make<fp::Transform>("{type: affine, coefficients: [0.5, 0.1, 0.2, 0.5, 0.25, -1]}")->kernel();
+    EXPECT_EQ(a.kind, fp::KnownKernel::Kind::affine);
+    EXPECT_EQ(std::vector<double>(a.c, a.c + 6), (std::vector<double>{0.5, 0.1, 0.2, 0.5, 0.25, -1}));
+    const fp::KnownKernel g =
+        host().make<fp::Transform>("{type: gumowski-mira, alpha: 0.008, mu: -0.7}")->kernel();
+    EXPECT_EQ(g.kind, fp::KnownKernel::Kind::gumowski_mira);
+    EXPECT_EQ(std::vector<double>(g.c, g.c + 3), (std::vector<double>{0.008, -0.7, 2 * (1 - -0.7)}));
 }
 
 TEST(ChaosKernel, OnlyPicardIsPicard) {
@@ -120,14 +126,14 @@ TEST(ChaosKernel, FusedStepIsTheGenericStep) {
     const std::vector<double> cx = {1, 0.309, -0.809, -0.809, 0.309, 0},
                               cy = {0, 0.951, 0.588, -0.588, -0.951, 0};
     const std::vector<double> r2 = {0.4225, 0.4225, 0.4225, 0.4225, 0.4225, 0.16};
-    std::vector<fp::KnownKernel> kk;
-    for (std::size_t j = 0; j < cx.size(); ++j)
-        kk.push_back({fp::KnownKernel::Kind::circle_inversion, cx[j], cy[j], r2[j]});
     const std::vector<uint32_t> q = {100, 300, 50, 700, 1u << 30, 9};
-    fp_chaos::CircleTables<float> t;
-    for (std::size_t j = 0; j < kk.size(); ++j)
-        t.cx[j] = float(cx[j]), t.cy[j] = float(cy[j]), t.r2[j] = float(r2[j]), t.q[j] = q[j];
-    t.k = uint32_t(kk.size());
+    fp_chaos::LaneTables<float> t;
+    for (std::size_t j = 0; j < cx.size(); ++j)
+        t.p[0][j] = float(cx[j]), t.p[1][j] = float(cy[j]), t.p[2][j] = float(r2[j]), t.q[j] = q[j];
+    t.k = uint32_t(cx.size());
+    t.kind = fp_chaos::LaneKind::circle;
+    t.colour = fp_chaos::LaneColour::none;
+    t.rules = true;
     const std::size_t k = cx.size();
 
     for (const std::string& target : fp::simd::supported_targets())
@@ -138,6 +144,10 @@ TEST(ChaosKernel, FusedStepIsTheGenericStep) {
             std::vector<float> x(512), y(512);
             std::vector<uint64_t> rs(512), ri(512);
             std::vector<uint32_t> prev(512), active(512), chosen(512, 99), restart(512, 99);
+            // The bookkeeping's arrays: every chain past its skip (1), points to spare.
+            std::vector<uint32_t> age(512, 5), idle(512, 3), plotf(512), idx(512), hits(64 * 64 + 1);
+            std::vector<uint64_t> left(512, 1000), dep(512);
+            std::vector<float> cr(512), cg(512), cb(512);
             fp::Rng g = fp::chain_stream(7, nb);
             for (std::size_t i = 0; i < nb; ++i) {
                 // Points over [-1.5, 1.5]^2: some inside one or two circles; a few NaN and exact
@@ -178,21 +188,37 @@ TEST(ChaosKernel, FusedStepIsTheGenericStep) {
                     ey[i] = oy + s * dy;
                 }
             }
+            const std::vector<uint32_t> prev0 = prev, active0 = active;
             fp_chaos::FusedArgs<float> f{};
             f.tables = &t;
-            f.x = x.data();
-            f.y = y.data();
             f.draw = fp_chaos::DrawArgs{
                 rs.data(),      ri.data(), prev.data(), active.data(), nullptr, 0,      chosen.data(),
                 restart.data(), nb,        uint32_t(k), nullptr,       nullptr, nullptr};
-            HWY_DYNAMIC_DISPATCH(fp_chaos::fused_f)(f);
+            f.book = fp_chaos::BookArgs<float>{x.data(),   y.data(),    chosen.data(),  prev.data(),
+                                               age.data(), idle.data(), restart.data(), plotf.data(),
+                                               idx.data(), left.data(), active.data(),  cr.data(),
+                                               cg.data(),  cb.data(),   dep.data(),     nb};
+            f.book.xmin = -1.5f, f.book.xmax = 1.5f, f.book.ymin = -1.5f, f.book.ymax = 1.5f;
+            f.book.scx = f.book.scy = 64.0f / 3.0f;
+            f.book.W = f.book.H = 64, f.book.dummy = 64 * 64, f.book.skip = 1, f.book.none = uint32_t(k);
+            f.hits = hits.data();
+            const fp_chaos::Counts counts = HWY_DYNAMIC_DISPATCH(fp_chaos::fused_f)(f);
+            uint64_t plotted = 0;
             for (std::size_t i = 0; i < nb; ++i) {
-                EXPECT_EQ(chosen[i], echosen[i]) << nb << " " << i;
-                EXPECT_EQ(restart[i], erestart[i]) << nb << " " << i;
+                const bool mv = echosen[i] < k;
+                // The chosen map becomes the previous one; the bad values (NaN, the centres'
+                // infinities) restart their chains (bit 1); the rest plot.
+                EXPECT_EQ(prev[i], mv ? echosen[i] : prev0[i]) << nb << " " << i;
+                const bool fin = std::isfinite(ex[i]) && std::isfinite(ey[i]);
+                EXPECT_EQ(restart[i], erestart[i] | (mv && !fin ? 2u : 0u)) << nb << " " << i;
+                EXPECT_EQ(left[i], mv && fin ? 999u : 1000u) << nb << " " << i;
+                EXPECT_EQ(active[i], active0[i]) << nb << " " << i;
+                plotted += mv && fin;
                 EXPECT_EQ(rs[i], ers[i]) << nb << " " << i;
                 EXPECT_TRUE(same_bits(x[i], ex[i])) << nb << " " << i << " " << x[i] << " " << ex[i];
                 EXPECT_TRUE(same_bits(y[i], ey[i])) << nb << " " << i << " " << y[i] << " " << ey[i];
             }
+            EXPECT_EQ(counts.plotted, plotted);
         }
     fp::simd::force_target("");
 }

@@ -462,7 +462,7 @@ size_t deposit_colour(uint32_t* bins, const uint32_t* idx, const uint64_t* dep, 
     return nb;
 }
 
-// ---------------------------------------------------------------- the fused circle step
+// ---------------------------------------------------------------- the fused step
 /// The per-lane value of a map's parameter: a table lookup when the maps fit one vector, else
 /// a selection per map (the same values).
 template <class D>
@@ -480,7 +480,89 @@ HWY_INLINE hn::Vec<D> per_map(D d, const hn::TFromD<D>* table, uint32_t k,
     return v;
 }
 
-template <class T, bool Book, bool Steady>
+/// Rules off: Walker's alias table in lanes. m = r * k; column m >> 32, kept when the low 32
+/// bits are below its threshold, else its alias (draw_alias's arithmetic).
+template <class DU>
+HWY_INLINE hn::Vec<DU> alias_lanes(DU du, hn::Vec<DU> r, uint32_t k, const hn::TFromD<DU>* thr,
+                                   const hn::TFromD<DU>* alias) {
+    using U = hn::TFromD<DU>;
+    const auto vk = hn::Set(du, U(k));
+    const auto col = mul_high32(du, r, vk);
+    hn::Vec<DU> frac;
+    if constexpr (sizeof(U) == 4)
+        frac = hn::Mul(r, vk);
+    else
+        frac = hn::And(mul_small(du, r, vk), hn::Set(du, U(0xffffffffu)));
+    return hn::IfThenElse(hn::Lt(frac, per_map(du, thr, k, col)), col, per_map(du, alias, k, col));
+}
+
+/// The map of kind K applied to (x, y) with the chosen maps' parameters (the expressions of
+/// fp::KnownKernel, in their order).
+template <fp_chaos::LaneKind K, class D>
+HWY_INLINE void apply_lanes(D d, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
+                            hn::Vec<hn::RebindToUnsigned<D>> c, hn::Vec<D>& x, hn::Vec<D>& y) {
+    using T = hn::TFromD<D>;
+    if constexpr (K == fp_chaos::LaneKind::circle) {
+        // Inversion with Circle::inversion_factor: d = p - o, s = r2 / |d|^2, p' = o + s d.
+        const auto ox = per_map(d, t.p[0], t.k, c), oy = per_map(d, t.p[1], t.k, c);
+        const auto r2 = per_map(d, t.p[2], t.k, c);
+        const auto dx = hn::Sub(x, ox), dy = hn::Sub(y, oy);
+        const auto s = hn::Div(r2, hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)));
+        x = hn::Add(ox, hn::Mul(s, dx));
+        y = hn::Add(oy, hn::Mul(s, dy));
+    } else if constexpr (K == fp_chaos::LaneKind::affine) {
+        const auto a = per_map(d, t.p[0], t.k, c), b = per_map(d, t.p[1], t.k, c);
+        const auto cc = per_map(d, t.p[2], t.k, c), dd = per_map(d, t.p[3], t.k, c);
+        const auto e = per_map(d, t.p[4], t.k, c), f = per_map(d, t.p[5], t.k, c);
+        const auto nx = hn::Add(hn::Add(hn::Mul(a, x), hn::Mul(b, y)), e);
+        const auto ny = hn::Add(hn::Add(hn::Mul(cc, x), hn::Mul(dd, y)), f);
+        x = nx;
+        y = ny;
+    } else {
+        const auto alpha = per_map(d, t.p[0], t.k, c), mu = per_map(d, t.p[1], t.k, c);
+        const auto m2 = per_map(d, t.p[2], t.k, c);
+        const auto one = hn::Set(d, T(1));
+        const auto f = [&](hn::Vec<D> u) {
+            const auto u2 = hn::Mul(u, u);
+            return hn::Add(hn::Mul(mu, u), hn::Div(hn::Mul(m2, u2), hn::Add(one, u2)));
+        };
+        const auto damp =
+            hn::Mul(hn::Mul(alpha, hn::Sub(one, hn::Mul(hn::Mul(hn::Set(d, T(0.05)), y), y))), y);
+        const auto nx = hn::Add(hn::Add(y, damp), f(x));
+        y = hn::Add(hn::Neg(x), f(nx));
+        x = nx;
+    }
+}
+
+/// The chains' colours updated by the rule with the chosen maps' colours, where they moved.
+template <fp_chaos::LaneColour C, class D>
+HWY_INLINE void colour_lanes(D, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
+                             hn::Vec<hn::RebindToUnsigned<D>> c, hn::Mask<hn::RebindToUnsigned<D>> mv,
+                             const fp_chaos::BookArgs<hn::TFromD<D>>& b, size_t i) {
+    const hn::Rebind<float, D> df;
+    const hn::RebindToUnsigned<decltype(df)> du32;
+    hn::Vec<decltype(du32)> c32;
+    hn::Mask<decltype(df)> m;
+    if constexpr (sizeof(hn::TFromD<D>) == 4) {
+        c32 = c;
+        m = hn::RebindMask(df, mv);
+    } else {
+        c32 = hn::TruncateTo(du32, c);
+        m = hn::MaskFromVec(
+            hn::BitCast(df, hn::TruncateTo(du32, hn::VecFromMask(hn::RebindToUnsigned<D>(), mv))));
+    }
+    auto one = [&](const float* table, float* chain) {
+        const auto mc = per_map(df, table, t.k, c32);
+        const auto old = hn::LoadU(df, chain);
+        const auto nc = C == fp_chaos::LaneColour::map ? mc : hn::Mul(hn::Add(old, mc), hn::Set(df, 0.5f));
+        hn::StoreU(hn::IfThenElse(m, nc, old), df, chain);
+    };
+    one(t.cr, b.cr + i);
+    one(t.cg, b.cg + i);
+    one(t.cb, b.cb + i);
+}
+
+template <class T, fp_chaos::LaneKind K, bool Rules, fp_chaos::LaneColour C, bool Steady>
 HWY_INLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
     const hn::ScalableTag<T> d;
     const hn::RebindToUnsigned<decltype(d)> du;
@@ -489,91 +571,115 @@ HWY_INLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
     // Local copies: the stores through the arrays cannot alias them, so that nothing is
     // reloaded after each store.
     const fp_chaos::FusedArgs<T> f = args;
-    const fp_chaos::CircleTables<T> t = *f.tables;
+    const fp_chaos::LaneTables<T>& t = *f.tables;
     const fp_chaos::DrawArgs a = f.draw;
-    fp_chaos::BookArgs<T> bkv{};
-    if (Book) bkv = *f.book;
-    const fp_chaos::BookArgs<T>* const bk = &bkv;
+    const fp_chaos::BookArgs<T> bk = f.book;
     const uint32_t k = t.k;
-    const auto one = hn::Set(du, U(1)), zero = hn::Zero(du), none = hn::Set(du, U(k));
+    const auto one = hn::Set(du, U(1)), zero = hn::Zero(du);
     fp_chaos::Counts n;
     for (size_t i = 0; i < a.nb; i += N) {
         const size_t nl = a.nb - i < N ? a.nb - i : N;
         const auto live = hn::RebindMask(du, hn::FirstN(d, nl));
-        const auto x = hn::LoadU(d, f.x + i), y = hn::LoadU(d, f.y + i);
+        auto x = hn::LoadU(d, bk.x + i), y = hn::LoadU(d, bk.y + i);
+        const auto x0 = x, y0 = y;
         const auto p = load32(du, a.prev + i);
         const auto act = hn::And(live, hn::Ne(load32(du, a.active + i), zero));
-        // Inside tests (Circle::inside: dx * dx + dy * dy < r2): a map is allowed where that
-        // fails (NaN included) and it is not the previous one.
         const auto r = pcg_next(du, a.rs + i, a.ri + i);
-        auto tot = zero;
-        const auto c = draw_any(du, t.q, k, r, tot, [&](uint32_t j) {
-            const auto dx = hn::Sub(x, hn::Set(d, t.cx[j])), dy = hn::Sub(y, hn::Set(d, t.cy[j]));
-            const auto in = hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Set(d, t.r2[j]));
-            return hn::AndNot(hn::RebindMask(du, in), hn::Ne(p, hn::Set(du, U(j))));
-        });
-        const auto some = hn::Ne(tot, zero);
+        // The draw: with the rules, among the maps allowed (not the previous one; for circles
+        // not one whose set holds the point: Circle::inside, dx * dx + dy * dy < r2, NaN
+        // allowed); else Walker's alias table.
+        hn::Vec<decltype(du)> c;
+        hn::Mask<decltype(du)> some;
+        if constexpr (Rules) {
+            auto tot = zero;
+            c = draw_any(du, t.q, k, r, tot, [&](uint32_t j) {
+                const auto other = hn::Ne(p, hn::Set(du, U(j)));
+                if constexpr (K != fp_chaos::LaneKind::circle) return other;
+                const auto dx = hn::Sub(x, hn::Set(d, t.p[0][j])), dy = hn::Sub(y, hn::Set(d, t.p[1][j]));
+                const auto in = hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Set(d, t.p[2][j]));
+                return hn::AndNot(hn::RebindMask(du, in), other);
+            });
+            some = hn::Ne(tot, zero);
+        } else {
+            c = alias_lanes(du, r, k, t.thr, t.alias);
+            some = hn::Eq(zero, zero);
+        }
         const auto mv = hn::And(act, some);
         const auto rst = hn::IfThenElseZero(hn::AndNot(some, act), one);
-        if (!Book) {
-            store32(du, hn::IfThenElse(mv, c, none), a.chosen + i);
-            store32(du, rst, a.restart + i);
-        }
-        // The inversion in the chosen circle (Inversion with Circle::inversion_factor).
-        const auto ox = per_map(d, t.cx, k, c), oy = per_map(d, t.cy, k, c), r2 = per_map(d, t.r2, k, c);
-        const auto dx = hn::Sub(x, ox), dy = hn::Sub(y, oy);
-        const auto s = hn::Div(r2, hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)));
+        apply_lanes<K>(d, t, c, x, y);
         const auto mvf = hn::RebindMask(d, mv);
-        const auto nx = hn::IfThenElse(mvf, hn::Add(ox, hn::Mul(s, dx)), x);
-        const auto ny = hn::IfThenElse(mvf, hn::Add(oy, hn::Mul(s, dy)), y);
-        hn::StoreU(nx, d, f.x + i);
-        hn::StoreU(ny, d, f.y + i);
-        if constexpr (Book) {
-            // The bookkeeping of bookkeep_t on (nx, ny), in registers.
-            const auto fin = hn::RebindMask(
-                du, hn::And(fp::simd::HWY_NAMESPACE::finite(nx), fp::simd::HWY_NAMESPACE::finite(ny)));
-            const auto isbad = hn::AndNot(fin, mv);
-            auto plot = hn::And(mv, fin);
-            if constexpr (!Steady) {
-                const auto age = load32(du, bk->age + i);
-                const auto old = hn::Not(hn::Lt(age, hn::Set(du, U(bk->skip))));
-                plot = hn::And(plot, old);
-                store32(du, hn::Add(age, hn::IfThenElseZero(hn::AndNot(old, mv), one)), bk->age + i);
-                store32(du, hn::IfThenZeroElse(plot, load32(du, bk->idle + i)), bk->idle + i);
-                n.plotted += hn::CountTrue(du, plot);
-            }
-            store32(du, hn::IfThenElse(mv, c, p), bk->prev + i);
-            const auto rs = hn::Or(rst, hn::IfThenElseZero(isbad, hn::Set(du, U(2))));
-            store32(du, rs, a.restart + i);
-            const auto restarts = hn::And(live, hn::Ne(rs, zero));
-            if (HWY_UNLIKELY(!hn::AllFalse(du, restarts))) {
-                n.bad += uint32_t(hn::CountTrue(du, isbad));
-                n.restarts += uint32_t(hn::CountTrue(du, restarts));
-            }
-            store32(du, bin_index(d, *bk, nx, ny, hn::RebindMask(d, plot)), bk->idx + i);
-            if constexpr (!Steady) {
-                const auto still = hn::And(count_down(du, bk->left + i, plot), act);
-                store32(du, hn::IfThenElseZero(still, one), bk->active + i);
-                n.still += uint32_t(hn::CountTrue(du, still));
-            }
-            if (f.lag) {
-                // The previous step's bins, whose addresses are known from the start: their
-                // cache misses overlap this vector's arithmetic. A whole vector's without a
-                // bound test per increment (those branches would take issue slots).
-                if (nl == N)
-                    for (size_t l = 0; l < hn::MaxLanes(d); ++l) ++f.hits[f.lag[i + l]];
-                else
-                    for (size_t l = 0; l < nl; ++l) ++f.hits[f.lag[i + l]];
-            }
+        x = hn::IfThenElse(mvf, x, x0);
+        y = hn::IfThenElse(mvf, y, y0);
+        hn::StoreU(x, d, bk.x + i);
+        hn::StoreU(y, d, bk.y + i);
+        if constexpr (C != fp_chaos::LaneColour::none) colour_lanes<C>(d, t, c, mv, bk, i);
+        // The bookkeeping of bookkeep_t on the new points, in registers.
+        const auto fin = hn::RebindMask(
+            du, hn::And(fp::simd::HWY_NAMESPACE::finite(x), fp::simd::HWY_NAMESPACE::finite(y)));
+        const auto isbad = hn::AndNot(fin, mv);
+        auto plot = hn::And(mv, fin);
+        if constexpr (!Steady) {
+            const auto age = load32(du, bk.age + i);
+            const auto old = hn::Not(hn::Lt(age, hn::Set(du, U(bk.skip))));
+            plot = hn::And(plot, old);
+            store32(du, hn::Add(age, hn::IfThenElseZero(hn::AndNot(old, mv), one)), bk.age + i);
+            store32(du, hn::IfThenZeroElse(plot, load32(du, bk.idle + i)), bk.idle + i);
+            n.plotted += hn::CountTrue(du, plot);
+        }
+        store32(du, hn::IfThenElse(mv, c, p), bk.prev + i);
+        const auto rs = hn::Or(rst, hn::IfThenElseZero(isbad, hn::Set(du, U(2))));
+        store32(du, rs, a.restart + i);
+        const auto restarts = hn::And(live, hn::Ne(rs, zero));
+        if (HWY_UNLIKELY(!hn::AllFalse(du, restarts))) {
+            n.bad += uint32_t(hn::CountTrue(du, isbad));
+            n.restarts += uint32_t(hn::CountTrue(du, restarts));
+        }
+        store32(du, bin_index(d, bk, x, y, hn::RebindMask(d, plot)), bk.idx + i);
+        if constexpr (!Steady) {
+            const auto still = hn::And(count_down(du, bk.left + i, plot), act);
+            store32(du, hn::IfThenElseZero(still, one), bk.active + i);
+            n.still += uint32_t(hn::CountTrue(du, still));
+        }
+        if constexpr (C != fp_chaos::LaneColour::none) pack_colours(d, bk, i);
+        if (C == fp_chaos::LaneColour::none && f.lag) {
+            // The previous step's bins, whose addresses are known from the start: their
+            // cache misses overlap this vector's arithmetic. A whole vector's without a
+            // bound test per increment (those branches would take issue slots).
+            if (nl == N)
+                for (size_t l = 0; l < hn::MaxLanes(d); ++l) ++f.hits[f.lag[i + l]];
+            else
+                for (size_t l = 0; l < nl; ++l) ++f.hits[f.lag[i + l]];
         }
     }
     return n;
 }
 
+template <class T, fp_chaos::LaneKind K, bool Rules>
+HWY_INLINE fp_chaos::Counts fused_colour(const fp_chaos::FusedArgs<T>& f) {
+    using C = fp_chaos::LaneColour;
+    switch (f.tables->colour) {
+    case C::map: return fused_t<T, K, Rules, C::map, false>(f);
+    case C::average: return fused_t<T, K, Rules, C::average, false>(f);
+    default:
+        return f.steady ? fused_t<T, K, Rules, C::none, true>(f) : fused_t<T, K, Rules, C::none, false>(f);
+    }
+}
+
+/// The rules (or the alias table) as a compile-time choice: circles come with the rules,
+/// maps without sets with the alias table, unless a recipe says otherwise.
+template <class T, fp_chaos::LaneKind K>
+HWY_INLINE fp_chaos::Counts fused_rules(const fp_chaos::FusedArgs<T>& f) {
+    return f.tables->rules ? fused_colour<T, K, true>(f) : fused_colour<T, K, false>(f);
+}
+
 template <class T>
 HWY_INLINE fp_chaos::Counts fused_any(const fp_chaos::FusedArgs<T>& f) {
-    if (!f.book) return fused_t<T, false, false>(f);
-    return f.steady ? fused_t<T, true, true>(f) : fused_t<T, true, false>(f);
+    using K = fp_chaos::LaneKind;
+    switch (f.tables->kind) {
+    case K::affine: return fused_rules<T, K::affine>(f);
+    case K::gumowski_mira: return fused_rules<T, K::gumowski_mira>(f);
+    default: return fused_rules<T, K::circle>(f);
+    }
 }
 
 fp_chaos::Counts fused_f(const fp_chaos::FusedArgs<float>& f) { return fused_any(f); }

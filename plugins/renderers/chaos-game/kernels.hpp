@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 namespace fp_chaos {
 
@@ -33,8 +34,8 @@ struct DrawArgs {
 /// Bookkeeping of a step (see chaos_bookkeep.hpp's description).
 template <class T>
 struct BookArgs {
-    const T* x;
-    const T* y;
+    T* x; ///< (the fused step moves the points; the bookkeeping only reads them)
+    T* y;
     const std::uint32_t* chosen;
     std::uint32_t* prev;
     std::uint32_t* age;
@@ -44,9 +45,9 @@ struct BookArgs {
     std::uint32_t* idx;
     std::uint64_t* left;
     std::uint32_t* active;
-    const float* cr;
-    const float* cg;
-    const float* cb;
+    float* cr; ///< (the fused step updates the colours; the bookkeeping only reads them)
+    float* cg;
+    float* cb;
     std::uint64_t* dep; ///< packed {1, r, g, b} (colour only)
     std::size_t nb;
     T xmin = 0, xmax = 0, ymin = 0, ymax = 0, scx = 0, scy = 0;
@@ -74,28 +75,41 @@ struct GroupArgs {
     std::uint32_t k;
 };
 
-/// The fused step's tables: every map an inversion in a circle (fp::KnownKernel).
+/// What the fused step computes per map (fp::KnownKernel's kinds) and per chain's colour
+/// (fp::ColourRule; none: hits only).
+enum class LaneKind : std::uint32_t { circle, affine, gumowski_mira };
+enum class LaneColour : std::uint32_t { none, map, average };
+
+/// The fused step's tables, one entry per map: the map's parameters (circle: cx, cy, r2;
+/// affine: a .. f; Gumowski-Mira: alpha, mu, 2 (1 - mu)), its weight for the rules' draw, its
+/// column of Walker's alias table, and its colour.
 template <class T>
-struct CircleTables {
-    alignas(64) T cx[table_size] = {};
-    alignas(64) T cy[table_size] = {};
-    alignas(64) T r2[table_size] = {};
+struct LaneTables {
+    using U = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>;
+    alignas(64) T p[6][table_size] = {};
+    alignas(64) U thr[table_size] = {};
+    alignas(64) U alias[table_size] = {};
+    alignas(64) float cr[table_size] = {};
+    alignas(64) float cg[table_size] = {};
+    alignas(64) float cb[table_size] = {};
     std::uint32_t q[table_size] = {};
     std::uint32_t k = 0;
+    LaneKind kind = LaneKind::circle;
+    LaneColour colour = LaneColour::none;
+    bool rules = true; ///< paper 01's rules (circles: their sets too); else the alias table
 };
 
-/// The fused step: the draw, the inversion, and with `book` (hits only) the bookkeeping, in
-/// one pass; `lag` (or null) the previous step's bins, deposited into `hits` during it.
+/// The fused step: the draw, the maps, the colour and the bookkeeping of a block in one pass;
+/// with hits only, `lag` (or null) holds the previous step's bins, deposited into `hits`
+/// during it.
 template <class T>
 struct FusedArgs {
-    const CircleTables<T>* tables;
-    T* x;
-    T* y;
-    DrawArgs draw;           ///< inside, q, thr and alias unused
-    const BookArgs<T>* book; ///< null: draw and move only (the caller's bookkeep follows)
+    const LaneTables<T>* tables;
+    DrawArgs draw; ///< inside, q, thr and alias unused
+    BookArgs<T> book;
     std::uint32_t* hits;
     const std::uint32_t* lag;
-    bool steady; ///< with book: the block is in a steady run (see chaos_bookkeep.hpp)
+    bool steady; ///< the block is in a steady run (see steady.hpp; hits only)
 };
 
 } // namespace fp_chaos

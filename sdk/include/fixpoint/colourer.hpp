@@ -24,6 +24,13 @@ struct ColourState {
     std::size_t n = 0;
 };
 
+/// A chain's colour update that a renderer may run in its own loop instead of calling
+/// update() (chaos-game's fused step does). The contract is exact, in float: with c_j the
+/// colour of the map that moved the chain,
+///   map:     c' = c_j                 (each point the colour of its map, paper 01);
+///   average: c' = (c + c_j) * 0.5f    (the running colour of paper 02 Sec. 5).
+enum class ColourRule : std::uint32_t { none, map, average };
+
 class Colourer : public Object {
 public:
     ~Colourer() override;
@@ -48,6 +55,9 @@ public:
     /// all be 0): a renderer may then skip update() and the colour sums altogether and count
     /// hits only. The default is true.
     virtual bool needs_colour() const;
+    /// update() as a ColourRule, when it is one (the conformance suite checks the promise bit
+    /// for bit); the default is none.
+    virtual ColourRule colour_rule() const;
 
     /// True when the colourer can colour orbit-trap hits (colour_hits); the default is false,
     /// and an orbit-trap renderer refuses such a colourer when it is built.

@@ -21,7 +21,7 @@
 namespace fp {
 
 /// Raised whenever the layout of the interfaces, the descriptor or the parameter bag changes.
-constexpr std::uint32_t abi_version = 3;
+constexpr std::uint32_t abi_version = 4;
 
 struct PluginDescriptor {
     std::uint32_t abi = abi_version;

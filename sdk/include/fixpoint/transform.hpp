@@ -13,19 +13,26 @@
 namespace fp {
 
 /// A map a renderer may run in its own fused, vectorised loop instead of calling apply()
-/// and contains() on batches (chaos-game does, for every map of a recipe that has one).
+/// and contains() on batches (chaos-game does, when every map of a recipe is of one kind).
 /// The contract is exact: with T the batch's type (float or double), every value below
 /// rounded to T first and no FMA contraction, the Transform's apply() and contains() must
 /// give the same bits as
 ///   circle_inversion: d = p - (cx, cy); s = r2 / (d.x * d.x + d.y * d.y);
 ///                     T(p) = (cx + s * d.x, cy + s * d.y);
 ///                     contains(p) = d.x * d.x + d.y * d.y < r2
-/// (inversion in the circle of centre (cx, cy) and squared radius r2, paper 01 eq. (2)), so
-/// that a render is the same image whichever way the renderer runs the map.
+///                     (inversion in the circle of centre (cx, cy) and squared radius r2,
+///                     paper 01 eq. (2));
+///   affine:           with c = {a, b, c, d, e, f}: T(p) = ((a x + b y) + e, (c x + d y) + f),
+///                     no set (has_region() is false);
+///   gumowski_mira:    with c = {alpha, mu, m2} (m2 = 2 (1 - mu)), f(u) = mu u + (m2 u u) / (1 + u u)
+///                     with u u computed once: x' = (y + (alpha (1 - (0.05 y) y)) y) + f(x),
+///                     y' = -x + f(x'), no set (paper 03 eq. (1));
+/// so that a render is the same image whichever way the renderer runs the map.
 struct KnownKernel {
-    enum class Kind : std::uint32_t { none, circle_inversion };
+    enum class Kind : std::uint32_t { none, circle_inversion, affine, gumowski_mira };
     Kind kind = Kind::none;
-    double cx = 0, cy = 0, r2 = 0;
+    double cx = 0, cy = 0, r2 = 0; ///< circle_inversion
+    double c[6] = {};              ///< affine, gumowski_mira: the coefficients above
 };
 
 class Transform : public Object {
