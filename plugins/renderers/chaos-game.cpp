@@ -151,6 +151,8 @@ HWY_EXPORT(bookkeep_f);
 HWY_EXPORT(bookkeep_d);
 HWY_EXPORT(fused_f);
 HWY_EXPORT(fused_d);
+HWY_EXPORT(fused_run_f);
+HWY_EXPORT(fused_run_d);
 HWY_EXPORT(deposit_colour);
 
 inline void group(const GroupArgs<float>& a) { HWY_DYNAMIC_DISPATCH(group_f)(a); }
@@ -169,6 +171,12 @@ inline Counts bookkeep(const BookArgs<double>& a, bool colour) {
 }
 inline Counts fused(const FusedArgs<float>& a) { return HWY_DYNAMIC_DISPATCH(fused_f)(a); }
 inline Counts fused(const FusedArgs<double>& a) { return HWY_DYNAMIC_DISPATCH(fused_d)(a); }
+inline RunCounts fused_run(const FusedArgs<float>& a, uint64_t steps) {
+    return HWY_DYNAMIC_DISPATCH(fused_run_f)(a, steps);
+}
+inline RunCounts fused_run(const FusedArgs<double>& a, uint64_t steps) {
+    return HWY_DYNAMIC_DISPATCH(fused_run_d)(a, steps);
+}
 } // namespace fp_chaos
 
 namespace {
@@ -208,8 +216,8 @@ private:
     /// A block step in kernels-inl.hpp's fused pass: the draw, the maps, the colours and the
     /// bookkeeping (steps 1-5).
     template <class T>
-    Counts run_fused(Scratch<T>& s, const BookArgs<T>& bv, uint32_t* hits, const uint32_t* lag,
-                     bool steady) const;
+    FusedArgs<T> fused_args(Scratch<T>& s, const BookArgs<T>& bv, uint32_t* hits, const uint32_t* lag,
+                            bool steady) const;
     template <class T>
     const LaneTables<T>& lane_tables() const {
         if constexpr (std::is_same_v<T, float>)
@@ -686,8 +694,8 @@ void ChaosGame::new_starts(Scratch<T>& s, const uint32_t* list, size_t m) const 
 
 // ---------------------------------------------------------------- the fused step
 template <class T>
-Counts ChaosGame::run_fused(Scratch<T>& s, const BookArgs<T>& bv, uint32_t* hits, const uint32_t* lag,
-                            bool steady) const {
+FusedArgs<T> ChaosGame::fused_args(Scratch<T>& s, const BookArgs<T>& bv, uint32_t* hits, const uint32_t* lag,
+                                   bool steady) const {
     FusedArgs<T> f;
     f.tables = &lane_tables<T>();
     f.draw = DrawArgs{s.rs.get(), s.ri.get(),     s.prev.get(),    s.active.get(), nullptr,
@@ -697,7 +705,7 @@ Counts ChaosGame::run_fused(Scratch<T>& s, const BookArgs<T>& bv, uint32_t* hits
     f.hits = hits;
     f.lag = lag;
     f.steady = steady;
-    return fp_chaos::fused(f);
+    return f;
 }
 
 // ---------------------------------------------------------------- one block of chains
@@ -769,6 +777,9 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
     // The fused step's steady runs (fused_rules_step<true, true>): steps the block may still
     // run that way (0: not in one) and the steps run since the run began.
     uint64_t steady_left = 0, steady_steps = 0, steady_wait = 0;
+    // A block of few chains counting hits only runs lean (kernels-inl.hpp's fused_run_t): the
+    // fused steps up to the next poll in one call, each depositing its own bins.
+    const bool lean = fused_ && !Colour && nb <= lean_chains;
 
     uint64_t reported = 0;
     size_t live = nlive;
@@ -785,6 +796,7 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
         // map, back in place; 4. colours (not when the colourer needs none); 5. bookkeeping,
         // bin indices and colour values, branch-free over the block.
         Counts sc;
+        uint64_t steps_run = 1;
         if (fused_) {
             if (!Colour && steady_left == 0) {
                 if (steady_wait > 0) {
@@ -796,14 +808,27 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
                 }
             }
             const bool steady = steady_left > 0;
-            bv.idx = out;
-            sc = run_fused<T>(s, bv, hits, lag, steady);
+            uint64_t ran = 1;
+            if (lean) {
+                // Up to the next poll (or the end of the steady run) in one call.
+                const uint64_t m = steady ? std::min(steady_left, poll_steps - n % poll_steps) : 1;
+                const RunCounts rc = fp_chaos::fused_run(fused_args(s, bv, hits, nullptr, steady), m);
+                sc = rc.last;
+                sc.plotted = rc.plotted;
+                ran = rc.steps;
+                n += ran - 1;
+            } else {
+                bv.idx = out;
+                sc = fp_chaos::fused(fused_args(s, bv, hits, lag, steady));
+            }
+            steps_run = ran;
             if (steady) {
                 sc.still = uint32_t(live);
-                ++steady_steps;
+                steady_steps += ran;
+                steady_left -= ran;
                 // The end of a steady run: a restart (its chain must wait out its skip again),
                 // or as many steps as the block's fewest points left, less one.
-                if (--steady_left == 0 || sc.restarts) {
+                if (steady_left == 0 || sc.restarts) {
                     sc.plotted = settle_steady(s, nb, steady_steps);
                     steady_left = steady_steps = 0;
                 }
@@ -831,13 +856,15 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
                 if (i < nb) hist.spill(idx[i]);
             }
         } else {
-            if (fused_) {
+            if (lean) {
+                // (deposited by the lean run itself)
+            } else if (fused_) {
                 lag = out;
                 out = out == s.idx.get() ? s.idx2.get() : s.idx.get();
             } else {
                 for (size_t i = 0; i < nb; ++i) ++hits[idx[i]];
             }
-            hist.since += nb;
+            hist.since += nb * steps_run;
             if (__builtin_expect(hist.since >= hits_flush, 0)) hist.flush();
         }
 

@@ -263,6 +263,32 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
         bench + "points: 100000, precision: double, colourer: {type: density}, " + circles_maps(),
         bench + "points: 100000, chains: 300, precision: double, colourer: {type: map-colour}, " +
             circles_maps(),
+        // Few chains (the lean path): three, and two with many restarts (overlapping circles).
+        bench + "points: 60000, chains: 3, skip: 2, colourer: {type: density}, " + circles_maps(),
+        "type: chaos-game, width: 64, height: 64, view: [-1.5, 2, -1.5, 1.5], points: 30000, chains: 2, "
+        "skip: 1, colourer: {type: density}, maps: [{type: inversion, shape: {type: circle, centre: [0, 0], "
+        "radius: 1}}, {type: inversion, shape: {type: circle, centre: [0.5, 0], radius: 1}}]",
+        // Affine maps (Walker's alias table) with both colour rules, and a single orbit of a
+        // Gumowski-Mira map in double and float (the narrow lean path), one with few points.
+        "type: chaos-game, width: 64, height: 64, view: [0, 1, 0, 1], points: 100000, chains: 333, "
+        "colourer: {type: flame}, maps: [{type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}, "
+        "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0], weight: 2}, {type: affine, coefficients: "
+        "[0.5, 0, 0, 0.5, 0.25, 0.5]}]",
+        "type: chaos-game, width: 64, height: 64, view: [0, 1, 0, 1], points: 100000, chains: 40, "
+        "colourer: {type: map-colour}, maps: [{type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}, "
+        "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0]}, {type: affine, coefficients: [0.5, 0, 0, "
+        "0.5, 0.25, 0.5]}]",
+        "type: chaos-game, width: 64, height: 64, view: [-15, 15, -15, 15], points: 200000, chains: 1, skip: "
+        "0, "
+        "start: [0, 0.5], precision: double, colourer: {type: density}, maps: [{type: gumowski-mira, mu: "
+        "-0.31}]",
+        "type: chaos-game, width: 64, height: 64, view: [-15, 15, -15, 15], points: 200000, chains: 1, skip: "
+        "0, "
+        "start: [0, 0.5], colourer: {type: density}, maps: [{type: gumowski-mira, mu: -0.31}]",
+        "type: chaos-game, width: 64, height: 64, view: [-15, 15, -15, 15], points: 1000, chains: 2, skip: "
+        "5, "
+        "colourer: {type: centroid-distance}, maps: [{type: gumowski-mira, mu: -0.31}, {type: gumowski-mira, "
+        "alpha: 0.008, mu: -0.7}]",
     };
     for (const auto& r : recipes) {
         const Render a = render("{" + r + "}", 1);

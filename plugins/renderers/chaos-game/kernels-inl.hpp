@@ -24,10 +24,12 @@
 
 #include <fixpoint/simd-inl.hpp>
 
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 HWY_BEFORE_NAMESPACE();
 namespace fp_chaos::HWY_NAMESPACE {
@@ -151,6 +153,21 @@ HWY_INLINE hn::Vec<DU> pcg_next(DU du, uint64_t* rs, const uint64_t* ri) {
         const auto rl = hn::And(hn::Sub(hn::Set(du, 32), r), hn::Set(du, 31));
         return hn::And(hn::Or(hn::Shr(x, r), hn::Shl(x, rl)), m32);
     }
+#endif
+}
+
+/// The states at rs advanced by one output, the output unused (a draw among one map).
+template <class DU>
+HWY_INLINE void pcg_skip(DU du, uint64_t* rs, const uint64_t* ri) {
+#if HWY_TARGET == HWY_SCALAR
+    (void)du;
+    rs[0] = rs[0] * pcg_mult_v + ri[0];
+#else
+    const hn::Repartition<uint64_t, DU> d64;
+    const size_t h = hn::Lanes(d64);
+    hn::StoreU(pcg_advance(d64, hn::LoadU(d64, rs), hn::LoadU(d64, ri)), d64, rs);
+    if constexpr (sizeof(hn::TFromD<DU>) == 4)
+        hn::StoreU(pcg_advance(d64, hn::LoadU(d64, rs + h), hn::LoadU(d64, ri + h)), d64, rs + h);
 #endif
 }
 
@@ -470,6 +487,7 @@ HWY_INLINE hn::Vec<D> per_map(D d, const hn::TFromD<D>* table, uint32_t k,
                               hn::Vec<hn::RebindToUnsigned<D>> c) {
     const hn::RebindToUnsigned<D> du;
     using U = hn::TFromD<decltype(du)>;
+    if (k == 1) return hn::Set(d, table[0]); // (a single map: its value in every lane)
     if (k <= hn::Lanes(d)) {
         const auto idx = hn::Min(c, hn::Set(du, U(k - 1)));
         return hn::TableLookupLanes(hn::LoadU(d, table), hn::IndicesFromVec(d, idx));
@@ -562,9 +580,10 @@ HWY_INLINE void colour_lanes(D, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
     one(t.cb, b.cb + i);
 }
 
-template <class T, fp_chaos::LaneKind K, bool Rules, fp_chaos::LaneColour C, bool Steady>
+template <class D, fp_chaos::LaneKind K, bool Rules, fp_chaos::LaneColour C, bool Steady,
+          class T = hn::TFromD<D>>
 HWY_INLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
-    const hn::ScalableTag<T> d;
+    const D d;
     const hn::RebindToUnsigned<decltype(d)> du;
     using U = hn::TFromD<decltype(du)>;
     const size_t N = hn::Lanes(d);
@@ -584,13 +603,13 @@ HWY_INLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         const auto x0 = x, y0 = y;
         const auto p = load32(du, a.prev + i);
         const auto act = hn::And(live, hn::Ne(load32(du, a.active + i), zero));
-        const auto r = pcg_next(du, a.rs + i, a.ri + i);
         // The draw: with the rules, among the maps allowed (not the previous one; for circles
         // not one whose set holds the point: Circle::inside, dx * dx + dy * dy < r2, NaN
         // allowed); else Walker's alias table.
         hn::Vec<decltype(du)> c;
         hn::Mask<decltype(du)> some;
         if constexpr (Rules) {
+            const auto r = pcg_next(du, a.rs + i, a.ri + i);
             auto tot = zero;
             c = draw_any(du, t.q, k, r, tot, [&](uint32_t j) {
                 const auto other = hn::Ne(p, hn::Set(du, U(j)));
@@ -600,8 +619,14 @@ HWY_INLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
                 return hn::AndNot(hn::RebindMask(du, in), other);
             });
             some = hn::Ne(tot, zero);
+        } else if (k == 1) {
+            // One map (a single orbit of one map): the draw's output is not needed, but the
+            // stream moves on as it would (start points after restarts come from it).
+            pcg_skip(du, a.rs + i, a.ri + i);
+            c = zero;
+            some = hn::Eq(zero, zero);
         } else {
-            c = alias_lanes(du, r, k, t.thr, t.alias);
+            c = alias_lanes(du, pcg_next(du, a.rs + i, a.ri + i), k, t.thr, t.alias);
             some = hn::Eq(zero, zero);
         }
         const auto mv = hn::And(act, some);
@@ -654,36 +679,85 @@ HWY_INLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
     return n;
 }
 
-template <class T, fp_chaos::LaneKind K, bool Rules>
+/// The vectors of the fused step: whole ones, or (Narrow) the fewest lanes a target offers for
+/// a lean run of one or two orbits, whose steps wait on their divisions: the narrow forms of
+/// the instructions have the shorter latencies.
+template <class T, bool Narrow>
+using FusedTag = std::conditional_t<Narrow, hn::CappedTag<T, sizeof(T) == 8 ? 1 : 2>, hn::ScalableTag<T>>;
+
+template <class T, fp_chaos::LaneKind K, bool Rules, bool Narrow>
 HWY_INLINE fp_chaos::Counts fused_colour(const fp_chaos::FusedArgs<T>& f) {
     using C = fp_chaos::LaneColour;
-    switch (f.tables->colour) {
-    case C::map: return fused_t<T, K, Rules, C::map, false>(f);
-    case C::average: return fused_t<T, K, Rules, C::average, false>(f);
-    default:
-        return f.steady ? fused_t<T, K, Rules, C::none, true>(f) : fused_t<T, K, Rules, C::none, false>(f);
+    using D = FusedTag<T, Narrow>;
+    if constexpr (!Narrow) {
+        if (f.tables->colour == C::map) return fused_t<D, K, Rules, C::map, false>(f);
+        if (f.tables->colour == C::average) return fused_t<D, K, Rules, C::average, false>(f);
     }
+    return f.steady ? fused_t<D, K, Rules, C::none, true>(f) : fused_t<D, K, Rules, C::none, false>(f);
 }
 
 /// The rules (or the alias table) as a compile-time choice: circles come with the rules,
 /// maps without sets with the alias table, unless a recipe says otherwise.
-template <class T, fp_chaos::LaneKind K>
+template <class T, fp_chaos::LaneKind K, bool Narrow>
 HWY_INLINE fp_chaos::Counts fused_rules(const fp_chaos::FusedArgs<T>& f) {
-    return f.tables->rules ? fused_colour<T, K, true>(f) : fused_colour<T, K, false>(f);
+    return f.tables->rules ? fused_colour<T, K, true, Narrow>(f) : fused_colour<T, K, false, Narrow>(f);
 }
 
-template <class T>
+template <class T, bool Narrow = false>
 HWY_INLINE fp_chaos::Counts fused_any(const fp_chaos::FusedArgs<T>& f) {
     using K = fp_chaos::LaneKind;
     switch (f.tables->kind) {
-    case K::affine: return fused_rules<T, K::affine>(f);
-    case K::gumowski_mira: return fused_rules<T, K::gumowski_mira>(f);
-    default: return fused_rules<T, K::circle>(f);
+    case K::affine: return fused_rules<T, K::affine, Narrow>(f);
+    case K::gumowski_mira: return fused_rules<T, K::gumowski_mira, Narrow>(f);
+    default: return fused_rules<T, K::circle, Narrow>(f);
     }
 }
 
 fp_chaos::Counts fused_f(const fp_chaos::FusedArgs<float>& f) { return fused_any(f); }
 fp_chaos::Counts fused_d(const fp_chaos::FusedArgs<double>& f) { return fused_any(f); }
+
+/// The lean path of a block of few chains counting hits only (the papers' single orbit): up to
+/// `steps` fused steps in one call, each step's bins deposited right after it, so that the
+/// renderer's per-step work (its calls, polls and the lagged deposit) is paid once per run.
+/// Stops after a step that restarted a chain, or (outside a steady run) left none active.
+template <class T, bool Narrow>
+HWY_INLINE fp_chaos::RunCounts fused_run_t(const fp_chaos::FusedArgs<T>& args, uint64_t steps) {
+    const fp_chaos::FusedArgs<T> f = args;
+    fp_chaos::RunCounts out;
+    // Each step's bins are prefetched when known and incremented one step later: an
+    // increment that misses the cache would otherwise hold up the steps behind it (a few
+    // orbits have little else to overlap with).
+    uint32_t lag[fp_chaos::lean_max];
+    const size_t nb = f.book.nb;
+    size_t pending = 0;
+    for (uint64_t s = 0; s < steps; ++s) {
+        const fp_chaos::Counts c = fused_any<T, Narrow>(f);
+        for (size_t i = 0; i < nb; ++i) hwy::Prefetch(f.hits + f.book.idx[i]);
+        for (size_t i = 0; i < pending; ++i) ++f.hits[lag[i]];
+        for (size_t i = 0; i < nb; ++i) lag[i] = f.book.idx[i];
+        pending = nb;
+        out.plotted += c.plotted;
+        ++out.steps;
+        out.last = c;
+        if (c.restarts || (!f.steady && c.still == 0)) break;
+    }
+    for (size_t i = 0; i < pending; ++i) ++f.hits[lag[i]];
+    return out;
+}
+
+/// One or two chains take the narrow vectors (see FusedTag).
+template <class T>
+HWY_INLINE fp_chaos::RunCounts fused_run_any(const fp_chaos::FusedArgs<T>& f, uint64_t steps) {
+    if (f.book.nb <= 2) return fused_run_t<T, true>(f, steps);
+    return fused_run_t<T, false>(f, steps);
+}
+
+fp_chaos::RunCounts fused_run_f(const fp_chaos::FusedArgs<float>& f, uint64_t steps) {
+    return fused_run_any(f, steps);
+}
+fp_chaos::RunCounts fused_run_d(const fp_chaos::FusedArgs<double>& f, uint64_t steps) {
+    return fused_run_any(f, steps);
+}
 
 } // namespace fp_chaos::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

@@ -14,6 +14,9 @@ namespace fp_chaos {
 /// of the target at hand selects per map instead of by table lookup (the same values).
 constexpr std::size_t table_size = 64;
 
+/// The most chains of a lean run (chaos-game.cpp's run_block; state.hpp's lean_chains).
+constexpr std::size_t lean_max = 64;
+
 /// The draw of a map per chain (paper 01's rules as masks, or Walker's alias table).
 struct DrawArgs {
     std::uint64_t* rs;           ///< pcg32 states, advanced by one output per chain
@@ -57,6 +60,13 @@ struct BookArgs {
 struct Counts {
     std::uint64_t plotted = 0;
     std::uint32_t bad = 0, restarts = 0, still = 0;
+};
+
+/// A lean run of fused steps (kernels-inl.hpp's fused_run_t): the last step's counts, the
+/// points plotted over all of them, and how many steps ran.
+struct RunCounts {
+    Counts last;
+    std::uint64_t plotted = 0, steps = 0;
 };
 
 /// Grouping by map: each map's points compressed into its own segment of the staging arrays

@@ -4,6 +4,8 @@
 // header comment says how they are used).
 #pragma once
 
+#include "kernels.hpp"
+
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
@@ -40,6 +42,9 @@ constexpr size_t block_size = 512;
 constexpr size_t tail_block_size = 128;
 /// Steps between polls of ctx.cancelled() and progress reports (about 1 ms of work).
 constexpr uint64_t poll_steps = 64;
+/// Blocks of at most this many chains run lean when they can (one or a few orbits: the
+/// papers' single orbit; see chaos-game.cpp's run_block).
+constexpr size_t lean_chains = lean_max;
 /// Candidates drawn for a start point outside every set before the last one is taken anyway.
 constexpr unsigned start_tries = 32;
 /// Restarts in a row without a plotted point after which a chain is retired.
