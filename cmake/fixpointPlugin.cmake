@@ -22,6 +22,11 @@ function(fixpoint_add_plugin name)
   # No FMA contraction: a vectorised loop and its scalar tail round alike, so batch results
   # equal point-by-point results and images do not depend on how points are batched.
   target_compile_options(${name} PRIVATE -ffp-contract=off)
+  # Floating-point operations raise no traps the code cares about (it never unmasks them), so
+  # the compiler may compute both arms of a select and keep one: loops with selects then
+  # vectorise on every instruction set, not only on those with masked operations (AVX-512).
+  # The values are IEEE's either way: no reassociation, no contraction.
+  target_compile_options(${name} PRIVATE -fno-trapping-math)
   # GCC only: clang does not know the flag, and never emits GNU-unique symbols anyway.
   if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
     target_compile_options(${name} PRIVATE -fno-gnu-unique)

@@ -18,7 +18,7 @@
 // default is C's fmod (symmetric about 0; the wallpaper transform's default too): a floor-based
 // mod into [0, 2 pi) makes the traps at negative coordinates unreachable and breaks the
 // symmetry. For Picard the step's own reduction already did it, and fmod / centred are
-// idempotent (exactly: orbit_trap_reduce.hpp). `none` for maps that are not periodic.
+// idempotent (exactly: orbit-trap/reduce.hpp). `none` for maps that are not periodic.
 //
 // Pixel coordinates
 // -----------------
@@ -77,8 +77,8 @@
 // ymin < ymax); "samples": "expected 1, 8 or a square number (4, 9, 16, ...) of samples: patterns
 // closed under the square's symmetries, got 3"; "colourer": "this colourer cannot colour
 // orbit-trap hits (use colour-map)"; "height": the image is too large.
-#include "orbit_trap_batch.hpp"
-#include "orbit_trap_reduce.hpp"
+#include "orbit-trap/batch.hpp"
+#include "orbit-trap/reduce.hpp"
 
 #include <fixpoint/fixpoint.hpp>
 
@@ -93,9 +93,35 @@
 #include <type_traits>
 #include <vector>
 
-#if defined(__AVX512F__)
-#include <immintrin.h>
-#endif
+// The passes after each step (orbit-trap/kernels-inl.hpp), compiled once per instruction set
+// of the build and dispatched at run time.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "orbit-trap/kernels-inl.hpp"
+#include <hwy/foreach_target.h> // IWYU pragma: keep
+
+#include "orbit-trap/kernels-inl.hpp"
+
+namespace fp_orbit_trap {
+HWY_EXPORT(retire_f);
+HWY_EXPORT(retire_d);
+HWY_EXPORT(test_retire_f);
+HWY_EXPORT(test_retire_d);
+
+inline size_t retire(Scratch<float>& s, size_t live, uint32_t it) {
+    return HWY_DYNAMIC_DISPATCH(retire_f)(s, live, it);
+}
+inline size_t retire(Scratch<double>& s, size_t live, uint32_t it) {
+    return HWY_DYNAMIC_DISPATCH(retire_d)(s, live, it);
+}
+inline size_t test_retire(const KnownCircles<float>& c, Scratch<float>& s, size_t live, uint32_t it,
+                          Reduction red, bool check, bool& outside) {
+    return HWY_DYNAMIC_DISPATCH(test_retire_f)(c, s, live, it, red, check, outside);
+}
+inline size_t test_retire(const KnownCircles<double>& c, Scratch<double>& s, size_t live, uint32_t it,
+                          Reduction red, bool check, bool& outside) {
+    return HWY_DYNAMIC_DISPATCH(test_retire_d)(c, s, live, it, red, check, outside);
+}
+} // namespace fp_orbit_trap
 
 namespace {
 

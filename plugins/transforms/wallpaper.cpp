@@ -49,13 +49,35 @@
 #include <utility>
 #include <vector>
 
-// Full-width AVX-512 vectors for the kernel (GCC's -march=native prefers 256-bit ones on these
-// CPUs; the kernel is pure arithmetic, where 512-bit vectors give about 1.5 times the points per
-// second). Placed after the library headers, so only this file's code is affected.
-#if defined(__AVX512F__) && defined(__GNUC__) && !defined(__clang__)
-#pragma GCC target("prefer-vector-width=512")
-#endif
 #include "wallpaper_kernel.hpp"
+
+// The map's loops once per instruction set: Map::run_body inlined into a function of each
+// Highway target, where the compiler vectorises the per-point code with that target's
+// instructions; dispatched at run time (the same bits on each: no FMA, own sin and cos).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "wallpaper.cpp"
+#include <hwy/foreach_target.h> // IWYU pragma: keep
+
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace fp_wallpaper::HWY_NAMESPACE {
+void run_f(const Map& m, float* x, float* y, fp::Mask mask, std::size_t n) { m.run_body(x, y, mask, n); }
+void run_d(const Map& m, double* x, double* y, fp::Mask mask, std::size_t n) { m.run_body(x, y, mask, n); }
+} // namespace fp_wallpaper::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace fp_wallpaper {
+HWY_EXPORT(run_f);
+HWY_EXPORT(run_d);
+void dispatch_f(const Map& m, float* x, float* y, fp::Mask mask, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(run_f)(m, x, y, mask, n);
+}
+void dispatch_d(const Map& m, double* x, double* y, fp::Mask mask, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(run_d)(m, x, y, mask, n);
+}
+} // namespace fp_wallpaper
 
 namespace {
 
@@ -161,7 +183,9 @@ class Wallpaper final : public fp::Transform {
 public:
     explicit Wallpaper(const fp::ParamBag& p)
         : map_(coefficients(p, p.string("group")), wp::is_hexagonal(p.string("group")),
-               reduction_of(p.string("reduction"))) {}
+               reduction_of(p.string("reduction"))) {
+        map_.set_runners(&fp_wallpaper::dispatch_f, &fp_wallpaper::dispatch_d);
+    }
 
     void apply(fp::Points<float> p, fp::Mask mask) const override { map_.apply(p, mask); }
     void apply(fp::Points<double> p, fp::Mask mask) const override { map_.apply(p, mask); }
@@ -241,3 +265,4 @@ FIXPOINT_PLUGIN(fp::describe<Wallpaper>(fp::Kind::Transform, "wallpaper",
                                         "maps with wallpaper symmetry, all 17 groups (paper 04 eqs. (1)-(9))",
                                         params)
                     .with_example("{group: p4m, seed: 1}"))
+#endif // HWY_ONCE

@@ -72,14 +72,26 @@ struct TrigConst<double> {
 };
 
 /// trunc(v) and floor(v) from nearbyint (which vectorises), exact for every v.
+/// nearbyint(v) in the default rounding mode (to nearest, ties to even), in arithmetic: for
+/// |v| < 2^23 (2^52) the sum |v| + 2^23 is rounded to the nearest integer and the difference
+/// is exact; larger values are integers already. The same bits as std::nearbyint, but inline
+/// on every instruction set (nearbyint is a library call unless the target has a rounding
+/// instruction, and a call keeps the loops from vectorising).
+template <class T>
+[[gnu::always_inline]] inline T round_even_(T v) {
+    constexpr T big = sizeof(T) == 4 ? T(8388608.0) : T(4503599627370496.0);
+    const T a = std::fabs(v);
+    const T r = (a + big) - big;
+    return std::copysign(a < big ? r : a, v);
+}
 template <class T>
 [[gnu::always_inline]] inline T trunc_(T v) {
-    const T a = std::fabs(v), t = std::nearbyint(a);
+    const T a = std::fabs(v), t = round_even_(a);
     return std::copysign(t > a ? t - T(1) : t, v);
 }
 template <class T>
 [[gnu::always_inline]] inline T floor_(T v) {
-    const T t = std::nearbyint(v);
+    const T t = round_even_(v);
     return t > v ? t - T(1) : t;
 }
 
@@ -146,7 +158,7 @@ template <class T>
 template <class T>
 [[gnu::always_inline]] inline T reduce_centred(T v) {
     using K = TrigConst<T>;
-    const T k = std::nearbyint(v * K::inv_two_pi);
+    const T k = round_even_(v * K::inv_two_pi);
     const T r = (v - k * K::t1) - k * K::t2;
     return r >= K::pi ? r - K::two_pi : r;
 }

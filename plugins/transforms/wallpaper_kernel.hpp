@@ -85,7 +85,7 @@ template <std::uint32_t M, int I, class T, int... J>
     constexpr int first = first_col(M, I);
     T acc = term<M, I, first>(c, b);
     (
-        [&] {
+        [&]() __attribute__((always_inline)) {
             if constexpr (J > first && has(M, I, J)) acc = acc + term<M, I, J>(c, b);
         }(),
         ...);
@@ -111,7 +111,7 @@ template <std::uint32_t M, class T, int... I>
         constexpr int first = first_row(M);
         T acc = row_term<M, first>(c, a, b);
         (
-            [&] {
+            [&]() __attribute__((always_inline)) {
                 if constexpr (I > first && row_any(M, I)) acc = acc + row_term<M, I>(c, a, b);
             }(),
             ...);
@@ -145,7 +145,8 @@ template <std::uint32_t MX, std::uint32_t MYT, bool HEX, class T>
 }
 
 template <std::uint32_t MX, std::uint32_t MYT, bool HEX, class T>
-void map_chunk(const Coef<T>& k, const T* x, const T* y, T* fx, T* fy, std::size_t n) {
+[[gnu::always_inline]] inline void map_chunk(const Coef<T>& k, const T* x, const T* y, T* fx, T* fy,
+                                             std::size_t n) {
     FP_WALLPAPER_IVDEP
     for (std::size_t i = 0; i < n; ++i) map_point<MX, MYT, HEX>(k, x[i], y[i], fx[i], fy[i]);
 }
@@ -225,9 +226,20 @@ private:
         return a != 0;
     }
 
-    /// f and the reduction on n <= chunk_size points.
+public:
+    /// f and the reduction on n <= chunk_size points. The loops compiled per instruction set (the plugin's
+    /// run_f / run_d, each run_body inlined into a function of one Highway target, whose instruction set the
+    /// loops then vectorise with); without them, run_body as compiled here.
     template <class T>
-    void run(T* x, T* y, fp::Mask m, std::size_t n) const {
+    using Runner = void (*)(const Map&, T*, T*, fp::Mask, std::size_t);
+    void set_runners(Runner<float> f, Runner<double> d) {
+        run_f_ = f;
+        run_d_ = d;
+    }
+
+    /// One chunk: the map's form, then the reduction; inlined into its callers.
+    template <class T>
+    [[gnu::always_inline]] inline void run_body(T* x, T* y, fp::Mask m, std::size_t n) const {
         alignas(64) T fx[fp::chunk_size], fy[fp::chunk_size];
         const Coef<T>& k = coef<T>();
         switch (form_) {
@@ -238,11 +250,34 @@ private:
         case Form::hex_dense: map_chunk<mask_dense, mask_dense, true>(k, x, y, fx, fy, n); break;
         }
         switch (reduction_) {
-        case Reduction::fmod: store(x, y, fx, fy, m, n, [](T v) { return reduce_fmod(v); }); break;
-        case Reduction::centred: store(x, y, fx, fy, m, n, [](T v) { return reduce_centred(v); }); break;
-        case Reduction::floor: store(x, y, fx, fy, m, n, [](T v) { return reduce_floor(v); }); break;
-        case Reduction::none: store(x, y, fx, fy, m, n, [](T v) { return v; }); break;
+        case Reduction::fmod:
+            store(
+                x, y, fx, fy, m, n, [](T v) __attribute__((always_inline)) { return reduce_fmod(v); });
+            break;
+        case Reduction::centred:
+            store(
+                x, y, fx, fy, m, n, [](T v) __attribute__((always_inline)) { return reduce_centred(v); });
+            break;
+        case Reduction::floor:
+            store(
+                x, y, fx, fy, m, n, [](T v) __attribute__((always_inline)) { return reduce_floor(v); });
+            break;
+        case Reduction::none:
+            store(
+                x, y, fx, fy, m, n, [](T v) __attribute__((always_inline)) { return v; });
+            break;
         }
+    }
+
+private:
+    template <class T>
+    void run(T* x, T* y, fp::Mask m, std::size_t n) const {
+        if constexpr (sizeof(T) == sizeof(float)) {
+            if (run_f_) return run_f_(*this, x, y, m, n);
+        } else {
+            if (run_d_) return run_d_(*this, x, y, m, n);
+        }
+        run_body(x, y, m, n);
     }
 
     enum class Form { cross, odd, dense, hex, hex_dense };
@@ -260,6 +295,8 @@ private:
     bool hex_;
     Reduction reduction_;
     Form form_ = Form::dense;
+    Runner<float> run_f_ = nullptr;
+    Runner<double> run_d_ = nullptr;
 };
 
 } // namespace fp_wallpaper

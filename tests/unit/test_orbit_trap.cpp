@@ -3,7 +3,7 @@
 // square's symmetries, the lattice period of Picard patterns, threads, and the exact reduction.
 #include "host.hpp"
 
-#include "../../plugins/renderers/orbit_trap_reduce.hpp"
+#include "../../plugins/renderers/orbit-trap/reduce.hpp"
 
 #include <fixpoint/fixpoint.hpp>
 #include <fixpoint/host/runtime.hpp>

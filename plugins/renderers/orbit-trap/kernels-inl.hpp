@@ -1,0 +1,183 @@
+// orbit-trap's passes over its batch after each step, on the SIMD layer (compiled once per
+// instruction set of the build from orbit-trap.cpp, dispatched at run time):
+//   - retire: record the samples some trap caught (trap, ratio, iteration) and move the others
+//     to the front, keeping their order; returns how many are left;
+//   - test_retire: the same fused with the test of a trap the renderer tests inline
+//     (fp::TrapKernel: Euclidean circles), in one pass: no virtual call, no key array written
+//     and read back per circle. The trap test is exactly TrapKernel's formula: the circles from
+//     last to first, a later hit replacing an earlier one, so the first circle that holds the
+//     lane is left standing, as circles.cpp does. Lanes beyond `live` in the last vector are
+//     computed on whatever the (padded) arrays hold and ignored.
+// Survivors are written with compressing stores, in place (safe: a vector is loaded before
+// anything at or after its start is written); the caught lanes' records are written lane by
+// lane (a few per step). tests/unit/test_orbit_trap.cpp compares renders with Algorithm 3
+// through the plugins' interfaces.
+//
+// With `check`, each vector is first checked against the reduction's target range (values in it
+// stay as they are under the reduction, exactly); a vector with a value outside is reduced in
+// place before its test (the same exact reduction as the whole batch's) and `outside` is set.
+// NC: the number of circles when it is one of the presets' (the loop over the circles unrolled,
+// their constants kept in registers), 0 for any other.
+
+#if defined(FP_ORBIT_TRAP_KERNELS_INL_HPP_) == defined(HWY_TARGET_TOGGLE)
+#ifdef FP_ORBIT_TRAP_KERNELS_INL_HPP_
+#undef FP_ORBIT_TRAP_KERNELS_INL_HPP_
+#else
+#define FP_ORBIT_TRAP_KERNELS_INL_HPP_
+#endif
+
+#include "batch.hpp"
+#include "reduce.hpp"
+
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+HWY_BEFORE_NAMESPACE();
+namespace fp_orbit_trap::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+template <class T>
+HWY_INLINE size_t retire_t(Scratch<T>& s, size_t live, uint32_t iteration) {
+    const hn::ScalableTag<T> d;
+    const size_t N = hn::Lanes(d);
+    T* HWY_RESTRICT x = s.x.data();
+    T* HWY_RESTRICT y = s.y.data();
+    uint32_t* HWY_RESTRICT ids = s.id.data();
+    const std::int32_t* HWY_RESTRICT caught = s.caught.data();
+    size_t keep = 0;
+    for (size_t i = 0; i < live; i += N) {
+        const size_t m = std::min(N, live - i);
+        // The survivors' mask, as bits (caught[i] >= 0: retired).
+        uint8_t bits[(HWY_MAX_BYTES / sizeof(T) + 7) / 8] = {};
+        bool any = false;
+        for (size_t l = 0; l < m; ++l) {
+            const bool out = caught[i + l] >= 0;
+            any |= out;
+            bits[l / 8] |= uint8_t(out ? 0 : 1) << (l % 8);
+        }
+        if (!any && keep == i) { // nothing retired so far: the lanes stay where they are
+            keep += m;
+            continue;
+        }
+        for (size_t l = 0; l < m; ++l)
+            if (caught[i + l] >= 0) {
+                const uint32_t id = ids[i + l];
+                s.trap[id] = caught[i + l];
+                s.ratio_out[id] = float(s.ratio[i + l]);
+                s.iteration[id] = iteration;
+            }
+        const auto stay = hn::LoadMaskBits(d, bits);
+        hn::CompressBlendedStore(hn::LoadU(d, x + i), stay, d, x + keep);
+        hn::CompressBlendedStore(hn::LoadU(d, y + i), stay, d, y + keep);
+        for (size_t l = 0; l < m; ++l) { // (w <= i + l: each id is read before it is overwritten)
+            ids[keep] = ids[i + l];
+            keep += caught[i + l] < 0 ? 1 : 0;
+        }
+    }
+    return keep;
+}
+
+template <size_t NC, class T>
+HWY_INLINE size_t test_retire_t(const KnownCircles<T>& c, Scratch<T>& s, size_t live, uint32_t iteration,
+                                Reduction red, bool check, bool& outside) {
+    const hn::ScalableTag<T> d;
+    const hn::RebindToSigned<decltype(d)> di;
+    using I = hn::TFromD<decltype(di)>;
+    const size_t N = hn::Lanes(d);
+    const Range<T> range(red);
+    T* HWY_RESTRICT x = s.x.data();
+    T* HWY_RESTRICT y = s.y.data();
+    uint32_t* HWY_RESTRICT ids = s.id.data();
+    const size_t nc = NC ? NC : c.cx.size();
+    const T below_one = std::nextafter(T(1), T(0));
+    alignas(HWY_MAX_BYTES) I tr[HWY_MAX_BYTES / sizeof(T)];
+    alignas(HWY_MAX_BYTES) T kk[HWY_MAX_BYTES / sizeof(T)];
+    const auto lo = hn::Set(d, range.lo), hi = hn::Set(d, range.hi);
+    size_t keep = 0;
+    for (size_t i = 0; i < live; i += N) {
+        const size_t m = std::min(N, live - i);
+        const auto valid = hn::FirstN(d, m);
+        auto vx = hn::LoadU(d, x + i), vy = hn::LoadU(d, y + i);
+        if (check) {
+            const auto in = hn::And(hn::And(hn::Not(hn::Lt(vx, lo)), hn::Lt(vx, hi)),
+                                    hn::And(hn::Not(hn::Lt(vy, lo)), hn::Lt(vy, hi)));
+            if (!hn::AllTrue(d, hn::Or(in, hn::Not(valid)))) {
+                fp_orbit_trap::reduce(x + i, m, red);
+                fp_orbit_trap::reduce(y + i, m, red);
+                outside = true;
+                vx = hn::LoadU(d, x + i), vy = hn::LoadU(d, y + i);
+            }
+        }
+        auto t = hn::Set(di, I(-1));
+        auto k = hn::Zero(d);
+        for (size_t j = nc; j-- > 0;) {
+            const auto dx = hn::Sub(vx, hn::Set(d, c.cx[j])), dy = hn::Sub(vy, hn::Set(d, c.cy[j]));
+            const auto kj = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
+            const auto hit = hn::Lt(kj, hn::Set(d, c.key[j]));
+            t = hn::IfThenElse(hn::RebindMask(di, hit), hn::Set(di, I(j)), t);
+            k = hn::IfThenElse(hit, kj, k);
+        }
+        const auto out = hn::And(hn::RebindMask(d, hn::Not(hn::Lt(t, hn::Zero(di)))), valid);
+        const bool any = !hn::AllFalse(d, out);
+        if (!any && keep == i) { // nothing retired so far: the lanes stay where they are
+            keep += m;
+            continue;
+        }
+        hn::Store(any ? t : hn::Set(di, I(-1)), di, tr);
+        if (any) {
+            // The caught lanes' records (sqrt and the quotient correctly rounded, min as
+            // std::min: the ratio is finite).
+            hn::Store(k, d, kk);
+            for (size_t l = 0; l < m; ++l) {
+                if (tr[l] < 0) continue;
+                const uint32_t id = ids[i + l];
+                const auto tj = size_t(tr[l]);
+                s.trap[id] = std::int32_t(tr[l]);
+                s.ratio_out[id] = float(std::min(std::sqrt(kk[l]) / c.r[tj], below_one));
+                s.iteration[id] = iteration;
+            }
+        }
+        const auto stay = hn::AndNot(out, valid);
+        hn::CompressBlendedStore(vx, stay, d, x + keep);
+        hn::CompressBlendedStore(vy, stay, d, y + keep);
+        for (size_t l = 0; l < m; ++l) { // (keep <= i + l: each id is read before it is overwritten)
+            ids[keep] = ids[i + l];
+            keep += tr[l] < 0 ? 1 : 0;
+        }
+    }
+    return keep;
+}
+
+template <class T>
+HWY_INLINE size_t test_retire_any(const KnownCircles<T>& c, Scratch<T>& s, size_t live, uint32_t iteration,
+                                  Reduction red, bool check, bool& outside) {
+    switch (c.cx.size()) {
+    case 1: return test_retire_t<1>(c, s, live, iteration, red, check, outside);
+    case 2: return test_retire_t<2>(c, s, live, iteration, red, check, outside);
+    case 3: return test_retire_t<3>(c, s, live, iteration, red, check, outside);
+    case 4: return test_retire_t<4>(c, s, live, iteration, red, check, outside);
+    case 5: return test_retire_t<5>(c, s, live, iteration, red, check, outside);
+    case 7: return test_retire_t<7>(c, s, live, iteration, red, check, outside);
+    default: return test_retire_t<0>(c, s, live, iteration, red, check, outside);
+    }
+}
+
+size_t retire_f(Scratch<float>& s, size_t live, uint32_t iteration) { return retire_t(s, live, iteration); }
+size_t retire_d(Scratch<double>& s, size_t live, uint32_t iteration) { return retire_t(s, live, iteration); }
+size_t test_retire_f(const KnownCircles<float>& c, Scratch<float>& s, size_t live, uint32_t iteration,
+                     Reduction red, bool check, bool& outside) {
+    return test_retire_any(c, s, live, iteration, red, check, outside);
+}
+size_t test_retire_d(const KnownCircles<double>& c, Scratch<double>& s, size_t live, uint32_t iteration,
+                     Reduction red, bool check, bool& outside) {
+    return test_retire_any(c, s, live, iteration, red, check, outside);
+}
+
+} // namespace fp_orbit_trap::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#endif // per-target include guard
