@@ -13,6 +13,17 @@
 // same recipe gives the same bytes on any number of threads.
 #include "tone_map.hpp"
 
+// update() once per instruction set (update-inl.hpp), dispatched at run time.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "update-inl.hpp"
+#include <hwy/foreach_target.h> // IWYU pragma: keep
+
+#include "update-inl.hpp"
+
+namespace fp_colourers {
+HWY_EXPORT(update_average);
+} // namespace fp_colourers
+
 namespace {
 
 constexpr fp::ParamSpec params[] = {
@@ -28,8 +39,7 @@ public:
 
     void update(const std::uint32_t* map, fp::ColourState s, const fp::Rgb* map_colours,
                 const unsigned char* mask) const override {
-        fp_colourers::update_colours(map, s.r, s.g, s.b, s.n, map_colours, mask,
-                                     [](float old, float c) { return (old + c) * 0.5f; });
+        HWY_DYNAMIC_DISPATCH(fp_colourers::update_average)(map, s, map_colours, mask);
     }
 
     fp::ColourRule colour_rule() const override { return fp::ColourRule::average; }

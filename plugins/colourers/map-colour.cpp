@@ -12,6 +12,17 @@
 
 #include <string>
 
+// update() once per instruction set (update-inl.hpp), dispatched at run time.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "update-inl.hpp"
+#include <hwy/foreach_target.h> // IWYU pragma: keep
+
+#include "update-inl.hpp"
+
+namespace fp_colourers {
+HWY_EXPORT(update_map);
+} // namespace fp_colourers
+
 namespace {
 
 constexpr fp::ParamSpec params[] = {
@@ -25,8 +36,7 @@ public:
 
     void update(const std::uint32_t* map, fp::ColourState s, const fp::Rgb* map_colours,
                 const unsigned char* mask) const override {
-        fp_colourers::update_colours(map, s.r, s.g, s.b, s.n, map_colours, mask,
-                                     [](float, float c) { return c; });
+        HWY_DYNAMIC_DISPATCH(fp_colourers::update_map)(map, s, map_colours, mask);
     }
 
     fp::ColourRule colour_rule() const override { return fp::ColourRule::map; }

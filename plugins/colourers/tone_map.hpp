@@ -19,9 +19,10 @@ namespace fp_colourers {
 /// chain reads map_colours[0] (its own map index need not be valid) and keeps its colour.
 /// __restrict on the parameters: GCC ignores it on local pointers.
 template <class F>
-inline void update_colours(const std::uint32_t* __restrict map, float* __restrict r, float* __restrict g,
-                           float* __restrict b, std::size_t n, const fp::Rgb* __restrict map_colours,
-                           const unsigned char* __restrict mask, F f) {
+[[gnu::always_inline]] inline void update_colours(const std::uint32_t* __restrict map, float* __restrict r,
+                                                  float* __restrict g, float* __restrict b, std::size_t n,
+                                                  const fp::Rgb* __restrict map_colours,
+                                                  const unsigned char* __restrict mask, F f) {
     if (!mask) {
         for (std::size_t i = 0; i < n; ++i) {
             const fp::Rgb c = map_colours[map[i]];
@@ -42,6 +43,14 @@ inline void update_colours(const std::uint32_t* __restrict map, float* __restric
         b[i] = live ? f(b0, c.b) : b0;
     }
 }
+
+/// The two colour rules (fp::ColourRule) as update_colours' f.
+struct TakeMapColour {
+    [[gnu::always_inline]] float operator()(float, float c) const { return c; }
+};
+struct AverageColour {
+    [[gnu::always_inline]] float operator()(float old, float c) const { return (old + c) * 0.5f; }
+};
 
 /// The log-density shading of paper 02, eq. (28): (log2(1 + h) / log2(1 + max h))^(1/gamma).
 /// The values for small h (most bins) come from a table filled once per resolve with the same

@@ -31,7 +31,47 @@
 #include <tuple>
 #include <vector>
 
+// The chunks' point loops, once per instruction set (combine-inl.hpp), dispatched at run time.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "combine-inl.hpp"
+#include <hwy/foreach_target.h> // IWYU pragma: keep
+
+#include "combine-inl.hpp"
+
 namespace fp_iter {
+namespace kernels {
+HWY_EXPORT(lin2_f);
+HWY_EXPORT(lin2_d);
+HWY_EXPORT(lin3_f);
+HWY_EXPORT(lin3_d);
+HWY_EXPORT(merge_f);
+HWY_EXPORT(merge_d);
+
+inline void lin2(const float* k, const float* ux, const float* uy, const float* vx, const float* vy,
+                 float* dx, float* dy, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(lin2_f)(k, ux, uy, vx, vy, dx, dy, n);
+}
+inline void lin2(const double* k, const double* ux, const double* uy, const double* vx, const double* vy,
+                 double* dx, double* dy, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(lin2_d)(k, ux, uy, vx, vy, dx, dy, n);
+}
+inline void lin3(const float* k, const float* ux, const float* uy, const float* vx, const float* vy,
+                 const float* wx, const float* wy, float* dx, float* dy, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(lin3_f)(k, ux, uy, vx, vy, wx, wy, dx, dy, n);
+}
+inline void lin3(const double* k, const double* ux, const double* uy, const double* vx, const double* vy,
+                 const double* wx, const double* wy, double* dx, double* dy, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(lin3_d)(k, ux, uy, vx, vy, wx, wy, dx, dy, n);
+}
+inline void merge(float* x, float* y, const float* px, const float* py, const unsigned char* m,
+                  std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(merge_f)(x, y, px, py, m, n);
+}
+inline void merge(double* x, double* y, const double* px, const double* py, const unsigned char* m,
+                  std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(merge_d)(x, y, px, py, m, n);
+}
+} // namespace kernels
 
 /// A chunk of up to fp::chunk_size points and scratch buffers, all on the stack.
 template <class T>
@@ -61,25 +101,15 @@ struct Chunk {
     }
     /// dst <- A u + B v (matrices acting on points; dst may alias u or v).
     void lin(Buf<T>& dst, const fp::Mat2& A, const Buf<T>& u, const fp::Mat2& B, const Buf<T>& v) const {
-        const T a = T(A.a), b = T(A.b), c = T(A.c), d = T(A.d);
-        const T e = T(B.a), f = T(B.b), g = T(B.c), h = T(B.d);
-        for (std::size_t i = 0; i < n; ++i) {
-            const T ux = u.x[i], uy = u.y[i], vx = v.x[i], vy = v.y[i];
-            dst.x[i] = (a * ux + b * uy) + (e * vx + f * vy);
-            dst.y[i] = (c * ux + d * uy) + (g * vx + h * vy);
-        }
+        const T k[8] = {T(A.a), T(A.b), T(A.c), T(A.d), T(B.a), T(B.b), T(B.c), T(B.d)};
+        kernels::lin2(k, u.x, u.y, v.x, v.y, dst.x, dst.y, n);
     }
     /// dst <- A u + B v + C w.
     void lin(Buf<T>& dst, const fp::Mat2& A, const Buf<T>& u, const fp::Mat2& B, const Buf<T>& v,
              const fp::Mat2& C, const Buf<T>& w) const {
-        const T a = T(A.a), b = T(A.b), c = T(A.c), d = T(A.d);
-        const T e = T(B.a), f = T(B.b), g = T(B.c), h = T(B.d);
-        const T k = T(C.a), l = T(C.b), m = T(C.c), o = T(C.d);
-        for (std::size_t i = 0; i < n; ++i) {
-            const T ux = u.x[i], uy = u.y[i], vx = v.x[i], vy = v.y[i], wx = w.x[i], wy = w.y[i];
-            dst.x[i] = (a * ux + b * uy) + (e * vx + f * vy) + (k * wx + l * wy);
-            dst.y[i] = (c * ux + d * uy) + (g * vx + h * vy) + (m * wx + o * wy);
-        }
+        const T k[12] = {T(A.a), T(A.b), T(A.c), T(A.d), T(B.a), T(B.b),
+                         T(B.c), T(B.d), T(C.a), T(C.b), T(C.c), T(C.d)};
+        kernels::lin3(k, u.x, u.y, v.x, v.y, w.x, w.y, dst.x, dst.y, n);
     }
 };
 
@@ -155,12 +185,7 @@ private:
             std::copy(x, x + c.n, c.p.x);
             std::copy(y, y + c.n, c.p.y);
             self.template kernel<T>(c, k, n);
-            const unsigned char* m = mask ? mask + begin : nullptr;
-            for (std::size_t i = 0; i < c.n; ++i) {
-                const bool on = !m || m[i];
-                x[i] = on ? c.p.x[i] : x[i];
-                y[i] = on ? c.p.y[i] : y[i];
-            }
+            kernels::merge(x, y, c.p.x, c.p.y, mask ? mask + begin : nullptr, c.n);
         }
     }
 

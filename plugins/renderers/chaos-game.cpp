@@ -370,6 +370,9 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         }
     }
     // What is left (rounding) is full: its column keeps itself (thr = max, alias = self).
+    // Padded, so that the draw's table lookups may load whole vectors.
+    alias_thr_.resize(std::max(k, fp_chaos::table_size), 0);
+    alias_.resize(std::max(k, fp_chaos::table_size), 0);
 
     // The fused step: every map a known kernel of one kind (Transform::kernel: inversions in
     // circles about their centres, affine maps, Gumowski-Mira maps), a Picard step, at most

@@ -263,19 +263,21 @@ HWY_INLINE void draw_rules_t(DU du, const fp_chaos::DrawArgs& args) {
 
 void draw_rules(const fp_chaos::DrawArgs& a) { draw_rules_t(hn::ScalableTag<uint32_t>(), a); }
 
-/// Rules off: Walker's alias table. m = r * k; column m >> 32, kept when the low 32 bits are
-/// below its threshold, else its alias. (The table lookups are scalar: gathers are not faster
-/// for a table of a few entries.)
-void draw_alias(const fp_chaos::DrawArgs& a) {
+template <class DU>
+HWY_INLINE hn::Vec<DU> alias_lanes(DU du, hn::Vec<DU> r, uint32_t k, const hn::TFromD<DU>* thr,
+                                   const hn::TFromD<DU>* alias);
+
+/// Rules off: Walker's alias table (alias_lanes), one pcg32 output per chain; the tables
+/// padded to whole vectors.
+void draw_alias(const fp_chaos::DrawArgs& args) {
+    const fp_chaos::DrawArgs a = args;
     const hn::ScalableTag<uint32_t> du;
     const size_t N = hn::Lanes(du);
-    for (size_t i = 0; i < a.nb; i += N) hn::StoreU(pcg_next(du, a.rs + i, a.ri + i), du, a.chosen + i);
-    for (size_t i = 0; i < a.nb; ++i) {
-        const uint64_t m = uint64_t(a.chosen[i]) * a.k;
-        const auto col = uint32_t(m >> 32), frac = uint32_t(m);
-        const uint32_t c = frac < a.thr[col] ? col : a.alias[col];
-        a.chosen[i] = a.active[i] ? c : a.k;
-        a.restart[i] = 0;
+    const auto none = hn::Set(du, a.k), zero = hn::Zero(du);
+    for (size_t i = 0; i < a.nb; i += N) {
+        const auto c = alias_lanes(du, pcg_next(du, a.rs + i, a.ri + i), a.k, a.thr, a.alias);
+        hn::StoreU(hn::IfThenElse(hn::Ne(hn::LoadU(du, a.active + i), zero), c, none), du, a.chosen + i);
+        hn::StoreU(zero, du, a.restart + i);
     }
 }
 
