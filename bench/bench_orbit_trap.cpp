@@ -19,11 +19,14 @@
 #include <fixpoint/host/host.hpp>
 #include <fixpoint/host/registry.hpp>
 #include <fixpoint/host/runtime.hpp>
+#include <fixpoint/simd.hpp>
 
 #include <benchmark/benchmark.h>
 
 #include <atomic>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -143,4 +146,14 @@ void fig8d(benchmark::State& state) { run(state, fig8d_setup(), true); }
 BENCHMARK(reference_work)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 BENCHMARK(fig8d)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
-BENCHMARK_MAIN();
+// FIXPOINT_SIMD pins the kernels' instruction set, as for the CLI (bench/targets.sh).
+int main(int argc, char** argv) {
+    if (const char* t = std::getenv("FIXPOINT_SIMD"); t && *t && !fp::simd::force_target(t)) {
+        std::fprintf(stderr, "FIXPOINT_SIMD=%s: not an instruction set of this CPU\n", t);
+        return 2;
+    }
+    benchmark::Initialize(&argc, argv);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}
