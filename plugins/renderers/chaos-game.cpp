@@ -775,8 +775,12 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
     // The fused step with hits only deposits each step's bins during the next step's pass (the
     // increments' cache misses then overlap its arithmetic instead of following it): `out`
     // takes this step's bins, `lag` holds the previous step's, deposited by the pass.
+    // With colour, the packed colours go the same way: `dep_out` and `lag_dep`.
     uint32_t* out = s.idx.get();
     uint32_t* lag = nullptr;
+    uint64_t* dep_out = s.dep.get();
+    const uint64_t* lag_dep = nullptr;
+    uint32_t nfull = 0;
     // The fused step's steady runs (fused_rules_step<true, true>): steps the block may still
     // run that way (0: not in one) and the steps run since the run began.
     uint64_t steady_left = 0, steady_steps = 0, steady_wait = 0;
@@ -822,7 +826,16 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
                 n += ran - 1;
             } else {
                 bv.idx = out;
-                sc = fp_chaos::fused(fused_args(s, bv, hits, lag, steady));
+                bv.dep = dep_out;
+                FusedArgs<T> f = fused_args(s, bv, hits, lag, steady);
+                if constexpr (Colour) {
+                    f.bins = reinterpret_cast<uint32_t*>(bins);
+                    f.lag_dep = lag_dep;
+                    f.full = s.full.get();
+                    f.nfull = &nfull;
+                    f.spill_at = spill_lagged;
+                }
+                sc = fp_chaos::fused(f);
             }
             steps_run = ran;
             if (steady) {
@@ -853,10 +866,22 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
         // 6. Deposit: one 4 x 32-bit add per chain, or one 32-bit increment when counting
         // hits only (the unplotted land in the last bin).
         if constexpr (Colour) {
-            uint32_t* const b32 = reinterpret_cast<uint32_t*>(bins);
-            for (size_t i = 0; i < nb; ++i) {
-                i = HWY_DYNAMIC_DISPATCH(fp_chaos::deposit_colour)(b32, idx, dep, i, nb, spill_hits);
-                if (i < nb) hist.spill(idx[i]);
+            if (fused_) {
+                // Deposited by the next pass (the last one's after the loop); the bins it
+                // found full spilled now.
+                for (uint32_t t = 0; t < nfull; ++t)
+                    if (bins[s.full.get()[t]][0] >= spill_lagged) hist.spill(s.full.get()[t]);
+                nfull = 0;
+                lag = out;
+                lag_dep = dep_out;
+                out = out == s.idx.get() ? s.idx2.get() : s.idx.get();
+                dep_out = dep_out == s.dep.get() ? s.dep2.get() : s.dep.get();
+            } else {
+                uint32_t* const b32 = reinterpret_cast<uint32_t*>(bins);
+                for (size_t i = 0; i < nb; ++i) {
+                    i = HWY_DYNAMIC_DISPATCH(fp_chaos::deposit_colour)(b32, idx, dep, i, nb, spill_hits);
+                    if (i < nb) hist.spill(idx[i]);
+                }
             }
         } else {
             if (lean) {
@@ -895,8 +920,15 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
             new_starts(s, list, m);
         }
     }
-    if (lag)
+    if (lag && Colour) {
+        uint32_t* const b32 = reinterpret_cast<uint32_t*>(bins);
+        for (size_t i = 0; i < nb; ++i) {
+            i = HWY_DYNAMIC_DISPATCH(fp_chaos::deposit_colour)(b32, lag, lag_dep, i, nb, spill_hits);
+            if (i < nb) hist.spill(lag[i]);
+        }
+    } else if (lag) {
         for (size_t i = 0; i < nb; ++i) ++hits[lag[i]];
+    }
     ctx.progress(nominal - std::min(nominal, reported));
 }
 

@@ -268,6 +268,12 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
         "type: chaos-game, width: 64, height: 64, view: [-1.5, 2, -1.5, 1.5], points: 30000, chains: 2, "
         "skip: 1, colourer: {type: density}, maps: [{type: inversion, shape: {type: circle, centre: [0, 0], "
         "radius: 1}}, {type: inversion, shape: {type: circle, centre: [0.5, 0], radius: 1}}]",
+        // Four bins of 75000 points each with colour: the workers' 32-bit bins spill into
+        // 64 bits (the fused step lists them during its pass, the generic one at once).
+        "type: chaos-game, width: 2, height: 2, view: [0, 1, 0, 1], points: 300000, chains: 600, "
+        "colourer: {type: map-colour}, maps: [{type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}, "
+        "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0]}, {type: affine, coefficients: [0.5, 0, 0, "
+        "0.5, 0.25, 0.5]}]",
         // Affine maps (Walker's alias table) with both colour rules, and a single orbit of a
         // Gumowski-Mira map in double and float (the narrow lean path), one with few points.
         "type: chaos-game, width: 64, height: 64, view: [0, 1, 0, 1], points: 100000, chains: 333, "

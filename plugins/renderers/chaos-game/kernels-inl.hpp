@@ -582,6 +582,30 @@ HWY_INLINE void colour_lanes(D, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
     one(t.cb, b.cb + i);
 }
 
+/// bins[lag[i]] += the widened lag_dep[i] for the nl chains from i; the bins whose hits reach
+/// spill_at are listed.
+template <class T>
+HWY_INLINE void deposit_lagged(const fp_chaos::FusedArgs<T>& f, size_t i, size_t nl) {
+    for (size_t l = i; l < i + nl; ++l) {
+        uint32_t* b = f.bins + 4 * size_t(f.lag[l]);
+#if HWY_TARGET == HWY_SCALAR
+        const uint64_t v = f.lag_dep[l];
+        b[0] += uint32_t(v & 0xffffu), b[1] += uint32_t((v >> 16) & 0xffffu);
+        b[2] += uint32_t((v >> 32) & 0xffffu), b[3] += uint32_t(v >> 48);
+        const uint32_t h = b[0];
+#else
+        const hn::FixedTag<uint32_t, 4> d4;
+        const hn::FixedTag<uint16_t, 4> d16;
+        const auto v =
+            hn::Add(hn::LoadU(d4, b),
+                    hn::PromoteTo(d4, hn::LoadU(d16, reinterpret_cast<const uint16_t*>(f.lag_dep + l))));
+        hn::StoreU(v, d4, b);
+        const uint32_t h = hn::GetLane(v);
+#endif
+        if (HWY_UNLIKELY(h >= f.spill_at)) f.full[(*f.nfull)++] = f.lag[l];
+    }
+}
+
 template <class D, fp_chaos::LaneKind K, bool Rules, fp_chaos::LaneColour C, bool Steady,
           class T = hn::TFromD<D>>
 HWY_INLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
@@ -667,7 +691,12 @@ HWY_INLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
             store32(du, hn::IfThenElseZero(still, one), bk.active + i);
             n.still += uint32_t(hn::CountTrue(du, still));
         }
-        if constexpr (C != fp_chaos::LaneColour::none) pack_colours(d, bk, i);
+        if constexpr (C != fp_chaos::LaneColour::none) {
+            pack_colours(d, bk, i);
+            // The previous step's points, whose bins are known from the start: their
+            // read-modify-writes overlap this vector's arithmetic.
+            if (f.lag) deposit_lagged(f, i, nl);
+        }
         if (C == fp_chaos::LaneColour::none && f.lag) {
             // The previous step's bins, whose addresses are known from the start: their
             // cache misses overlap this vector's arithmetic. A whole vector's without a

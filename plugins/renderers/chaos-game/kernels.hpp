@@ -120,6 +120,14 @@ struct FusedArgs {
     std::uint32_t* hits;
     const std::uint32_t* lag;
     bool steady; ///< the block is in a steady run (see steady.hpp; hits only)
+    /// With colour: the worker's bins (4 counters each), the previous step's packed colours
+    /// (beside `lag`, its bins), deposited during the pass like the hits; the bins whose hits
+    /// reach `spill_at` are listed in `full` (count in *nfull) for the caller to spill.
+    std::uint32_t* bins = nullptr;
+    const std::uint64_t* lag_dep = nullptr;
+    std::uint32_t* full = nullptr;
+    std::uint32_t* nfull = nullptr;
+    std::uint32_t spill_at = 0;
 };
 
 } // namespace fp_chaos

@@ -151,6 +151,10 @@ void assign_huge(V& v, size_t n, const typename V::value_type& x, Poll poll) {
 typedef uint32_t Cnt4 __attribute__((vector_size(16)));
 typedef uint64_t Bin4 __attribute__((vector_size(32)));
 constexpr uint32_t spill_hits = 65536;
+/// The fused step deposits a step's colours during the next step's pass and lists the bins
+/// whose hits reached this many, spilled after the pass: at most a block's deposits more reach
+/// a bin before it is spilled, so its hits stay below spill_hits (the bound above holds).
+constexpr uint32_t spill_lagged = spill_hits - uint32_t(block_size);
 
 /// Chains are grouped by map with compress stores into one staging segment per map (up to
 /// this many maps); beyond, by a scalar counting sort into contiguous segments. Both give the
@@ -213,7 +217,8 @@ struct Scratch {
     // per-step scratch
     Buf<unsigned char> inside; // k rows of block_size
     Buf<uint32_t> chosen, perm, idx, idx2, restart, plotf, cnt;
-    Buf<uint64_t> dep; // packed {1, r, g, b} of each chain's point
+    Buf<uint64_t> dep, dep2; // packed {1, r, g, b} of each chain's point (this step's, the last)
+    Buf<uint32_t> full;      // bins to spill, listed by the fused step
     Buf<unsigned char> moved;
     Buf<T> gx, gy;    // the staging segments of the grouping by map
     Buf<uint32_t> gi; // the chain of each staged point
@@ -228,7 +233,7 @@ struct Scratch {
         prev.alloc(B), age.alloc(B), idle.alloc(B), cr.alloc(B), cg.alloc(B), cb.alloc(B), active.alloc(B);
         inside.alloc(k * B);
         chosen.alloc(B), perm.alloc(B), idx.alloc(B), idx2.alloc(B), restart.alloc(B);
-        plotf.alloc(B), cnt.alloc(k + 1), dep.alloc(B);
+        plotf.alloc(B), cnt.alloc(k + 1), dep.alloc(B), dep2.alloc(B), full.alloc(B);
         moved.alloc(B), gx.alloc(staging(k)), gy.alloc(staging(k)), gi.alloc(staging(k));
         sx.alloc(B), sy.alloc(B), pend.alloc(B), hit.alloc(B), any.alloc(B);
     }
@@ -236,7 +241,7 @@ struct Scratch {
     static size_t staging(size_t k) { return k <= max_compress_maps ? k * seg_stride : block_size; }
     static uint64_t bytes(size_t k) {
         const uint64_t B = block_size;
-        return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + k + 7 * 4 + 8 + 1 + 4 + 2) +
+        return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + k + 8 * 4 + 16 + 1 + 4 + 2) +
                (2 * sizeof(T) + 4) * staging(k) + 12 * (k + 2) + 64 * 40;
     }
 };
