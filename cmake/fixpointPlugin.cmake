@@ -27,6 +27,9 @@ function(fixpoint_add_plugin name)
   # vectorise on every instruction set, not only on those with masked operations (AVX-512).
   # The values are IEEE's either way: no reassociation, no contraction.
   target_compile_options(${name} PRIVATE -fno-trapping-math)
+  # Nor errno from the math functions: std::sqrt then stays one (vectorisable) instruction,
+  # with the same correctly rounded result.
+  target_compile_options(${name} PRIVATE -fno-math-errno)
   # GCC only: clang does not know the flag, and never emits GNU-unique symbols anyway.
   if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
     target_compile_options(${name} PRIVATE -fno-gnu-unique)

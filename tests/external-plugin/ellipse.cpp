@@ -4,13 +4,21 @@
 // its kernel is its interior. Ray exit from o: with q = o - c and the ray o + t d in the
 // ellipse's own frame (u = R^T q, v = R^T d), solve (u + t v)^T D (u + t v) = 1 with
 // D = diag(1/a^2, 1/b^2) for its positive root.
+//
+// Written per point (inside_pt, ray_exit_pt) and vectorised with the SDK's SIMD layer
+// (fixpoint/simd.hpp): the batch loops are compiled once per instruction set and dispatched at
+// run time, as fast as a built-in shape. This file is compiled once per target by Highway's
+// foreach_target (below): the class is kept to the first pass by ELLIPSE_CLASS.
 #include <fixpoint/fixpoint.hpp>
+#include <fixpoint/simd.hpp>
 
 #include <cmath>
 
+#ifndef ELLIPSE_CLASS
+#define ELLIPSE_CLASS
 namespace {
 
-class Ellipse final : public fp::ShapeBase<Ellipse> {
+class Ellipse final : public fp::Shape {
 public:
     explicit Ellipse(const fp::ParamBag& p)
         : c_(p.vec2("centre")), a_(p.real("a")), b_(p.real("b")), rot_(p.real("rotation")),
@@ -32,15 +40,17 @@ public:
         return out;
     }
 
+    FIXPOINT_SIMD_SHAPE_OVERRIDES
+
     template <class T>
-    bool inside_pt(T x, T y) const {
+    FIXPOINT_INLINE bool inside_pt(T x, T y) const {
         const T dx = x - T(c_.x), dy = y - T(c_.y);
         const T u = T(cs_) * dx + T(sn_) * dy, v = -T(sn_) * dx + T(cs_) * dy;
         return u * u / T(a_ * a_) + v * v / T(b_ * b_) < T(1);
     }
 
     template <class T>
-    T ray_exit_pt(T ox, T oy, T dx, T dy) const {
+    FIXPOINT_INLINE T ray_exit_pt(T ox, T oy, T dx, T dy) const {
         const T qx = ox - T(c_.x), qy = oy - T(c_.y);
         const T ux = T(cs_) * qx + T(sn_) * qy, uy = -T(sn_) * qx + T(cs_) * qy;
         const T vx = T(cs_) * dx + T(sn_) * dy, vy = -T(sn_) * dx + T(cs_) * dy;
@@ -66,6 +76,20 @@ constexpr fp::ParamSpec params[] = {
 };
 
 } // namespace
+#endif // ELLIPSE_CLASS
+
+// The batch loops, once per instruction set.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "ellipse.cpp"
+#include <hwy/foreach_target.h> // IWYU pragma: keep
+
+#include <fixpoint/simd-inl.hpp>
+
+FIXPOINT_SIMD_SHAPE(ellipse_kernels, Ellipse)
+
+#if HWY_ONCE
+FIXPOINT_SIMD_SHAPE_DISPATCH(ellipse_kernels, Ellipse)
 
 FIXPOINT_PLUGIN(fp::describe<Ellipse>(fp::Kind::Shape, "ellipse",
                                       "an ellipse (example of an out-of-tree plugin)", params))
+#endif

@@ -17,6 +17,71 @@
 #include <string_view>
 #include <vector>
 
+/// For per-point functions of plugins that use FIXPOINT_SIMD_SHAPE / FIXPOINT_SIMD_TRANSFORM:
+/// inlined into the loops compiled per target (a call per point would also keep them scalar).
+#define FIXPOINT_INLINE [[gnu::always_inline]] inline
+
+// A shape written per point (inside_pt, ray_exit_pt, as for fp::ShapeBase), its batch loops
+// compiled per target. In the plugin's file, after the class (which declares the four batch
+// overrides with FIXPOINT_SIMD_SHAPE_OVERRIDES) and outside any namespace:
+//
+//   #undef HWY_TARGET_INCLUDE
+//   #define HWY_TARGET_INCLUDE "my-shape.cpp"   // this file
+//   #include <hwy/foreach_target.h>
+//   #include <fixpoint/simd-inl.hpp>
+//   FIXPOINT_SIMD_SHAPE(my_shape, MyShape)      // per target: the loops
+//   #if HWY_ONCE
+//   FIXPOINT_SIMD_SHAPE_DISPATCH(my_shape, MyShape)
+//   FIXPOINT_PLUGIN(...)
+//   #endif
+//
+// The class itself must be compiled once only: keep it above, inside #ifndef MY_SHAPE_CLASS /
+// #define MY_SHAPE_CLASS ... #endif (foreach_target compiles the file once per target).
+// tests/external-plugin/ellipse.cpp is a complete example.
+#define FIXPOINT_SIMD_SHAPE_OVERRIDES                                                                        \
+    void inside(fp::Points<const float> p, unsigned char* out) const override;                               \
+    void inside(fp::Points<const double> p, unsigned char* out) const override;                              \
+    void ray_exit(fp::Vec2 o, fp::Points<const float> d, float* t) const override;                           \
+    void ray_exit(fp::Vec2 o, fp::Points<const double> d, double* t) const override;
+
+#define FIXPOINT_SIMD_SHAPE(ns, Class)                                                                       \
+    HWY_BEFORE_NAMESPACE();                                                                                  \
+    namespace ns::HWY_NAMESPACE {                                                                            \
+    void inside_f(const Class& s, fp::Points<const float> p, unsigned char* out) {                           \
+        fp::simd::HWY_NAMESPACE::shape_inside(s, p, out);                                                    \
+    }                                                                                                        \
+    void inside_d(const Class& s, fp::Points<const double> p, unsigned char* out) {                          \
+        fp::simd::HWY_NAMESPACE::shape_inside(s, p, out);                                                    \
+    }                                                                                                        \
+    void ray_f(const Class& s, fp::Vec2 o, fp::Points<const float> d, float* t) {                            \
+        fp::simd::HWY_NAMESPACE::shape_ray_exit(s, o, d, t);                                                 \
+    }                                                                                                        \
+    void ray_d(const Class& s, fp::Vec2 o, fp::Points<const double> d, double* t) {                          \
+        fp::simd::HWY_NAMESPACE::shape_ray_exit(s, o, d, t);                                                 \
+    }                                                                                                        \
+    }                                                                                                        \
+    HWY_AFTER_NAMESPACE();
+
+#define FIXPOINT_SIMD_SHAPE_DISPATCH(ns, Class)                                                              \
+    namespace ns {                                                                                           \
+    HWY_EXPORT(inside_f);                                                                                    \
+    HWY_EXPORT(inside_d);                                                                                    \
+    HWY_EXPORT(ray_f);                                                                                       \
+    HWY_EXPORT(ray_d);                                                                                       \
+    }                                                                                                        \
+    void Class::inside(fp::Points<const float> p, unsigned char* out) const {                                \
+        HWY_DYNAMIC_DISPATCH(ns::inside_f)(*this, p, out);                                                   \
+    }                                                                                                        \
+    void Class::inside(fp::Points<const double> p, unsigned char* out) const {                               \
+        HWY_DYNAMIC_DISPATCH(ns::inside_d)(*this, p, out);                                                   \
+    }                                                                                                        \
+    void Class::ray_exit(fp::Vec2 o, fp::Points<const float> d, float* t) const {                            \
+        HWY_DYNAMIC_DISPATCH(ns::ray_f)(*this, o, d, t);                                                     \
+    }                                                                                                        \
+    void Class::ray_exit(fp::Vec2 o, fp::Points<const double> d, double* t) const {                          \
+        HWY_DYNAMIC_DISPATCH(ns::ray_d)(*this, o, d, t);                                                     \
+    }
+
 namespace fp::simd {
 
 /// The target the dispatched kernels use now, in Highway's words ("AVX3", "AVX2", "SSE4",
