@@ -19,19 +19,13 @@
 #include <cstdlib>
 #include <string>
 
-#if defined(__AVX__)
-#include <immintrin.h>
-#endif
-
 namespace {
 
 // The Euclidean metric compares squared distances (distance_key: no root) and takes the root
-// only of the keys of caught points (from_key). Both must vectorise, but with errno semantics
-// (the build does not pass -fno-math-errno, and neither the optimize pragma nor the attribute
-// changes that for sqrt in GCC 12) the compiler keeps a scalar sqrt per element. So with AVX
-// the SIMD instructions directly (256-bit: GCC's own vector width on AVX-512 machines):
-// sqrtps / sqrtpd are correctly rounded like std::sqrt, so every path gives the same bits,
-// distance() is exactly from_key(distance_key()), and a batch equals its points one by one.
+// only of the keys of caught points (from_key). Both vectorise: plugins build with
+// -fno-math-errno, so std::sqrt is the correctly rounded instruction of every instruction set,
+// every path gives the same bits, distance() is exactly from_key(distance_key()), and a batch
+// equals its points one by one.
 template <class T>
 void squared(const T* __restrict x, const T* __restrict y, T cx, T cy, T* __restrict out, std::size_t n) {
     for (std::size_t i = 0; i < n; ++i) {
@@ -40,20 +34,9 @@ void squared(const T* __restrict x, const T* __restrict y, T cx, T cy, T* __rest
     }
 }
 
-inline void sqrt_inplace(float* v, std::size_t n) {
-    std::size_t i = 0;
-#if defined(__AVX__)
-    for (; i + 8 <= n; i += 8) _mm256_storeu_ps(v + i, _mm256_sqrt_ps(_mm256_loadu_ps(v + i)));
-#endif
-    for (; i < n; ++i) v[i] = std::sqrt(v[i]);
-}
-
-inline void sqrt_inplace(double* v, std::size_t n) {
-    std::size_t i = 0;
-#if defined(__AVX__)
-    for (; i + 4 <= n; i += 4) _mm256_storeu_pd(v + i, _mm256_sqrt_pd(_mm256_loadu_pd(v + i)));
-#endif
-    for (; i < n; ++i) v[i] = std::sqrt(v[i]);
+template <class T>
+void sqrt_inplace(T* __restrict v, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) v[i] = std::sqrt(v[i]);
 }
 
 constexpr fp::ParamSpec params[] = {
