@@ -158,9 +158,8 @@ HWY_INLINE hn::Vec<DU> pcg_next(DU du, uint64_t* rs, const uint64_t* ri) {
 
 /// The states at rs advanced by one output, the output unused (a draw among one map).
 template <class DU>
-HWY_INLINE void pcg_skip(DU du, uint64_t* rs, const uint64_t* ri) {
+HWY_INLINE void pcg_skip(DU, uint64_t* rs, const uint64_t* ri) {
 #if HWY_TARGET == HWY_SCALAR
-    (void)du;
     rs[0] = rs[0] * pcg_mult_v + ri[0];
 #else
     const hn::Repartition<uint64_t, DU> d64;
