@@ -25,6 +25,9 @@ HWY_EXPORT(update_average);
 } // namespace fp_colourers
 
 namespace {
+// (HWY_DYNAMIC_DISPATCH names the kernels unqualified; a build with static dispatch only
+// resolves them as N_<target>::name from here.)
+using namespace fp_colourers;
 
 constexpr fp::ParamSpec params[] = {
     fp::param::real("gamma", "gamma of the log-density shading, eq. (28)").def("2.2").above(0),
@@ -39,7 +42,7 @@ public:
 
     void update(const std::uint32_t* map, fp::ColourState s, const fp::Rgb* map_colours,
                 const unsigned char* mask) const override {
-        HWY_DYNAMIC_DISPATCH(fp_colourers::update_average)(map, s, map_colours, mask);
+        HWY_DYNAMIC_DISPATCH(update_average)(map, s, map_colours, mask);
     }
 
     fp::ColourRule colour_rule() const override { return fp::ColourRule::average; }

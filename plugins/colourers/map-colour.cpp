@@ -24,6 +24,9 @@ HWY_EXPORT(update_map);
 } // namespace fp_colourers
 
 namespace {
+// (HWY_DYNAMIC_DISPATCH names the kernels unqualified; a build with static dispatch only
+// resolves them as N_<target>::name from here.)
+using namespace fp_colourers;
 
 constexpr fp::ParamSpec params[] = {
     fp_colourers::density_param,
@@ -36,7 +39,7 @@ public:
 
     void update(const std::uint32_t* map, fp::ColourState s, const fp::Rgb* map_colours,
                 const unsigned char* mask) const override {
-        HWY_DYNAMIC_DISPATCH(fp_colourers::update_map)(map, s, map_colours, mask);
+        HWY_DYNAMIC_DISPATCH(update_map)(map, s, map_colours, mask);
     }
 
     fp::ColourRule colour_rule() const override { return fp::ColourRule::map; }

@@ -579,7 +579,7 @@ void ChaosGame::choose_rules(Scratch<T>& s, size_t nb) const {
     DrawArgs a{s.rs.get(),     s.ri.get(),      s.prev.get(), s.active.get(),         inside,    block_size,
                s.chosen.get(), s.restart.get(), nb,           uint32_t(maps_.size()), q_.data(), nullptr,
                nullptr};
-    HWY_DYNAMIC_DISPATCH(fp_chaos::draw_rules)(a);
+    HWY_DYNAMIC_DISPATCH(draw_rules)(a);
 }
 
 // Rules off: Walker's alias table, one pcg32 output per chain.
@@ -589,7 +589,7 @@ void ChaosGame::choose_alias(Scratch<T>& s, size_t nb) const {
         s.rs.get(),     s.ri.get(),      s.prev.get(), s.active.get(),         nullptr, 0,
         s.chosen.get(), s.restart.get(), nb,           uint32_t(maps_.size()), nullptr, alias_thr_.data(),
         alias_.data()};
-    HWY_DYNAMIC_DISPATCH(fp_chaos::draw_alias)(a);
+    HWY_DYNAMIC_DISPATCH(draw_alias)(a);
 }
 
 // ---------------------------------------------------------------- grouping by map
@@ -879,7 +879,7 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
             } else {
                 uint32_t* const b32 = reinterpret_cast<uint32_t*>(bins);
                 for (size_t i = 0; i < nb; ++i) {
-                    i = HWY_DYNAMIC_DISPATCH(fp_chaos::deposit_colour)(b32, idx, dep, i, nb, spill_hits);
+                    i = HWY_DYNAMIC_DISPATCH(deposit_colour)(b32, idx, dep, i, nb, spill_hits);
                     if (i < nb) hist.spill(idx[i]);
                 }
             }
@@ -923,7 +923,7 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
     if (lag && Colour) {
         uint32_t* const b32 = reinterpret_cast<uint32_t*>(bins);
         for (size_t i = 0; i < nb; ++i) {
-            i = HWY_DYNAMIC_DISPATCH(fp_chaos::deposit_colour)(b32, lag, lag_dep, i, nb, spill_hits);
+            i = HWY_DYNAMIC_DISPATCH(deposit_colour)(b32, lag, lag_dep, i, nb, spill_hits);
             if (i < nb) hist.spill(lag[i]);
         }
     } else if (lag) {

@@ -104,6 +104,9 @@ HWY_EXPORT(ray_d);
 } // namespace fp_circle
 
 namespace {
+// (HWY_DYNAMIC_DISPATCH names the kernels unqualified; a build with static dispatch only
+// resolves them as N_<target>::name from here.)
+using namespace fp_circle;
 
 constexpr fp::ParamSpec params[] = {
     fp::param::vec2("centre", "centre of the circle").def("[0, 0]"),
@@ -152,22 +155,22 @@ public:
 
 private:
     void inside_t(fp::Points<const float> p, unsigned char* out) const {
-        HWY_DYNAMIC_DISPATCH(fp_circle::inside_f)(float(c_.x), float(c_.y), float(r2_), p, out);
+        HWY_DYNAMIC_DISPATCH(inside_f)(float(c_.x), float(c_.y), float(r2_), p, out);
     }
     void inside_t(fp::Points<const double> p, unsigned char* out) const {
-        HWY_DYNAMIC_DISPATCH(fp_circle::inside_d)(c_.x, c_.y, r2_, p, out);
+        HWY_DYNAMIC_DISPATCH(inside_d)(c_.x, c_.y, r2_, p, out);
     }
 
     // w = o - c and c0 are computed once per batch in double and only then rounded to T, so
     // the float path keeps its precision for a small circle far from the origin.
     void ray_t(fp::Vec2 o, fp::Points<const float> d, float* t) const {
         const double wxd = o.x - c_.x, wyd = o.y - c_.y;
-        HWY_DYNAMIC_DISPATCH(fp_circle::ray_f)
+        HWY_DYNAMIC_DISPATCH(ray_f)
         (float(wxd), float(wyd), float((wxd * wxd + wyd * wyd) - r2_), d, t);
     }
     void ray_t(fp::Vec2 o, fp::Points<const double> d, double* t) const {
         const double wxd = o.x - c_.x, wyd = o.y - c_.y;
-        HWY_DYNAMIC_DISPATCH(fp_circle::ray_d)(wxd, wyd, (wxd * wxd + wyd * wyd) - r2_, d, t);
+        HWY_DYNAMIC_DISPATCH(ray_d)(wxd, wyd, (wxd * wxd + wyd * wyd) - r2_, d, t);
     }
 
     template <class T>
@@ -178,9 +181,9 @@ private:
             return;
         }
         if constexpr (std::is_same_v<T, float>)
-            HWY_DYNAMIC_DISPATCH(fp_circle::factor_f)(float(r2_), d, s);
+            HWY_DYNAMIC_DISPATCH(factor_f)(float(r2_), d, s);
         else
-            HWY_DYNAMIC_DISPATCH(fp_circle::factor_d)(r2_, d, s);
+            HWY_DYNAMIC_DISPATCH(factor_d)(r2_, d, s);
     }
 
     fp::Vec2 c_;

@@ -58,6 +58,9 @@ HWY_EXPORT(apply_d);
 } // namespace fp_affine
 
 namespace {
+// (HWY_DYNAMIC_DISPATCH names the kernels unqualified; a build with static dispatch only
+// resolves them as N_<target>::name from here.)
+using namespace fp_affine;
 
 class Affine final : public fp::Transform {
 public:
@@ -87,10 +90,10 @@ public:
     }
 
     void apply(fp::Points<float> p, fp::Mask mask) const override {
-        HWY_DYNAMIC_DISPATCH(fp_affine::apply_f)(k_, p, mask);
+        HWY_DYNAMIC_DISPATCH(apply_f)(k_, p, mask);
     }
     void apply(fp::Points<double> p, fp::Mask mask) const override {
-        HWY_DYNAMIC_DISPATCH(fp_affine::apply_d)(k_, p, mask);
+        HWY_DYNAMIC_DISPATCH(apply_d)(k_, p, mask);
     }
 
     fp::KnownKernel kernel() const override {

@@ -75,6 +75,9 @@ HWY_EXPORT(apply_d);
 } // namespace fp_gm
 
 namespace {
+// (HWY_DYNAMIC_DISPATCH names the kernels unqualified; a build with static dispatch only
+// resolves them as N_<target>::name from here.)
+using namespace fp_gm;
 
 class GumowskiMira final : public fp::Transform {
 public:
@@ -83,10 +86,10 @@ public:
           two_one_minus_mu_(2 * (1 - mu_)), k_{alpha_, mu_, two_one_minus_mu_} {}
 
     void apply(fp::Points<float> p, fp::Mask mask) const override {
-        HWY_DYNAMIC_DISPATCH(fp_gm::apply_f)(k_, p, mask);
+        HWY_DYNAMIC_DISPATCH(apply_f)(k_, p, mask);
     }
     void apply(fp::Points<double> p, fp::Mask mask) const override {
-        HWY_DYNAMIC_DISPATCH(fp_gm::apply_d)(k_, p, mask);
+        HWY_DYNAMIC_DISPATCH(apply_d)(k_, p, mask);
     }
 
     fp::KnownKernel kernel() const override {

@@ -202,7 +202,11 @@ TEST(ChaosKernel, FusedStepIsTheGenericStep) {
             f.book.scx = f.book.scy = 64.0f / 3.0f;
             f.book.W = f.book.H = 64, f.book.dummy = 64 * 64, f.book.skip = 1, f.book.none = uint32_t(k);
             f.hits = hits.data();
-            const fp_chaos::Counts counts = HWY_DYNAMIC_DISPATCH(fp_chaos::fused_f)(f);
+            fp_chaos::Counts counts;
+            {
+                using namespace fp_chaos; // (static dispatch names N_<target>::fused_f)
+                counts = HWY_DYNAMIC_DISPATCH(fused_f)(f);
+            }
             uint64_t plotted = 0;
             for (std::size_t i = 0; i < nb; ++i) {
                 const bool mv = echosen[i] < k;

@@ -69,8 +69,10 @@ const std::vector<std::string> recipes = {
 TEST(SimdTargets, EveryTargetGivesTheSameBytes) {
     const std::vector<std::string> targets = fp::simd::supported_targets();
     ASSERT_FALSE(targets.empty());
+#if !defined(HWY_COMPILE_ONLY_STATIC) // (the sanitizer build compiles the baseline target only)
     // At least the portable one-lane target and a vector one on any machine fixpoint builds on.
     EXPECT_GE(targets.size(), 2u);
+#endif
     for (const auto& r : recipes) {
         ASSERT_TRUE(fp::simd::force_target(""));
         const Render best = render("{" + r + "}", 2);

@@ -605,9 +605,11 @@ HWY_INLINE void deposit_lagged(const fp_chaos::FusedArgs<T>& f, size_t i, size_t
     }
 }
 
+// (Not inlined into its dispatchers: each variant is a function of its own, so that the
+// compilers optimise a few dozen functions of ordinary size rather than one huge one.)
 template <class D, fp_chaos::LaneKind K, bool Rules, fp_chaos::LaneColour C, bool Steady,
           class T = hn::TFromD<D>>
-HWY_INLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
+HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
     const D d;
     const hn::RebindToUnsigned<decltype(d)> du;
     using U = hn::TFromD<decltype(du)>;

@@ -70,16 +70,20 @@
     HWY_EXPORT(ray_d);                                                                                       \
     }                                                                                                        \
     void Class::inside(fp::Points<const float> p, unsigned char* out) const {                                \
-        HWY_DYNAMIC_DISPATCH(ns::inside_f)(*this, p, out);                                                   \
+        using namespace ns; /* N_<target>:: with static dispatch */                                          \
+        HWY_DYNAMIC_DISPATCH(inside_f)(*this, p, out);                                                       \
     }                                                                                                        \
     void Class::inside(fp::Points<const double> p, unsigned char* out) const {                               \
-        HWY_DYNAMIC_DISPATCH(ns::inside_d)(*this, p, out);                                                   \
+        using namespace ns; /* N_<target>:: with static dispatch */                                          \
+        HWY_DYNAMIC_DISPATCH(inside_d)(*this, p, out);                                                       \
     }                                                                                                        \
     void Class::ray_exit(fp::Vec2 o, fp::Points<const float> d, float* t) const {                            \
-        HWY_DYNAMIC_DISPATCH(ns::ray_f)(*this, o, d, t);                                                     \
+        using namespace ns; /* N_<target>:: with static dispatch */                                          \
+        HWY_DYNAMIC_DISPATCH(ray_f)(*this, o, d, t);                                                         \
     }                                                                                                        \
     void Class::ray_exit(fp::Vec2 o, fp::Points<const double> d, double* t) const {                          \
-        HWY_DYNAMIC_DISPATCH(ns::ray_d)(*this, o, d, t);                                                     \
+        using namespace ns; /* N_<target>:: with static dispatch */                                          \
+        HWY_DYNAMIC_DISPATCH(ray_d)(*this, o, d, t);                                                         \
     }
 
 namespace fp::simd {
