@@ -38,6 +38,23 @@ const std::string hint = " (a '#' after a space starts a comment: quote colours,
 
 // A YAML error with a long run of blanks after ':', ',' or '[' once overflowed the stack in the
 // regex that looks for an unquoted colour.
+// An instruction set the CPU does not have: one line naming the ones it has, exit 2, nothing
+// run (from the option and from the environment alike).
+TEST(Hardening, AnUnknownSimdTargetIsOneLine) {
+    const auto r = run_cli({"--simd", "avx9000", "plugins"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.out, "");
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("fixpoint: --simd: 'avx9000' is not an instruction set of this CPU (it has: ", 0),
+              0u)
+        << r.err;
+    ::setenv("FIXPOINT_SIMD", "avx9000", 1); // (the child inherits it)
+    const auto e = run_cli({"plugins"});
+    ::unsetenv("FIXPOINT_SIMD");
+    EXPECT_EQ(e.rc, 2);
+    EXPECT_EQ(e.err, r.err);
+}
+
 TEST(Hardening, LongBlankRunInABadConfigIsAnErrorNotACrash) {
     for (const char* c : {":", ",", "["}) {
         const std::string yaml =

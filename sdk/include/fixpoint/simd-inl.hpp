@@ -208,7 +208,7 @@ HWY_INLINE void eval_points(D d, fp::Points<const hn::TFromD<D>> p, hn::TFromD<D
 
 // ---------------------------------------------------------------- per-point plugins
 // The batch loops of a shape or transform written per point (fp::ShapeBase's inside_pt and
-// ray_exit_pt, fp::TransformBase's map_pt), compiled here once per target: the compiler
+// ray_exit_pt, compiled here once per target: the compiler
 // vectorises them with each target's instructions. The per-point functions must be inlined
 // into these loops: declare them FIXPOINT_INLINE (see FIXPOINT_SIMD_SHAPE below).
 
@@ -221,17 +221,6 @@ HWY_INLINE void shape_ray_exit(const S& s, fp::Vec2 o, fp::Points<const T> d, T*
     const T ox = T(o.x), oy = T(o.y);
     for (std::size_t i = 0; i < d.n; ++i) t[i] = s.ray_exit_pt(ox, oy, d.x[i], d.y[i]);
 }
-template <class M, class T>
-HWY_INLINE void transform_apply(const M& m, fp::Points<T> p, fp::Mask mask) {
-    for (std::size_t i = 0; i < p.n; ++i) {
-        T x = p.x[i], y = p.y[i];
-        m.map_pt(x, y);
-        const bool on = !mask || mask[i];
-        p.x[i] = on ? x : p.x[i];
-        p.y[i] = on ? y : p.y[i];
-    }
-}
-
 /// Finite lanes (neither NaN nor infinite): x - x == 0.
 template <class V>
 HWY_INLINE auto finite(V x) {

@@ -17,7 +17,7 @@
 #include <string_view>
 #include <vector>
 
-/// For per-point functions of plugins that use FIXPOINT_SIMD_SHAPE / FIXPOINT_SIMD_TRANSFORM:
+/// For the per-point functions of plugins that use FIXPOINT_SIMD_SHAPE:
 /// inlined into the loops compiled per target (a call per point would also keep them scalar).
 #define FIXPOINT_INLINE [[gnu::always_inline]] inline
 
