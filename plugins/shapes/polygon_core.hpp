@@ -34,11 +34,15 @@
 // of its two edges despite rounding; any hit accepted within that slack is the same
 // boundary point up to rounding.
 //
+// The batch loops (polygon-inl.hpp) run per SIMD target, one point per lane, with the same
+// operations per lane as written above.
+//
 // The batch geometry (in float and in double) is stored relative to a reference point near
 // the polygon, and the ray origin is made relative to it in double before rounding, so a
 // small polygon far from the origin keeps its precision in the float path.
 #pragma once
 
+#include "polygon_kernels.hpp"
 #include "polygon_simple.hpp"
 
 #include <fixpoint/fixpoint.hpp>
@@ -319,47 +323,16 @@ public:
     const std::vector<fp::Vec2>& vertices() const { return v_; }
 
 private:
+    // The loops run in polygon-inl.hpp, per SIMD target: per lane, the operations of the
+    // crossing number and the ray exit described at the top of this file.
     template <class T>
     void inside_t(fp::Points<const T> p, unsigned char* out) const {
-        const T rx = T(ref_.x), ry = T(ref_.y); // exact: ref_ is a float
-        for (std::size_t i = 0; i < p.n; ++i) out[i] = inside_pt(p.x[i] - rx, p.y[i] - ry) ? 1 : 0;
+        polygon_inside(view<T>(), T(ref_.x), T(ref_.y), p, out); // exact: ref_ is a float
     }
 
     template <class T>
     void ray_t(fp::Vec2 o, fp::Points<const T> d, T* t) const {
-        const T ox = T(o.x - ref_.x), oy = T(o.y - ref_.y);
-        for (std::size_t i = 0; i < d.n; ++i) t[i] = ray_exit_pt(ox, oy, d.x[i], d.y[i]);
-    }
-
-    /// Point relative to ref_.
-    template <class T>
-    bool inside_pt(T px, T py) const {
-        const Edges<T>& e = edges<T>();
-        bool in = false;
-        for (std::size_t i = 0; i < e.n; ++i) {
-            const T yi = e.vy[i], yj = e.vy[i + 1];
-            const bool straddles = (yi > py) != (yj > py);
-            const T xc = e.vx[i] + (py - yi) * e.sx[i];
-            in ^= straddles && px < xc;
-        }
-        return in;
-    }
-
-    /// Origin relative to ref_.
-    template <class T>
-    T ray_exit_pt(T ox, T oy, T dx, T dy) const {
-        const Edges<T>& e = edges<T>();
-        T best = std::numeric_limits<T>::infinity();
-        for (std::size_t i = 0; i < e.n; ++i) {
-            const T wx = e.vx[i] - ox, wy = e.vy[i] - oy;
-            const T den = dx * e.ey[i] - dy * e.ex[i]; // cross(d, e): > 0 when leaving edge line i
-            const T tn = wx * e.ey[i] - wy * e.ex[i];  // cross(w, e) = t * den
-            const T sn = wx * dy - wy * dx;            // cross(w, d) = s * den
-            const bool hit = den > T(0) && tn > T(0) && sn >= e.s_lo[i] * den && sn <= e.s_hi[i] * den;
-            const T t = tn / den;
-            best = hit && t < best ? t : best;
-        }
-        return best;
+        polygon_ray(view<T>(), T(o.x - ref_.x), T(o.y - ref_.y), d, t);
     }
 
     /// Per-edge data in the precision of the batch; vx, vy hold n + 1 entries (closed).
@@ -397,11 +370,15 @@ private:
     }
 
     template <class T>
-    const Edges<T>& edges() const {
-        if constexpr (std::is_same_v<T, float>)
-            return f_;
-        else
-            return d_;
+    EdgeView<T> view() const {
+        const Edges<T>& e = [this]() -> const Edges<T>& {
+            if constexpr (std::is_same_v<T, float>)
+                return f_;
+            else
+                return d_;
+        }();
+        return {e.n,         e.vx.data(), e.vy.data(),   e.ex.data(),
+                e.ey.data(), e.sx.data(), e.s_lo.data(), e.s_hi.data()};
     }
 
     std::vector<fp::Vec2> v_; ///< CCW

@@ -32,10 +32,20 @@
 // inversion placed within about a sample spacing of the kernel's edge may see the curve
 // graze back; the centre c is always safely inside.
 //
+// Batches (inside, ray exit) run per SIMD target, one point per lane, with the SDK's own
+// atan2, sin, cos, log and exp (fixpoint/simd-math-inl.hpp: libm cannot be called per lane,
+// and its bits are not those of any polynomial of ours). The float batches are computed in
+// double and rounded at the end; their ray exit stops at float's precision. A lane runs
+// exactly the scalar root finder's steps, masked once it has stopped, so the result does not
+// depend on the lane count. The set's setup (bounds, kernel samples, outline) uses libm in
+// double, once.
+//
 // Parameters giving a radius that is not finite and positive at any of the samples are
 // refused (e.g. huge a and b, where both terms underflow to 0). A negative n2 or n3 makes r
 // tend to 0 where its cosine or sine vanishes, usually between samples: such a set pinches
 // to its centre there and is accepted as long as the centre stays inside the sampled kernel.
+#ifndef FIXPOINT_SUPERFORMULA_ONCE
+#define FIXPOINT_SUPERFORMULA_ONCE
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
@@ -46,6 +56,29 @@
 #include <numbers>
 #include <string>
 #include <vector>
+
+namespace fp_superformula {
+
+/// The curve's parameters as the batch kernels take them.
+struct Curve {
+    double m4, inv_n1, n2, n3, inv_a, inv_b, scale; // m / 4, 1 / n1, n2, n3, 1 / a, 1 / b, scale
+    double cx, cy, cr, sr;                          // centre; cosine and sine of the rotation
+    double r_lo, r_hi;                              // bounds of the radius
+};
+
+/// A ray's origin relative to the centre: w, |w| and f(0) = |w| - r(theta(w)) < 0.
+struct Origin {
+    double x, y, norm, f0;
+};
+
+// Batch kernels, per target (below), dispatched from the class.
+void inside(const Curve& c, fp::Points<const float> p, unsigned char* out);
+void inside(const Curve& c, fp::Points<const double> p, unsigned char* out);
+void ray(const Curve& c, const Origin* w, fp::Points<const float> d, float* t);
+void ray(const Curve& c, const Origin* w, fp::Points<const double> d, double* t);
+double radius_at(const Curve& c, double qx, double qy);
+
+} // namespace fp_superformula
 
 namespace {
 
@@ -113,6 +146,7 @@ public:
             nx_[k] = -ey / len; // inward normal: the samples run counter-clockwise
             ny_[k] = ex / len;
         }
+        curve_ = {m4_, inv_n1_, n2_, n3_, inv_a_, inv_b_, scale_, c_.x, c_.y, cr_, sr_, r_lo_, r_hi_};
         if (!in_kernel(c_))
             throw fp::ParamError("superformula is too thin near its centre: the centre is not inside the "
                                  "kernel of its sampled boundary");
@@ -144,110 +178,26 @@ public:
 private:
     template <class T>
     void inside_t(fp::Points<const T> p, unsigned char* out) const {
-        const T cx = T(c_.x), cy = T(c_.y);
-        for (std::size_t i = 0; i < p.n; ++i) {
-            const T qx = p.x[i] - cx, qy = p.y[i] - cy;
-            const T r = radius(theta(qx, qy));
-            out[i] = qx * qx + qy * qy < r * r ? 1 : 0;
-        }
+        fp_superformula::inside(curve_, p, out);
     }
 
-    // w = o - c and f(0) are computed once per batch in double, then rounded to T.
+    // w = o - c and f(0) are computed once per batch, in double (f(0) with the kernels' own
+    // radius, so that the root finder's two ends agree).
     template <class T>
     void ray_t(fp::Vec2 o, fp::Points<const T> d, T* t) const {
-        const double wxd = o.x - c_.x, wyd = o.y - c_.y;
-        if (wxd == 0 && wyd == 0) {
-            for (std::size_t i = 0; i < d.n; ++i) t[i] = from_centre(d.x[i], d.y[i]);
-            return;
-        }
-        const double nwd = std::hypot(wxd, wyd);
-        const Origin<T> w{T(wxd), T(wyd), T(nwd), T(nwd - radius(theta(wxd, wyd)))};
-        for (std::size_t i = 0; i < d.n; ++i) t[i] = from_point(w, d.x[i], d.y[i]);
+        const double wx = o.x - c_.x, wy = o.y - c_.y;
+        if (wx == 0 && wy == 0) return fp_superformula::ray(curve_, nullptr, d, t);
+        const double nw = std::hypot(wx, wy);
+        const fp_superformula::Origin w{wx, wy, nw, nw - fp_superformula::radius_at(curve_, wx, wy)};
+        fp_superformula::ray(curve_, &w, d, t);
     }
 
-    template <class T>
-    T from_centre(T dx, T dy) const {
-        const T dd = dx * dx + dy * dy;
-        return dd > T(0) ? radius(theta(dx, dy)) / std::sqrt(dd) : std::numeric_limits<T>::infinity();
-    }
-
-    /// The ray's origin relative to the centre: w, |w| and f(0) = |w| - r(theta(w)) < 0.
-    template <class T>
-    struct Origin {
-        T x, y, norm, f0;
-    };
-
-    template <class T>
-    T from_point(const Origin<T>& w, T dx, T dy) const {
-        const T dd = dx * dx + dy * dy;
-        if (!(dd > T(0))) return std::numeric_limits<T>::infinity();
-        const T nd = std::sqrt(dd);
-        // f(t) = |w + t d| - r(theta(w + t d)): < 0 inside, >= 0 outside. A NaN radius gives
-        // a NaN f, which every test below treats as outside.
-        auto f = [&](T t) {
-            const T qx = w.x + t * dx, qy = w.y + t * dy;
-            return std::sqrt(qx * qx + qy * qy) - radius(theta(qx, qy));
-        };
-        // Bracket [lo, hi] with f(lo) < 0 <= f(hi), from r_lo <= r <= r_hi; each end is
-        // checked, since the bounds come from samples.
-        T hi = (w.norm + T(r_hi_)) / nd, fhi = f(hi);
-        for (int k = 0; k < 64 && fhi < T(0); ++k) fhi = f(hi *= T(2));
-        T lo = T(0), flo = w.f0;
-        if (const T l = (T(r_lo_) - w.norm) / nd; l > T(0) && l < hi) {
-            if (const T fl = f(l); fl < T(0)) lo = l, flo = fl;
-        }
-        // Illinois (regula falsi that halves the stale end's value), safeguarded: when two
-        // steps have not halved the bracket, the next step bisects. Stops at an exact zero or
-        // when the bracket is within 4 ulps of hi: the full precision of T, in 5 to 14
-        // evaluations of r (mean 9) instead of some 52 for plain bisection in double.
-        constexpr T rel = T(4) * std::numeric_limits<T>::epsilon();
-        int side = 0;
-        bool bisect = false;
-        T width_before = hi - lo;
-        for (int k = 0; k < 4 * std::numeric_limits<T>::digits; ++k) {
-            const T width = hi - lo;
-            if (!(width > rel * hi)) break;
-            T x = bisect ? lo + width / T(2) : lo + width * (flo / (flo - fhi));
-            // At least half the tolerance away from both ends (a regula falsi point that rounds
-            // onto an end would otherwise stall the bracket, as in Brent's method).
-            const T delta = rel * hi / T(2);
-            if (!(x > lo + delta && x < hi - delta))
-                x = x != x ? lo + width / T(2) : std::clamp(x, lo + delta, hi - delta);
-            if (!(x > lo && x < hi)) break; // lo and hi are adjacent numbers
-            const T fx = f(x);
-            if (fx == T(0)) return x;
-            if (fx < T(0)) {
-                lo = x, flo = fx;
-                if (side < 0) fhi /= T(2);
-                side = -1;
-            } else {
-                hi = x, fhi = fx;
-                if (side > 0) flo /= T(2);
-                side = 1;
-            }
-            if (k % 2 == 1) {
-                bisect = hi - lo > width_before / T(2);
-                width_before = hi - lo;
-            } else {
-                bisect = false;
-            }
-        }
-        return hi;
-    }
-
-    /// Polar angle of q in the shape's own frame, in (-pi, pi].
-    template <class T>
-    T theta(T qx, T qy) const {
-        const T c = T(cr_), s = T(sr_);
-        return std::atan2(c * qy - s * qx, c * qx + s * qy);
-    }
-
-    template <class T>
-    T radius(T th) const {
-        const T u = T(m4_) * th;
-        const T A = std::pow(std::abs(std::cos(u) * T(inv_a_)), T(n2_));
-        const T B = std::pow(std::abs(std::sin(u) * T(inv_b_)), T(n3_));
-        return T(scale_) * std::pow(A + B, T(-inv_n1_));
+    /// r(theta) with libm, for the setup (the batches use the kernels' own functions).
+    double radius(double th) const {
+        const double u = m4_ * th;
+        const double A = std::pow(std::abs(std::cos(u) * inv_a_), n2_);
+        const double B = std::pow(std::abs(std::sin(u) * inv_b_), n3_);
+        return scale_ * std::pow(A + B, -inv_n1_);
     }
 
     /// The k-th of n sample angles, at the middles of n equal steps of (-pi, pi].
@@ -272,10 +222,211 @@ private:
     double cr_ = 1, sr_ = 0;
     double r_lo_ = 0, r_hi_ = 0, size_ = 0;
     std::vector<double> bx_, by_, nx_, ny_;
+    fp_superformula::Curve curve_{};
 };
 
 } // namespace
+#endif // FIXPOINT_SUPERFORMULA_ONCE
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "superformula.cpp"
+#include <hwy/foreach_target.h> // IWYU pragma: keep
+
+#include <fixpoint/simd-math-inl.hpp>
+
+HWY_BEFORE_NAMESPACE();
+namespace fp_superformula::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+namespace fs = fp::simd::HWY_NAMESPACE;
+using D = hn::ScalableTag<double>;
+using V = hn::Vec<D>;
+
+/// theta: the polar angle of q in the curve's own frame, in [-pi, pi].
+HWY_INLINE V theta(D d, const Curve& c, V qx, V qy) {
+    const auto cr = hn::Set(d, c.cr), sr = hn::Set(d, c.sr);
+    return fs::atan2(d, hn::Sub(hn::Mul(cr, qy), hn::Mul(sr, qx)), hn::Add(hn::Mul(cr, qx), hn::Mul(sr, qy)));
+}
+
+/// r(theta) = scale (|cos(m theta / 4) / a|^n2 + |sin(m theta / 4) / b|^n3)^(-1/n1).
+HWY_INLINE V radius(D d, const Curve& c, V th) {
+    V s, co;
+    fs::sin_cos(d, hn::Mul(hn::Set(d, c.m4), th), s, co);
+    const auto A = fs::pow_abs(d, hn::Mul(hn::Abs(co), hn::Set(d, c.inv_a)), hn::Set(d, c.n2));
+    const auto B = fs::pow_abs(d, hn::Mul(hn::Abs(s), hn::Set(d, c.inv_b)), hn::Set(d, c.n3));
+    return hn::Mul(hn::Set(d, c.scale), fs::pow_abs(d, hn::Add(A, B), hn::Set(d, -c.inv_n1)));
+}
+
+/// f(t) = |w + t d| - r(theta(w + t d)): < 0 inside, >= 0 outside (NaN counts as outside).
+HWY_INLINE V f_at(D d, const Curve& c, V wx, V wy, V dx, V dy, V t) {
+    const auto qx = hn::Add(wx, hn::Mul(t, dx)), qy = hn::Add(wy, hn::Mul(t, dy));
+    return hn::Sub(hn::Sqrt(hn::Add(hn::Mul(qx, qx), hn::Mul(qy, qy))), radius(d, c, theta(d, c, qx, qy)));
+}
+
+/// Runs body(x, y, m) on blocks of m <= Lanes(d) points converted to double lanes (a padded
+/// copy: the kernels are dominated by their transcendentals, not by the loads), and writes
+/// back the m results body returns, rounded to the batch's type.
+template <class T, class Out, class F>
+HWY_INLINE void blocks(D d, fp::Points<const T> p, Out* out, F&& body) {
+    const std::size_t N = hn::Lanes(d);
+    alignas(HWY_MAX_BYTES) double bx[HWY_MAX_BYTES / 8] = {}, by[HWY_MAX_BYTES / 8] = {};
+    alignas(HWY_MAX_BYTES) double br[HWY_MAX_BYTES / 8];
+    for (std::size_t i = 0; i < p.n; i += N) {
+        const std::size_t m = std::min(N, p.n - i);
+        for (std::size_t k = 0; k < m; ++k) bx[k] = double(p.x[i + k]), by[k] = double(p.y[i + k]);
+        hn::Store(body(hn::Load(d, bx), hn::Load(d, by)), d, br);
+        for (std::size_t k = 0; k < m; ++k) out[i + k] = Out(br[k]);
+    }
+}
+
+template <class T>
+void inside_t(const Curve& c, fp::Points<const T> p, unsigned char* out) {
+    const D d;
+    const auto cx = hn::Set(d, c.cx), cy = hn::Set(d, c.cy), one = hn::Set(d, 1.0);
+    blocks(d, p, out, [&](V x, V y) {
+        const auto qx = hn::Sub(x, cx), qy = hn::Sub(y, cy);
+        const auto r = radius(d, c, theta(d, c, qx, qy));
+        return hn::IfThenElseZero(hn::Lt(hn::Add(hn::Mul(qx, qx), hn::Mul(qy, qy)), hn::Mul(r, r)), one);
+    });
+}
+void inside_f(const Curve& c, fp::Points<const float> p, unsigned char* out) { inside_t(c, p, out); }
+void inside_d(const Curve& c, fp::Points<const double> p, unsigned char* out) { inside_t(c, p, out); }
+
+/// The exit from the centre: r(theta(d)) / |d|, +inf for a zero or NaN direction.
+HWY_INLINE V from_centre(D d, const Curve& c, V dx, V dy) {
+    const auto dd = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
+    const auto r = hn::Div(radius(d, c, theta(d, c, dx, dy)), hn::Sqrt(dd));
+    return hn::IfThenElse(hn::Gt(dd, hn::Zero(d)), r, hn::Set(d, std::numeric_limits<double>::infinity()));
+}
+
+/// The exit from w != 0: the root of f on a bracket, by safeguarded Illinois (the comment at
+/// the top of this file), stopping within 4 ulps of T. Each lane takes exactly the steps the
+/// scalar method would; a lane that has stopped is frozen (masks), and the loop ends when
+/// every lane has.
+template <class T>
+HWY_INLINE V from_point(D d, const Curve& c, const Origin& o, V dx, V dy) {
+    const auto zero = hn::Zero(d), two = hn::Set(d, 2.0);
+    const auto wx = hn::Set(d, o.x), wy = hn::Set(d, o.y), norm = hn::Set(d, o.norm);
+    auto f = [&](V t) { return f_at(d, c, wx, wy, dx, dy, t); };
+    const auto dd = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
+    const auto ok = hn::Gt(dd, zero);
+    const auto nd = hn::Sqrt(dd);
+    // Bracket [lo, hi] with f(lo) < 0 <= f(hi), from r_lo <= r <= r_hi; each end checked.
+    auto hi = hn::Div(hn::Add(norm, hn::Set(d, c.r_hi)), nd);
+    auto fhi = f(hi);
+    auto grow = hn::And(ok, hn::Lt(fhi, zero));
+    for (int k = 0; k < 64 && !hn::AllFalse(d, grow); ++k) {
+        hi = hn::IfThenElse(grow, hn::Mul(hi, two), hi);
+        fhi = hn::IfThenElse(grow, f(hi), fhi);
+        grow = hn::And(grow, hn::Lt(fhi, zero));
+    }
+    auto lo = zero, flo = hn::Set(d, o.f0);
+    const auto l = hn::Div(hn::Sub(hn::Set(d, c.r_lo), norm), nd);
+    const auto try_l = hn::And(ok, hn::And(hn::Gt(l, zero), hn::Lt(l, hi)));
+    if (!hn::AllFalse(d, try_l)) {
+        const auto fl = f(l);
+        const auto take = hn::And(try_l, hn::Lt(fl, zero));
+        lo = hn::IfThenElse(take, l, lo);
+        flo = hn::IfThenElse(take, fl, flo);
+    }
+    const auto rel = hn::Set(d, 4 * double(std::numeric_limits<T>::epsilon()));
+    const auto one = hn::Set(d, 1.0), minus_one = hn::Set(d, -1.0);
+    auto side = zero;                 // -1: lo moved last, 1: hi moved last, 0: neither yet
+    auto bisect = hn::Lt(zero, zero); // all false
+    auto width_before = hn::Sub(hi, lo);
+    auto active = ok, found = bisect;
+    auto root = zero;
+    for (int k = 0; k < 4 * std::numeric_limits<T>::digits; ++k) {
+        const auto width = hn::Sub(hi, lo);
+        active = hn::And(active, hn::Gt(width, hn::Mul(rel, hi)));
+        const auto half = hn::Add(lo, hn::Div(width, two));
+        auto x = hn::IfThenElse(bisect, half, hn::Add(lo, hn::Mul(width, hn::Div(flo, hn::Sub(flo, fhi)))));
+        // At least half the tolerance away from both ends (std::clamp's semantics).
+        const auto delta = hn::Div(hn::Mul(rel, hi), two);
+        const auto a = hn::Add(lo, delta), b = hn::Sub(hi, delta);
+        const auto clamped = hn::IfThenElse(hn::Lt(x, a), a, hn::IfThenElse(hn::Lt(b, x), b, x));
+        const auto within = hn::And(hn::Gt(x, a), hn::Lt(x, b));
+        x = hn::IfThenElse(within, x, hn::IfThenElse(fs::is_nan(x), half, clamped));
+        active = hn::And(active, hn::And(hn::Gt(x, lo), hn::Lt(x, hi))); // else lo, hi adjacent
+        if (hn::AllFalse(d, active)) break;
+        const auto fx = f(x);
+        const auto hit = hn::And(active, hn::Eq(fx, zero));
+        root = hn::IfThenElse(hit, x, root);
+        found = hn::Or(found, hit);
+        active = hn::AndNot(hit, active);
+        const auto below = hn::Lt(fx, zero);
+        const auto neg = hn::And(active, below), pos = hn::AndNot(below, active);
+        const auto halve_hi = hn::And(neg, hn::Lt(side, zero)), halve_lo = hn::And(pos, hn::Gt(side, zero));
+        lo = hn::IfThenElse(neg, x, lo);
+        hi = hn::IfThenElse(pos, x, hi);
+        flo = hn::IfThenElse(neg, fx, hn::IfThenElse(halve_lo, hn::Div(flo, two), flo));
+        fhi = hn::IfThenElse(pos, fx, hn::IfThenElse(halve_hi, hn::Div(fhi, two), fhi));
+        side = hn::IfThenElse(neg, minus_one, hn::IfThenElse(pos, one, side));
+        if (k % 2 == 1) {
+            const auto w = hn::Sub(hi, lo);
+            bisect =
+                hn::Or(hn::And(active, hn::Gt(w, hn::Div(width_before, two))), hn::AndNot(active, bisect));
+            width_before = hn::IfThenElse(active, w, width_before);
+        } else {
+            bisect = hn::AndNot(active, bisect);
+        }
+    }
+    const auto inf = hn::Set(d, std::numeric_limits<double>::infinity());
+    return hn::IfThenElse(found, root, hn::IfThenElse(ok, hi, inf));
+}
+
+template <class T>
+void ray_t(const Curve& c, const Origin* o, fp::Points<const T> dd, T* t) {
+    const D d;
+    if (!o)
+        blocks(d, dd, t, [&](V dx, V dy) { return from_centre(d, c, dx, dy); });
+    else
+        blocks(d, dd, t, [&](V dx, V dy) { return from_point<T>(d, c, *o, dx, dy); });
+}
+void ray_f(const Curve& c, const Origin* o, fp::Points<const float> d, float* t) { ray_t(c, o, d, t); }
+void ray_d(const Curve& c, const Origin* o, fp::Points<const double> d, double* t) { ray_t(c, o, d, t); }
+
+void radius_of(const Curve& c, const double* q, double* r) {
+    const D d;
+    alignas(HWY_MAX_BYTES) double bx[HWY_MAX_BYTES / 8] = {q[0]}, by[HWY_MAX_BYTES / 8] = {q[1]},
+                                                     br[HWY_MAX_BYTES / 8];
+    hn::Store(radius(d, c, theta(d, c, hn::Load(d, bx), hn::Load(d, by))), d, br);
+    *r = br[0];
+}
+
+} // namespace fp_superformula::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace fp_superformula {
+HWY_EXPORT(inside_f);
+HWY_EXPORT(inside_d);
+HWY_EXPORT(ray_f);
+HWY_EXPORT(ray_d);
+HWY_EXPORT(radius_of);
+
+// (HWY_DYNAMIC_DISPATCH names the kernels unqualified: a build with static dispatch only
+// resolves them as N_<target>::name from this namespace.)
+void inside(const Curve& c, fp::Points<const float> p, unsigned char* out) {
+    HWY_DYNAMIC_DISPATCH(inside_f)(c, p, out);
+}
+void inside(const Curve& c, fp::Points<const double> p, unsigned char* out) {
+    HWY_DYNAMIC_DISPATCH(inside_d)(c, p, out);
+}
+void ray(const Curve& c, const Origin* w, fp::Points<const float> d, float* t) {
+    HWY_DYNAMIC_DISPATCH(ray_f)(c, w, d, t);
+}
+void ray(const Curve& c, const Origin* w, fp::Points<const double> d, double* t) {
+    HWY_DYNAMIC_DISPATCH(ray_d)(c, w, d, t);
+}
+double radius_at(const Curve& c, double qx, double qy) {
+    const double q[2] = {qx, qy};
+    double r = 0;
+    HWY_DYNAMIC_DISPATCH(radius_of)(c, q, &r);
+    return r;
+}
+} // namespace fp_superformula
 
 FIXPOINT_PLUGIN(fp::describe<Superformula>(fp::Kind::Shape, "superformula",
                                            "a curved star-shaped set bounded by Gielis' superformula",
                                            params))
+#endif // HWY_ONCE

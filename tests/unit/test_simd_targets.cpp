@@ -40,7 +40,8 @@ const std::string frame = "type: chaos-game, width: 80, height: 80, view: [-1.2,
 // One recipe per kernel path: the fused circle step (hits only and with colour, float and
 // double), the generic step (grouping, draw with rules, bookkeeping), the alias draw of an
 // affine IFS with the flame colourer, Gumowski-Mira in double, inversions in polygons and
-// stars, a circle inverted about an off-centre point (ray exits), another iteration scheme.
+// stars, superformula sets about their centre and off it, a circle inverted about an
+// off-centre point (ray exits), another iteration scheme.
 const std::vector<std::string> recipes = {
     frame + "points: 200000, chains: 700, colourer: {type: density}, " + circles,
     frame + "points: 200000, chains: 300, colourer: {type: map-colour}, " + circles,
@@ -61,6 +62,21 @@ const std::vector<std::string> recipes = {
         "points: 5, inner_radius: 0.2, outer_radius: 0.5, centre: [0.7, 0.1]}}, {type: inversion, shape: "
         "{type: circle, "
         "centre: [-0.6, 0.5], radius: 0.45}, centre: [-0.5, 0.45]}]",
+    // superformula: the SDK's transcendentals, inversion about the centre (closed form) and
+    // about another point of the kernel (the masked root finder), float and double.
+    frame +
+        "points: 60000, colourer: {type: map-colour}, maps: [{type: inversion, shape: {type: superformula, "
+        "m: "
+        "5, n1: 2, n2: 7, n3: 7, scale: 0.45, rotation: 0.3, centre: [0.55, 0.1]}}, {type: inversion, shape: "
+        "{type: superformula, m: 3, n1: 0.8, n2: 1.5, n3: 1.5, b: 0.7, scale: 0.4, centre: [-0.5, 0.45]}, "
+        "centre: [-0.47, 0.43]}, {type: inversion, shape: {type: circle, centre: [-0.2, -0.6], radius: "
+        "0.4}}]",
+    frame +
+        "points: 40000, precision: double, colourer: {type: density}, maps: [{type: inversion, shape: {type: "
+        "superformula, m: 6, n1: 3, n2: 4, n3: 9, scale: 0.45, centre: [0.4, 0.3]}, centre: [0.42, 0.27]}, "
+        "{type: inversion, shape: {type: circle, centre: [-0.5, 0.4], radius: 0.4}}, {type: inversion, "
+        "shape: "
+        "{type: superformula, centre: [0, -0.5], scale: 0.45}}]",
     frame +
         "points: 100000, iteration: {type: s-iteration, alpha: 0.7, beta: 0.5}, colourer: {type: flame}, " +
         circles,
