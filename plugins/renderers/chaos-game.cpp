@@ -192,8 +192,8 @@ class ChaosGame final : public fp::Renderer {
 public:
     explicit ChaosGame(const fp::ParamBag& p);
 
-    int width() const override { return width_; }
-    int height() const override { return height_; }
+    int width() const override { return frame_.width; }
+    int height() const override { return frame_.height; }
     uint64_t memory_bytes(unsigned workers) const override;
     uint64_t work_units() const override;
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
@@ -226,8 +226,7 @@ private:
             return *lanes_d_;
     }
 
-    int width_ = 512, height_ = 512;
-    double xmin_ = -1.5, xmax_ = 1.5, ymin_ = -1.5, ymax_ = 1.5;
+    fp::Frame frame_; ///< width, height, view (region), background
     uint64_t points_ = 1000000, seed_ = 1, skip_ = 20, chains_ = 4096;
     bool has_start_ = false;
     fp::Vec2 start_;
@@ -236,7 +235,6 @@ private:
     bool fused_ = false; ///< the fused step (kernels-inl.hpp's fused_t) runs every block step
     std::shared_ptr<LaneTables<float>> lanes_f_;
     std::shared_ptr<LaneTables<double>> lanes_d_;
-    fp::Rgb background_;
 
     std::vector<std::shared_ptr<const fp::Transform>> maps_;
     std::vector<uint32_t> region_maps_;       ///< indices of the maps with a set
@@ -249,25 +247,14 @@ private:
 };
 
 ChaosGame::ChaosGame(const fp::ParamBag& p) {
-    width_ = int(p.integer("width"));
-    height_ = int(p.integer("height"));
-    if (uint64_t(width_) * uint64_t(height_) >= 0xffffffffull)
-        throw fp::ParamError("height",
-                             "the image is too large: width * height must be below 4294967295 pixels");
-    const auto& v = p.reals("view");
-    if (v.size() != 4) throw fp::ParamError("view", "the view must be [xmin, xmax, ymin, ymax]");
-    xmin_ = v[0], xmax_ = v[1], ymin_ = v[2], ymax_ = v[3];
-    if (!(xmin_ < xmax_))
-        throw fp::ParamError("view", "the view must be [xmin, xmax, ymin, ymax] with xmin < xmax");
-    if (!(ymin_ < ymax_))
-        throw fp::ParamError("view", "the view must be [xmin, xmax, ymin, ymax] with ymin < ymax");
+    frame_ = fp::Frame::read(p);
     points_ = uint64_t(p.integer("points"));
     seed_ = uint64_t(p.integer("seed"));
     skip_ = uint64_t(p.integer("skip"));
     chains_ = uint64_t(p.integer("chains"));
     has_start_ = p.has("start");
     if (has_start_) start_ = p.vec2("start");
-    start_box_ = {xmin_, xmax_, ymin_, ymax_};
+    start_box_ = {frame_.region.xmin, frame_.region.xmax, frame_.region.ymin, frame_.region.ymax};
     if (p.has("start_box")) {
         const auto& sb = p.reals("start_box");
         if (!(sb[0] < sb[1]) || !(sb[2] < sb[3]))
@@ -276,7 +263,6 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
                                  "and ymin < ymax");
         start_box_ = {sb[0], sb[1], sb[2], sb[3]};
     }
-    background_ = p.colour("background");
     double_ = p.string("precision") == "double";
     iteration_ = p.object<fp::IterationScheme>("iteration");
     colourer_ = p.object<fp::Colourer>("colourer");
@@ -335,9 +321,10 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         if (has_start_) f.start = start_;
         f.start_box = start_box_;
         f.seed = seed_, f.skip = skip_, f.chains = chains_, f.points = points_;
-        f.width = width_, f.height = height_;
+        f.width = frame_.width, f.height = frame_.height;
         const fp::Box v = fp_render::fit_view(f);
-        xmin_ = v.xmin, xmax_ = v.xmax, ymin_ = v.ymin, ymax_ = v.ymax;
+        frame_.region.xmin = v.xmin, frame_.region.xmax = v.xmax, frame_.region.ymin = v.ymin,
+        frame_.region.ymax = v.ymax;
     }
 
     // Integer weights for the draw among the allowed maps: sum below 2^32, each at least 1.
@@ -426,7 +413,7 @@ uint64_t ChaosGame::work_units() const {
 }
 
 uint64_t ChaosGame::memory_bytes(unsigned workers) const {
-    const uint64_t px = uint64_t(width_) * uint64_t(height_);
+    const uint64_t px = uint64_t(frame_.width) * uint64_t(frame_.height);
     // The workers' 32-bit histograms, the total, the spill lists (at most one entry per
     // 65536 points); hits only: 32-bit counters, and 64-bit ones once a worker could
     // have deposited hits_flush points.
@@ -446,15 +433,15 @@ fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) cons
     stats = fp::RenderStats{};
     fp::Histogram total;
     fp::Image img;
-    img.width = width_;
-    img.height = height_;
+    img.width = frame_.width;
+    img.height = frame_.height;
     img.channels = 3;
     if (double_)
         render_t<double>(ctx, stats, total, img.pixels);
     else
         render_t<float>(ctx, stats, total, img.pixels);
     if (ctx.cancelled()) throw fp::Cancelled();
-    colourer_->resolve_parallel(total, background_, img.pixels.data(), ctx);
+    colourer_->resolve_parallel(total, frame_.background, img.pixels.data(), ctx);
     return img;
 }
 
@@ -462,7 +449,7 @@ template <class T>
 void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
                          std::vector<float>& pixels) const {
     const unsigned workers = std::max(1u, ctx.workers());
-    const size_t px = size_t(width_) * size_t(height_);
+    const size_t px = size_t(frame_.width) * size_t(frame_.height);
     const std::vector<Span> spans = block_spans(chains_, workers);
     // Per worker: its block state and its histogram (one extra bin that takes the points not
     // plotted), both made by the worker itself on its first task (first touch).
@@ -485,8 +472,8 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
         for (size_t it; (it = next.fetch_add(1, std::memory_order_relaxed)) < items;) {
             if (ctx.cancelled()) throw fp::Cancelled();
             if (it == 0) {
-                total.width = width_;
-                total.height = height_;
+                total.width = frame_.width;
+                total.height = frame_.height;
                 assign_huge(total.bins, px, fp::HistBin{}, poll);
                 continue;
             }
@@ -520,14 +507,14 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
 
     // Sum the workers' histograms (exact integer sums; rows in parallel).
     const size_t rows_per_task = 16;
-    const size_t tasks = (size_t(height_) + rows_per_task - 1) / rows_per_task;
+    const size_t tasks = (size_t(frame_.height) + rows_per_task - 1) / rows_per_task;
     // The hits of each task's rows, summed here rather than in a serial pass over the 32 MiB
     // of the total afterwards (part of the fixed cost that limits the speed-up on 2 threads).
     std::vector<uint64_t> drawn(tasks, 0);
     ctx.parallel_for(tasks, [&](size_t t, unsigned) {
         poll();
-        const size_t b0 = t * rows_per_task * size_t(width_);
-        const size_t b1 = std::min(px, b0 + rows_per_task * size_t(width_));
+        const size_t b0 = t * rows_per_task * size_t(frame_.width);
+        const size_t b1 = std::min(px, b0 + rows_per_task * size_t(frame_.width));
         fp::HistBin* out = total.bins.data();
         for (const auto& h : hists) {
             if (const uint32_t* in = h.hits.get()) {
@@ -749,10 +736,12 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
                    s.age.get(), s.idle.get(), s.restart.get(), s.plotf.get(),
                    s.idx.get(), s.left.get(), s.active.get(),  s.cr.get(),
                    s.cg.get(),  s.cb.get(),   s.dep.get(),     nb};
-    bv.xmin = T(xmin_), bv.xmax = T(xmax_), bv.ymin = T(ymin_), bv.ymax = T(ymax_);
-    bv.scx = T(double(width_) / (xmax_ - xmin_)), bv.scy = T(double(height_) / (ymax_ - ymin_));
-    bv.W = uint32_t(width_), bv.H = uint32_t(height_);
-    bv.dummy = uint32_t(size_t(width_) * size_t(height_));
+    bv.xmin = T(frame_.region.xmin), bv.xmax = T(frame_.region.xmax), bv.ymin = T(frame_.region.ymin),
+    bv.ymax = T(frame_.region.ymax);
+    bv.scx = T(double(frame_.width) / (frame_.region.xmax - frame_.region.xmin)),
+    bv.scy = T(double(frame_.height) / (frame_.region.ymax - frame_.region.ymin));
+    bv.W = uint32_t(frame_.width), bv.H = uint32_t(frame_.height);
+    bv.dummy = uint32_t(size_t(frame_.width) * size_t(frame_.height));
     bv.skip = uint32_t(std::min<uint64_t>(skip_, 0xffffffffu));
     bv.none = none;
 

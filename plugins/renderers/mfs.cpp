@@ -109,10 +109,10 @@ class Mfs final : public fp::Renderer {
 public:
     explicit Mfs(const fp::ParamBag& p);
 
-    int width() const override { return width_; }
-    int height() const override { return height_; }
+    int width() const override { return frame_.width; }
+    int height() const override { return frame_.height; }
     uint64_t memory_bytes(unsigned) const override {
-        return uint64_t(total_ * bytes_per_polygon() + double(width_) * double(height_) * 16.0);
+        return uint64_t(total_ * bytes_per_polygon() + double(frame_.width) * double(frame_.height) * 16.0);
     }
     uint64_t work_units() const override { return uint64_t(total_); }
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
@@ -143,8 +143,7 @@ private:
     fp::Rgb colour_of(const uint32_t* addr, size_t len, size_t depth, uint32_t first) const;
     fp_mfs::Scene scene(fp::RenderContext& ctx, fp::RenderStats& stats) const;
 
-    int width_ = 512, height_ = 512;
-    fp::Box view_;
+    fp::Frame frame_; ///< width, height, view (region: given, or the points' box), background
     size_t n_ = 0;
     std::vector<std::shared_ptr<const fp::VertexMap>> maps_;
     std::vector<std::vector<uint32_t>> systems_;
@@ -156,7 +155,7 @@ private:
     bool draw_target_ = true, labels_ = false;
     fp_mfs::DrawMode mode_ = fp_mfs::DrawMode::Fill;
     std::string colour_by_ = "fixed";
-    fp::Rgb colour_, background_, mark_colour_;
+    fp::Rgb colour_, mark_colour_;
     double line_width_ = 1, label_size_ = 14;
     Address only_;
     std::vector<Address> highlight_;
@@ -164,8 +163,7 @@ private:
 };
 
 Mfs::Mfs(const fp::ParamBag& p) {
-    width_ = int(p.integer("width"));
-    height_ = int(p.integer("height"));
+    frame_ = fp::Frame::read(p);
     // Maps: subdivision maps with one vertex count; the IFSs from their `systems`.
     const auto& items = p.objects("maps");
     std::vector<std::vector<uint32_t>> member(items.size());
@@ -260,7 +258,6 @@ Mfs::Mfs(const fp::ParamBag& p) {
                                : fp_mfs::DrawMode::Fill;
     colour_by_ = p.string("colour_by");
     colour_ = p.colour("colour");
-    background_ = p.colour("background");
     mark_colour_ = p.colour("mark_colour");
     line_width_ = p.real("line_width");
     labels_ = p.boolean("labels");
@@ -343,13 +340,7 @@ Mfs::Mfs(const fp::ParamBag& p) {
                                  bytes_text(total_ * bytes_per_polygon()) + "): more than the " +
                                  count_text(max_polygons) + " a render may hold");
     // The view.
-    if (p.has("view")) {
-        const auto& v = p.reals("view");
-        view_ = {v[0], v[1], v[2], v[3]};
-        if (!(v[0] < v[1]) || !(v[2] < v[3]))
-            throw fp::ParamError(
-                "view", "the view must be [xmin, xmax, ymin, ymax] with xmin < xmax and ymin < ymax");
-    } else {
+    if (!frame_.has_region) {
         fp::Box b{points_[0].x, points_[0].x, points_[0].y, points_[0].y};
         for (const auto& q : points_)
             b.xmin = std::min(b.xmin, q.x), b.xmax = std::max(b.xmax, q.x), b.ymin = std::min(b.ymin, q.y),
@@ -357,13 +348,13 @@ Mfs::Mfs(const fp::ParamBag& p) {
         double w = b.xmax - b.xmin, h = b.ymax - b.ymin;
         const double size = std::max({w, h, 1e-9});
         w = std::max(w, 1e-3 * size) * 1.1, h = std::max(h, 1e-3 * size) * 1.1;
-        const double aspect = double(width_) / double(height_);
+        const double aspect = double(frame_.width) / double(frame_.height);
         if (w / h < aspect)
             w = h * aspect;
         else
             h = w / aspect;
         const double cx = 0.5 * (b.xmin + b.xmax), cy = 0.5 * (b.ymin + b.ymax);
-        view_ = {cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2};
+        frame_.region = {cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2};
     }
 }
 
@@ -485,7 +476,8 @@ void Mfs::generate(const std::vector<fp::Vec2>& start, size_t depth, uint32_t fi
 
 fp_mfs::Scene Mfs::scene(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     fp_mfs::Scene sc;
-    sc.width = width_, sc.height = height_, sc.view = view_, sc.background = background_, sc.mode = mode_;
+    sc.width = frame_.width, sc.height = frame_.height, sc.view = frame_.region,
+    sc.background = frame_.background, sc.mode = mode_;
     sc.line_width = line_width_, sc.mark_colour = mark_colour_, sc.label_size = label_size_;
     sc.ctx = &ctx;
     generate(points_, 0, no_first, sc.layers, &ctx, labels_ ? &sc.labels : nullptr);
@@ -509,7 +501,8 @@ fp_mfs::Scene Mfs::scene(fp::RenderContext& ctx, fp::RenderStats& stats) const {
             bool in = false;
             for (size_t k = 0; k < L.n && !in; ++k) {
                 const double x = L.x[c * L.n + k], y = L.y[c * L.n + k];
-                in = x >= view_.xmin && x <= view_.xmax && y >= view_.ymin && y <= view_.ymax;
+                in = x >= frame_.region.xmin && x <= frame_.region.xmax && y >= frame_.region.ymin &&
+                     y <= frame_.region.ymax;
             }
             inside += in;
         }
@@ -524,7 +517,7 @@ fp_mfs::Scene Mfs::scene(fp::RenderContext& ctx, fp::RenderStats& stats) const {
 fp::Image Mfs::render(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     const fp_mfs::Scene sc = scene(ctx, stats);
     fp::Image img;
-    img.width = width_, img.height = height_, img.channels = 3;
+    img.width = frame_.width, img.height = frame_.height, img.channels = 3;
     img.pixels = fp_mfs::raster(sc);
     return img;
 }

@@ -165,10 +165,10 @@ class OrbitTrap final : public fp::Renderer {
 public:
     explicit OrbitTrap(const fp::ParamBag& p);
 
-    int width() const override { return width_; }
-    int height() const override { return height_; }
+    int width() const override { return frame_.width; }
+    int height() const override { return frame_.height; }
     uint64_t memory_bytes(unsigned workers) const override;
-    uint64_t work_units() const override { return uint64_t(width_) * uint64_t(height_); }
+    uint64_t work_units() const override { return uint64_t(frame_.width) * uint64_t(frame_.height); }
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
 
 private:
@@ -177,13 +177,12 @@ private:
     template <class T>
     TileStats tile(size_t t, Scratch<T>& s, float* image, const fp::RenderContext& ctx) const;
 
-    int width_ = 512, height_ = 512;
+    fp::Frame frame_; ///< width, height, area (region), background (optional)
     double cx_ = 0, cy_ = 0, hx_ = 1, hy_ = 1;
     uint32_t max_iterations_ = 100;
     std::vector<Offset> offsets_;
     size_t tile_pixels_ = 1;
-    bool double_ = false, has_background_ = false;
-    fp::Rgb background_;
+    bool double_ = false;
     Reduction reduction_ = Reduction::fmod;
     std::shared_ptr<const fp::Transform> mapping_;
     std::shared_ptr<const fp::IterationScheme> iteration_;
@@ -197,18 +196,10 @@ private:
 };
 
 OrbitTrap::OrbitTrap(const fp::ParamBag& p) {
-    width_ = int(p.integer("width"));
-    height_ = int(p.integer("height"));
-    if (uint64_t(width_) * uint64_t(height_) >= 0xffffffffull)
-        throw fp::ParamError("height",
-                             "the image is too large: width * height must be below 4294967295 pixels");
-    const auto& a = p.reals("area");
-    if (!(a[0] < a[1]))
-        throw fp::ParamError("area", "the area must be [xmin, xmax, ymin, ymax] with xmin < xmax");
-    if (!(a[2] < a[3]))
-        throw fp::ParamError("area", "the area must be [xmin, xmax, ymin, ymax] with ymin < ymax");
-    cx_ = (a[0] + a[1]) / 2, hx_ = (a[1] - a[0]) / 2;
-    cy_ = (a[2] + a[3]) / 2, hy_ = (a[3] - a[2]) / 2;
+    frame_ = fp::Frame::read(p, "area");
+    const fp::Box& a = frame_.region;
+    cx_ = (a.xmin + a.xmax) / 2, hx_ = (a.xmax - a.xmin) / 2;
+    cy_ = (a.ymin + a.ymax) / 2, hy_ = (a.ymax - a.ymin) / 2;
     max_iterations_ = uint32_t(p.integer("max_iterations"));
     const auto n = p.integer("samples");
     offsets_ = pattern(n);
@@ -235,10 +226,6 @@ OrbitTrap::OrbitTrap(const fp::ParamBag& p) {
     colourer_ = p.object<fp::Colourer>("colourer");
     if (!colourer_->colours_trap_hits())
         throw fp::ParamError("colourer", "this colourer cannot colour orbit-trap hits (use colour-map)");
-    if (p.has("background")) {
-        has_background_ = true;
-        background_ = p.colour("background");
-    }
     const std::string& r = p.string("reduction");
     reduction_ = r == "fmod"      ? Reduction::fmod
                  : r == "centred" ? Reduction::centred
@@ -249,7 +236,7 @@ OrbitTrap::OrbitTrap(const fp::ParamBag& p) {
 }
 
 uint64_t OrbitTrap::memory_bytes(unsigned workers) const {
-    const uint64_t image = uint64_t(width_) * uint64_t(height_) * 3 * sizeof(float);
+    const uint64_t image = uint64_t(frame_.width) * uint64_t(frame_.height) * 3 * sizeof(float);
     const uint64_t per_sample = 3 * (double_ ? 8 : 4) + 4 * 4 + 4 + 4 * 3 + 4 * 3 + 8 * 3 + 8 * 2;
     return image + uint64_t(std::max(1u, workers)) * tile_samples * per_sample;
 }
@@ -257,19 +244,21 @@ uint64_t OrbitTrap::memory_bytes(unsigned workers) const {
 // One tile: pixels [t * tile_pixels, ...) in row-major order, all their samples in one batch.
 template <class T>
 TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, const fp::RenderContext& ctx) const {
-    const size_t npix = size_t(width_) * size_t(height_);
+    const size_t npix = size_t(frame_.width) * size_t(frame_.height);
     const size_t p0 = t * tile_pixels_, p1 = std::min(npix, p0 + tile_pixels_);
     const size_t ns = offsets_.size(), b = (p1 - p0) * ns;
     // 1 / (W - 1) as a factor: a product is as symmetric under negation as a quotient, and the
     // same expression serves x and y, so the symmetry of the start points is exact either way.
-    const double iw = 1.0 / double(std::max(width_ - 1, 1)), ih = 1.0 / double(std::max(height_ - 1, 1));
-    const double w1 = double(width_ - 1), h1 = double(height_ - 1);
+    const double iw = 1.0 / double(std::max(frame_.width - 1, 1)),
+                 ih = 1.0 / double(std::max(frame_.height - 1, 1));
+    const double w1 = double(frame_.width - 1), h1 = double(frame_.height - 1);
     // The batch is sample-major: sample q of the tile's pixel p is lane q * np + p, so that every
     // loop here is a vector loop (the order of the lanes changes nothing: each orbit is its own,
     // and a pixel's samples are summed in integers).
     const size_t np = p1 - p0;
-    size_t pi = p0 % size_t(width_), pj = p0 / size_t(width_); // pixel (pi, pj): no division per pixel
-    for (size_t p = 0; p < np; ++p, pi = pi + 1 == size_t(width_) ? (++pj, 0) : pi + 1)
+    size_t pi = p0 % size_t(frame_.width),
+           pj = p0 / size_t(frame_.width); // pixel (pi, pj): no division per pixel
+    for (size_t p = 0; p < np; ++p, pi = pi + 1 == size_t(frame_.width) ? (++pj, 0) : pi + 1)
         s.u[p] = 2 * double(pi) - w1, s.v[p] = 2 * double(pj) - h1;
     for (size_t q = 0; q < ns; ++q) {
         const double ox = 2 * offsets_[q].x, oy = 2 * offsets_[q].y;
@@ -318,7 +307,7 @@ TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, const fp::Rende
     for (size_t k = 0; k < b; ++k) st.drawn += s.trap[k] >= 0;
 
     colourer_->colour_hits(s.trap.data(), s.ratio_out.data(), s.iteration.data(), b,
-                           has_background_ ? &background_ : nullptr, s.rgb.data());
+                           frame_.has_background ? &frame_.background : nullptr, s.rgb.data());
     // The mean of each pixel's samples, summed in integers (order-independent): each channel
     // value clamped to [0, 1] (NaN -> 0) and rounded to nearest (halves up; llround's rule for
     // v >= 0) at 24 fractional bits, exactly (v * 2^24 and the + 0.5 are exact in double), in one
@@ -354,11 +343,11 @@ TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, const fp::Rende
 
 template <class T>
 fp::Image OrbitTrap::run(fp::RenderContext& ctx, fp::RenderStats& stats) const {
-    const size_t npix = size_t(width_) * size_t(height_);
+    const size_t npix = size_t(frame_.width) * size_t(frame_.height);
     const size_t tiles = (npix + tile_pixels_ - 1) / tile_pixels_;
     fp::Image img;
-    img.width = width_;
-    img.height = height_;
+    img.width = frame_.width;
+    img.height = frame_.height;
     img.channels = 3;
     img.pixels.assign(npix * 3, 0.0f);
     std::vector<Scratch<T>> scratch(std::max(1u, ctx.workers()));

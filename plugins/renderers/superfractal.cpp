@@ -186,8 +186,8 @@ class Superfractal final : public fp::Renderer {
 public:
     explicit Superfractal(const fp::ParamBag& p);
 
-    int width() const override { return width_; }
-    int height() const override { return height_; }
+    int width() const override { return frame_.width; }
+    int height() const override { return frame_.height; }
     uint64_t memory_bytes(unsigned workers) const override;
     uint64_t work_units() const override { return (steps_ + 1) * buffers_ * points_; }
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
@@ -198,12 +198,11 @@ private:
                         uint32_t ifs, const uint32_t* src) const;
     uint64_t repair(Generation& g, size_t b, uint64_t stream) const;
 
-    int width_ = 512, height_ = 512;
-    double xmin_ = 0, xmax_ = 1, ymin_ = 0, ymax_ = 1;
+    fp::Frame frame_;                                      ///< width, height, view (region), background
     double sxmin_ = 0, sxmax_ = 1, symin_ = 0, symax_ = 1; ///< start box
     uint64_t seed_ = 1, steps_ = 30, points_ = 100000, buffers_ = 2, child_ = 0;
     bool colour_ = true;
-    fp::Rgb background_, initial_colour_;
+    fp::Rgb initial_colour_;
 
     std::vector<std::shared_ptr<const fp::Transform>> maps_;
     std::vector<fp::Rgb> colours_;
@@ -215,18 +214,9 @@ private:
 };
 
 Superfractal::Superfractal(const fp::ParamBag& p) {
-    width_ = int(p.integer("width"));
-    height_ = int(p.integer("height"));
-    if (uint64_t(width_) * uint64_t(height_) >= 0xffffffffull)
-        throw fp::ParamError("height",
-                             "the image is too large: width * height must be below 4294967295 pixels");
-    const auto& v = p.reals("view");
-    xmin_ = v[0], xmax_ = v[1], ymin_ = v[2], ymax_ = v[3];
-    if (!(xmin_ < xmax_))
-        throw fp::ParamError("view", "the view must be [xmin, xmax, ymin, ymax] with xmin < xmax");
-    if (!(ymin_ < ymax_))
-        throw fp::ParamError("view", "the view must be [xmin, xmax, ymin, ymax] with ymin < ymax");
-    sxmin_ = xmin_, sxmax_ = xmax_, symin_ = ymin_, symax_ = ymax_;
+    frame_ = fp::Frame::read(p);
+    sxmin_ = frame_.region.xmin, sxmax_ = frame_.region.xmax, symin_ = frame_.region.ymin,
+    symax_ = frame_.region.ymax;
     if (p.has("start_box")) {
         const auto& s = p.reals("start_box");
         sxmin_ = s[0], sxmax_ = s[1], symin_ = s[2], symax_ = s[3];
@@ -247,7 +237,6 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
             "child", "child " + std::to_string(child_) + " does not exist: there " +
                          (buffers_ == 1 ? "is 1 buffer" : "are " + std::to_string(buffers_) + " buffers") +
                          ", numbered from 0");
-    background_ = p.colour("background");
     colourer_ = p.object<fp::Colourer>("colourer");
     colour_ = colourer_->needs_colour();
 
@@ -292,7 +281,7 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
 }
 
 uint64_t Superfractal::memory_bytes(unsigned) const {
-    const uint64_t px = uint64_t(width_) * uint64_t(height_);
+    const uint64_t px = uint64_t(frame_.width) * uint64_t(frame_.height);
     const uint64_t per_point = 2 * sizeof(double) + (colour_ ? 3 * sizeof(float) : 0);
     const uint64_t buffers = 2 * buffers_ * points_ * per_point; // two generations
     const uint64_t hist = px * sizeof(fp::HistBin);
@@ -459,8 +448,9 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
     // The child: buffer `child` of the last generation, into one integer histogram.
     const Generation& last = gen[steps_ % 2];
     fp::Histogram hist;
-    hist.resize(width_, height_);
-    const double scx = double(width_) / (xmax_ - xmin_), scy = double(height_) / (ymax_ - ymin_);
+    hist.resize(frame_.width, frame_.height);
+    const double scx = double(frame_.width) / (frame_.region.xmax - frame_.region.xmin),
+                 scy = double(frame_.height) / (frame_.region.ymax - frame_.region.ymin);
     const size_t base = size_t(child_) * n;
     auto quant = [](float c) {
         const float c0 = c > 0.0f ? c : 0.0f, c1 = c0 < 1.0f ? c0 : 1.0f; // NaN -> 0
@@ -470,10 +460,12 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
     for (size_t i = 0; i < n; ++i) {
         if (i % (size_t(1) << 20) == 0 && ctx.cancelled()) throw fp::Cancelled();
         const double x = last.x[base + i], y = last.y[base + i];
-        if (!(x >= xmin_ && x < xmax_ && y > ymin_ && y <= ymax_)) continue;
-        const auto ix = std::min(uint32_t((x - xmin_) * scx), uint32_t(width_ - 1));
-        const auto iy = std::min(uint32_t((ymax_ - y) * scy), uint32_t(height_ - 1));
-        fp::HistBin& bin = hist.bins[size_t(iy) * size_t(width_) + ix];
+        if (!(x >= frame_.region.xmin && x < frame_.region.xmax && y > frame_.region.ymin &&
+              y <= frame_.region.ymax))
+            continue;
+        const auto ix = std::min(uint32_t((x - frame_.region.xmin) * scx), uint32_t(frame_.width - 1));
+        const auto iy = std::min(uint32_t((frame_.region.ymax - y) * scy), uint32_t(frame_.height - 1));
+        fp::HistBin& bin = hist.bins[size_t(iy) * size_t(frame_.width) + ix];
         ++bin.hits;
         if (colour_) {
             bin.r += quant(last.r[base + i]);
@@ -487,11 +479,11 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
     stats.unit = "points";
 
     fp::Image img;
-    img.width = width_;
-    img.height = height_;
+    img.width = frame_.width;
+    img.height = frame_.height;
     img.channels = 3;
-    img.pixels.assign(size_t(width_) * size_t(height_) * 3, 0.0f);
-    colourer_->resolve_parallel(hist, background_, img.pixels.data(), ctx);
+    img.pixels.assign(size_t(frame_.width) * size_t(frame_.height) * 3, 0.0f);
+    colourer_->resolve_parallel(hist, frame_.background, img.pixels.data(), ctx);
     return img;
 }
 

@@ -4,6 +4,7 @@
 #include <fixpoint/batch.hpp>
 #include <fixpoint/colourer.hpp>
 #include <fixpoint/errors.hpp>
+#include <fixpoint/frame.hpp>
 #include <fixpoint/histogram.hpp>
 #include <fixpoint/iteration.hpp>
 #include <fixpoint/metric.hpp>
