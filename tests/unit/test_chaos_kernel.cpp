@@ -295,6 +295,16 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
         "type: chaos-game, width: 64, height: 64, view: [-15, 15, -15, 15], points: 200000, chains: 1, skip: "
         "0, "
         "start: [0, 0.5], colourer: {type: density}, maps: [{type: gumowski-mira, mu: -0.31}]",
+        // The single orbit of one map (orbit_run_t): Gumowski-Mira without damping (alpha = 0,
+        // the step that skips the zero term) in double and float, and an expanding affine map
+        // whose orbit overflows and restarts again and again.
+        "type: chaos-game, width: 64, height: 64, view: [-15, 15, -15, 15], points: 300000, chains: 1, skip: "
+        "4, start: [0.1, 0.5], precision: double, colourer: {type: density}, maps: [{type: gumowski-mira, "
+        "alpha: 0, mu: -0.31}]",
+        "type: chaos-game, width: 64, height: 64, view: [-15, 15, -15, 15], points: 300000, chains: 1, skip: "
+        "0, start: [0.1, 0.5], colourer: {type: density}, maps: [{type: gumowski-mira, alpha: 0, mu: -0.31}]",
+        "type: chaos-game, width: 64, height: 64, view: [-2, 2, -2, 2], points: 100000, chains: 1, skip: 2, "
+        "colourer: {type: density}, maps: [{type: affine, coefficients: [1.5, 0.2, -0.1, 1.4, 0.01, 0]}]",
         "type: chaos-game, width: 64, height: 64, view: [-15, 15, -15, 15], points: 1000, chains: 2, skip: "
         "5, "
         "colourer: {type: centroid-distance}, maps: [{type: gumowski-mira, mu: -0.31}, {type: gumowski-mira, "
@@ -316,10 +326,30 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
         EXPECT_EQ(a.stats.bad_values, b.stats.bad_values) << r;
         EXPECT_GT(a.stats.drawn, 0u) << r;
     }
+    // The overflowing orbit restarts (bad values), in the orbit path as in the generic one.
+    EXPECT_GT(render("{" + recipes[recipes.size() - 2] + "}", 1).stats.bad_values, 100u);
     // The restarting recipe does restart (so the comparison covers restarts).
     EXPECT_GT(render("{" + recipes[3] + "}", 1).stats.restarts, 0u);
     // Every point of the few-points recipe is plotted, exactly.
     EXPECT_EQ(render("{" + recipes[4] + "}", 1).stats.samples, 5003u);
+}
+
+// The single undamped orbit's shortcut (y + 0 = y: the damping term skipped) holds while the
+// term alpha (1 - 0.05 y^2) y is finite; beyond |y| = 6e154, 0.05 y^2 overflows and 0 times
+// infinity makes the point NaN. Mostly f(x') overflows there too, but with mu = 100 and
+// x = -y / 100, f(x) = mu x + ... cancels y: x' = y + f(x) is finite; only the term makes it NaN.
+// Started there, every step must be a bad value, in the orbit path as in the generic step.
+TEST(ChaosKernel, SingleOrbitKeepsTheDampingTermsOverflow) {
+    const std::string r = "{type: chaos-game, width: 32, height: 32, view: [-15, 15, -15, 15], points: 2000, "
+                          "chains: 1, skip: 0, start: [7e152, -7e154], precision: double, colourer: "
+                          "{type: density}, maps: [{type: gumowski-mira, alpha: 0, mu: 100}]";
+    const Render fused = render(r + "}", 1), generic = render(r + ", kernels: generic}", 1);
+    EXPECT_EQ(generic.stats.drawn, 0u);
+    EXPECT_EQ(generic.stats.samples, 0u);
+    EXPECT_GT(generic.stats.bad_values, 100u);
+    EXPECT_EQ(fused.stats.bad_values, generic.stats.bad_values);
+    EXPECT_EQ(fused.stats.restarts, generic.stats.restarts);
+    EXPECT_EQ(fused.stats.samples, generic.stats.samples);
 }
 
 } // namespace

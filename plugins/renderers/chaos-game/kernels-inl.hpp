@@ -27,6 +27,7 @@
 #include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
@@ -515,42 +516,45 @@ HWY_INLINE hn::Vec<DU> alias_lanes(DU du, hn::Vec<DU> r, uint32_t k, const hn::T
     return hn::IfThenElse(hn::Lt(frac, per_map(du, thr, k, col)), col, per_map(du, alias, k, col));
 }
 
-/// The map of kind K applied to (x, y) with the chosen maps' parameters (the expressions of
-/// fp::KnownKernel, in their order).
+/// The map of kind K applied to (x, y), with its parameters in lanes: p[0..5] in the order of
+/// fp::KnownKernel's expressions (circle: ox, oy, r2; affine: a .. f; Gumowski-Mira: alpha,
+/// mu, 2 (1 - mu)).
 template <fp_chaos::LaneKind K, class D>
-HWY_INLINE void apply_lanes(D d, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
-                            hn::Vec<hn::RebindToUnsigned<D>> c, hn::Vec<D>& x, hn::Vec<D>& y) {
+HWY_INLINE void apply_kind(D d, const hn::Vec<D> (&p)[6], hn::Vec<D>& x, hn::Vec<D>& y) {
     using T = hn::TFromD<D>;
     if constexpr (K == fp_chaos::LaneKind::circle) {
         // Inversion with Circle::inversion_factor: d = p - o, s = r2 / |d|^2, p' = o + s d.
-        const auto ox = per_map(d, t.p[0], t.k, c), oy = per_map(d, t.p[1], t.k, c);
-        const auto r2 = per_map(d, t.p[2], t.k, c);
-        const auto dx = hn::Sub(x, ox), dy = hn::Sub(y, oy);
-        const auto s = hn::Div(r2, hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)));
-        x = hn::Add(ox, hn::Mul(s, dx));
-        y = hn::Add(oy, hn::Mul(s, dy));
+        const auto dx = hn::Sub(x, p[0]), dy = hn::Sub(y, p[1]);
+        const auto s = hn::Div(p[2], hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)));
+        x = hn::Add(p[0], hn::Mul(s, dx));
+        y = hn::Add(p[1], hn::Mul(s, dy));
     } else if constexpr (K == fp_chaos::LaneKind::affine) {
-        const auto a = per_map(d, t.p[0], t.k, c), b = per_map(d, t.p[1], t.k, c);
-        const auto cc = per_map(d, t.p[2], t.k, c), dd = per_map(d, t.p[3], t.k, c);
-        const auto e = per_map(d, t.p[4], t.k, c), f = per_map(d, t.p[5], t.k, c);
-        const auto nx = hn::Add(hn::Add(hn::Mul(a, x), hn::Mul(b, y)), e);
-        const auto ny = hn::Add(hn::Add(hn::Mul(cc, x), hn::Mul(dd, y)), f);
+        const auto nx = hn::Add(hn::Add(hn::Mul(p[0], x), hn::Mul(p[1], y)), p[4]);
+        const auto ny = hn::Add(hn::Add(hn::Mul(p[2], x), hn::Mul(p[3], y)), p[5]);
         x = nx;
         y = ny;
     } else {
-        const auto alpha = per_map(d, t.p[0], t.k, c), mu = per_map(d, t.p[1], t.k, c);
-        const auto m2 = per_map(d, t.p[2], t.k, c);
         const auto one = hn::Set(d, T(1));
         const auto f = [&](hn::Vec<D> u) {
             const auto u2 = hn::Mul(u, u);
-            return hn::Add(hn::Mul(mu, u), hn::Div(hn::Mul(m2, u2), hn::Add(one, u2)));
+            return hn::Add(hn::Mul(p[1], u), hn::Div(hn::Mul(p[2], u2), hn::Add(one, u2)));
         };
         const auto damp =
-            hn::Mul(hn::Mul(alpha, hn::Sub(one, hn::Mul(hn::Mul(hn::Set(d, T(0.05)), y), y))), y);
+            hn::Mul(hn::Mul(p[0], hn::Sub(one, hn::Mul(hn::Mul(hn::Set(d, T(0.05)), y), y))), y);
         const auto nx = hn::Add(hn::Add(y, damp), f(x));
         y = hn::Add(hn::Neg(x), f(nx));
         x = nx;
     }
+}
+
+/// The parameters of K the chosen maps c have (per_map), for apply_kind.
+template <fp_chaos::LaneKind K, class D>
+HWY_INLINE void apply_lanes(D d, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
+                            hn::Vec<hn::RebindToUnsigned<D>> c, hn::Vec<D>& x, hn::Vec<D>& y) {
+    constexpr int n = K == fp_chaos::LaneKind::affine ? 6 : 3;
+    hn::Vec<D> p[6];
+    for (int j = 0; j < 6; ++j) p[j] = j < n ? per_map(d, t.p[j], t.k, c) : hn::Zero(d);
+    apply_kind<K>(d, p, x, y);
 }
 
 /// The chains' colours updated by the rule with the chosen maps' colours, where they moved.
@@ -759,7 +763,7 @@ HWY_INLINE fp_chaos::RunCounts fused_run_t(const fp_chaos::FusedArgs<T>& args, u
     // Each step's bins are prefetched when known and incremented one step later: an
     // increment that misses the cache would otherwise hold up the steps behind it (a few
     // orbits have little else to overlap with).
-    uint32_t lag[fp_chaos::lean_max];
+    uint32_t lag[fp_chaos::lean_max] = {}; // (zeroed: GCC cannot see that pending guards it)
     const size_t nb = f.book.nb;
     size_t pending = 0;
     for (uint64_t s = 0; s < steps; ++s) {
@@ -777,9 +781,91 @@ HWY_INLINE fp_chaos::RunCounts fused_run_t(const fp_chaos::FusedArgs<T>& args, u
     return out;
 }
 
-/// One or two chains take the narrow vectors (see FusedTag).
+/// The lean path of one chain of one map in a steady run (the papers' single orbit): the point,
+/// its random stream and its pending bin stay in registers from step to step, and the map's
+/// parameters are set once. Each step is fused_t's for that chain in the same operations (the
+/// stream's step with its output unused, the map, the finite test, the bin, the deposit one
+/// step later), so the bytes are the general path's (test_chaos_kernel). Stops after a step
+/// that gave a non-finite point, as fused_run_t does on a restart.
+template <class T, fp_chaos::LaneKind K>
+HWY_NOINLINE fp_chaos::RunCounts orbit_run_t(const fp_chaos::FusedArgs<T>& args, uint64_t steps) {
+    namespace fs = fp::simd::HWY_NAMESPACE;
+    const fp_chaos::FusedArgs<T> f = args; // a local copy: see fused_t
+    const hn::CappedTag<T, 1> d;
+    const fp_chaos::BookArgs<T> bk = f.book;
+    constexpr int np = K == fp_chaos::LaneKind::affine ? 6 : 3;
+    hn::Vec<decltype(d)> p[6];
+    for (int j = 0; j < 6; ++j) p[j] = hn::Set(d, j < np ? f.tables->p[j][0] : T(0));
+    auto x = hn::LoadU(d, bk.x), y = hn::LoadU(d, bk.y);
+    uint64_t state = f.draw.rs[0];
+    const uint64_t inc = f.draw.ri[0];
+    uint32_t* const hits = f.hits;
+    uint32_t idx = 0, pending = 0;
+    fp_chaos::RunCounts out;
+    bool bad = false;
+    // Gumowski-Mira: f(x_{n+1}), computed for y_{n+1}, is the next step's f(x_n) (the same
+    // function of the same value), carried rather than computed again. With alpha = +0 the
+    // damping term alpha (1 - 0.05 y^2) y is a zero of y's sign (or of the opposite one
+    // beyond |y| = sqrt(20)), so y + it is y itself: the step skips it, which shortens the
+    // chain of dependent operations, while |y| is small enough for the term to be finite
+    // (a NaN term would make the point NaN: beyond that bound the term is computed).
+    const auto one = hn::Set(d, T(1));
+    const auto gm_f = [&](hn::Vec<decltype(d)> u) {
+        const auto u2 = hn::Mul(u, u);
+        return hn::Add(hn::Mul(p[1], u), hn::Div(hn::Mul(p[2], u2), hn::Add(one, u2)));
+    };
+    const T alpha = f.tables->p[0][0];
+    const bool undamped = K == fp_chaos::LaneKind::gumowski_mira && alpha == T(0) && !std::signbit(alpha);
+    const auto small = hn::Set(d, sizeof(T) == 8 ? T(1e100) : T(1e12)); // 0.05 y^2 far from overflow
+    auto fx = K == fp_chaos::LaneKind::gumowski_mira ? gm_f(x) : x;
+    for (uint64_t s = 0; s < steps && !bad; ++s) {
+        state = state * pcg_mult_v + inc;
+        if constexpr (K == fp_chaos::LaneKind::gumowski_mira) {
+            hn::Vec<decltype(d)> nx;
+            if (undamped && hn::AllTrue(d, hn::Lt(hn::Abs(y), small))) {
+                nx = hn::Add(y, fx);
+            } else {
+                const auto damp =
+                    hn::Mul(hn::Mul(p[0], hn::Sub(one, hn::Mul(hn::Mul(hn::Set(d, T(0.05)), y), y))), y);
+                nx = hn::Add(hn::Add(y, damp), fx);
+            }
+            fx = gm_f(nx);
+            y = hn::Add(hn::Neg(x), fx);
+            x = nx;
+        } else {
+            apply_kind<K>(d, p, x, y);
+        }
+        const auto fin = hn::And(fs::finite(x), fs::finite(y));
+        idx = uint32_t(hn::GetLane(bin_index(d, bk, x, y, fin)));
+        hwy::Prefetch(hits + idx);
+        if (s > 0) ++hits[pending];
+        pending = idx;
+        bad = hn::AllFalse(d, fin);
+        ++out.steps;
+    }
+    if (out.steps > 0) ++hits[pending];
+    hn::StoreU(x, d, bk.x);
+    hn::StoreU(y, d, bk.y);
+    f.draw.rs[0] = state;
+    bk.prev[0] = 0;
+    f.draw.restart[0] = bad ? 2 : 0;
+    bk.idx[0] = idx;
+    out.last.bad = out.last.restarts = bad ? 1 : 0;
+    return out;
+}
+
+/// One chain of one map without the rules, in a steady run, takes orbit_run_t; one or two
+/// chains take the narrow vectors (see FusedTag).
 template <class T>
 HWY_INLINE fp_chaos::RunCounts fused_run_any(const fp_chaos::FusedArgs<T>& f, uint64_t steps) {
+    using K = fp_chaos::LaneKind;
+    if (f.book.nb == 1 && f.steady && f.tables->k == 1 && !f.tables->rules && f.draw.active[0] != 0) {
+        switch (f.tables->kind) {
+        case K::affine: return orbit_run_t<T, K::affine>(f, steps);
+        case K::gumowski_mira: return orbit_run_t<T, K::gumowski_mira>(f, steps);
+        default: return orbit_run_t<T, K::circle>(f, steps);
+        }
+    }
     if (f.book.nb <= 2) return fused_run_t<T, true>(f, steps);
     return fused_run_t<T, false>(f, steps);
 }
