@@ -106,6 +106,19 @@ HWY_EXPORT(retire_f);
 HWY_EXPORT(retire_d);
 HWY_EXPORT(test_retire_f);
 HWY_EXPORT(test_retire_d);
+HWY_EXPORT(tile_starts_f);
+HWY_EXPORT(tile_starts_d);
+HWY_EXPORT(tile_mean_all);
+
+inline void tile_starts(const TileFrame& f, Scratch<float>& s, size_t p0, size_t np) {
+    HWY_DYNAMIC_DISPATCH(tile_starts_f)(f, s, p0, np);
+}
+inline void tile_starts(const TileFrame& f, Scratch<double>& s, size_t p0, size_t np) {
+    HWY_DYNAMIC_DISPATCH(tile_starts_d)(f, s, p0, np);
+}
+inline void tile_mean(const float* rgb, uint32_t* q, uint64_t* sum, size_t np, size_t ns, float* out) {
+    HWY_DYNAMIC_DISPATCH(tile_mean_all)(rgb, q, sum, np, ns, out);
+}
 
 inline size_t retire(Scratch<float>& s, size_t live, uint32_t it) {
     return HWY_DYNAMIC_DISPATCH(retire_f)(s, live, it);
@@ -132,12 +145,7 @@ using std::uint64_t;
 
 /// Samples per tile: the batch of one task (a few hundred microseconds of work).
 constexpr size_t tile_samples = 1024;
-/// Fixed-point scale of the per-pixel colour sums (24 fractional bits).
-constexpr double sum_scale = 16777216.0;
-
-struct Offset {
-    double x, y;
-};
+using fp_orbit_trap::Offset;
 
 // The sample pattern for `n` samples, or empty when n is not a supported count.
 std::vector<Offset> pattern(int64_t n) {
@@ -246,35 +254,23 @@ template <class T>
 TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, const fp::RenderContext& ctx) const {
     const size_t npix = size_t(frame_.width) * size_t(frame_.height);
     const size_t p0 = t * tile_pixels_, p1 = std::min(npix, p0 + tile_pixels_);
-    const size_t ns = offsets_.size(), b = (p1 - p0) * ns;
-    // 1 / (W - 1) as a factor: a product is as symmetric under negation as a quotient, and the
-    // same expression serves x and y, so the symmetry of the start points is exact either way.
+    const size_t ns = offsets_.size(), np = p1 - p0, b = np * ns;
+    // The batch's start points (orbit-trap/kernels-inl.hpp, per target: plain loops the
+    // compiler vectorises for each instruction set).
     const double iw = 1.0 / double(std::max(frame_.width - 1, 1)),
                  ih = 1.0 / double(std::max(frame_.height - 1, 1));
-    const double w1 = double(frame_.width - 1), h1 = double(frame_.height - 1);
-    // The batch is sample-major: sample q of the tile's pixel p is lane q * np + p, so that every
-    // loop here is a vector loop (the order of the lanes changes nothing: each orbit is its own,
-    // and a pixel's samples are summed in integers).
-    const size_t np = p1 - p0;
-    size_t pi = p0 % size_t(frame_.width),
-           pj = p0 / size_t(frame_.width); // pixel (pi, pj): no division per pixel
-    for (size_t p = 0; p < np; ++p, pi = pi + 1 == size_t(frame_.width) ? (++pj, 0) : pi + 1)
-        s.u[p] = 2 * double(pi) - w1, s.v[p] = 2 * double(pj) - h1;
-    for (size_t q = 0; q < ns; ++q) {
-        const double ox = 2 * offsets_[q].x, oy = 2 * offsets_[q].y;
-        T* __restrict x = s.x.data() + q * np;
-        T* __restrict y = s.y.data() + q * np;
-        const double* __restrict u = s.u.data();
-        const double* __restrict v = s.v.data();
-        for (size_t p = 0; p < np; ++p) {
-            x[p] = T(cx_ + hx_ * ((u[p] + ox) * iw));
-            y[p] = T(cy_ - hy_ * ((v[p] + oy) * ih));
-        }
-    }
-    for (size_t k = 0; k < b; ++k) s.id[k] = uint32_t(k);
-    std::fill_n(s.trap.data(), b, -1);
-    std::fill_n(s.ratio_out.data(), b, 0.0f);
-    std::fill_n(s.iteration.data(), b, max_iterations_);
+    const fp_orbit_trap::TileFrame tf{cx_,
+                                      hx_,
+                                      cy_,
+                                      hy_,
+                                      iw,
+                                      ih,
+                                      size_t(frame_.width),
+                                      size_t(frame_.height),
+                                      offsets_.data(),
+                                      ns,
+                                      max_iterations_};
+    fp_orbit_trap::tile_starts(tf, s, p0, np);
     size_t live = b;
     // With a known trap the reduction's range is checked inline (test_retire) once a batch
     // reduction found every value in range (the map reduces itself, as the wallpaper maps under
@@ -308,36 +304,8 @@ TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, const fp::Rende
 
     colourer_->colour_hits(s.trap.data(), s.ratio_out.data(), s.iteration.data(), b,
                            frame_.has_background ? &frame_.background : nullptr, s.rgb.data());
-    // The mean of each pixel's samples, summed in integers (order-independent): each channel
-    // value clamped to [0, 1] (NaN -> 0) and rounded to nearest (halves up; llround's rule for
-    // v >= 0) at 24 fractional bits, exactly (v * 2^24 and the + 0.5 are exact in double), in one
-    // vectorised pass; then the sums per pixel.
-    const size_t nv = 3 * b;
-    uint32_t* __restrict q = s.quant.data();
-    const float* __restrict rgb = s.rgb.data();
-    // Two loops, each a vector loop (in one, GCC 12 turns the clamp into branches and keeps it
-    // scalar): the clamp on the bits (negative values and NaNs -> 0, values >= 1 -> 1), then the
-    // conversion (within int32's range).
-    for (size_t i = 0; i < nv; ++i) {
-        const auto u = std::bit_cast<std::int32_t>(rgb[i]);
-        q[i] = uint32_t(u > 0x7f800000 ? 0 : u >= 0x3f800000 ? 0x3f800000 : u < 0 ? 0 : u);
-    }
-    for (size_t i = 0; i < nv; ++i)
-        q[i] = uint32_t(std::int32_t(double(std::bit_cast<float>(q[i])) * sum_scale + 0.5));
-    const double inv = 1.0 / (sum_scale * double(ns));
-    float* __restrict out = image + 3 * p0;
-    if (ns == 1) {
-        for (size_t i = 0; i < nv; ++i) out[i] = float(double(q[i]) * inv);
-        return st;
-    }
-    const size_t nc = 3 * np; // channel values per sample index q
-    uint64_t* __restrict sum = s.sum.data();
-    for (size_t i = 0; i < nc; ++i) sum[i] = q[i];
-    for (size_t k = 1; k < ns; ++k) {
-        const uint32_t* __restrict c = q + k * nc;
-        for (size_t i = 0; i < nc; ++i) sum[i] += c[i];
-    }
-    for (size_t i = 0; i < nc; ++i) out[i] = float(double(sum[i]) * inv);
+    // The mean of each pixel's samples (orbit-trap/kernels-inl.hpp, per target).
+    fp_orbit_trap::tile_mean(s.rgb.data(), s.quant.data(), s.sum.data(), np, ns, image + 3 * p0);
     return st;
 }
 

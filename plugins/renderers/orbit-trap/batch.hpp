@@ -45,6 +45,24 @@ struct Scratch {
     }
 };
 
+/// A sample's offset within its pixel, in pixels.
+struct Offset {
+    double x, y;
+};
+
+/// Fixed-point scale of the per-pixel colour sums (24 fractional bits).
+constexpr double sum_scale = 16777216.0;
+
+/// What a tile's start points are made from: the area's centre and half sizes, 1 / (W - 1) and
+/// 1 / (H - 1), the image size, the sample pattern and the step limit.
+struct TileFrame {
+    double cx, hx, cy, hy, iw, ih;
+    size_t width, height;
+    const Offset* offsets;
+    size_t ns;
+    uint32_t max_iterations;
+};
+
 struct TileStats {
     uint64_t drawn = 0, bad = 0;
 };

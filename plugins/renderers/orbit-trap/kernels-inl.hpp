@@ -32,6 +32,7 @@
 #include <hwy/highway.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -175,6 +176,77 @@ size_t test_retire_f(const KnownCircles<float>& c, Scratch<float>& s, size_t liv
 size_t test_retire_d(const KnownCircles<double>& c, Scratch<double>& s, size_t live, uint32_t iteration,
                      Reduction red, bool check, bool& outside) {
     return test_retire_any(c, s, live, iteration, red, check, outside);
+}
+
+// ---------------------------------------------------------------- a tile's start and end
+// Plain loops, vectorised by the compiler for each target of this section (the same IEEE
+// operations on every one: no contraction, exact conversions).
+
+/// The tile's start points: pixels p0 .. p0 + np - 1 in row-major order, sample-major (sample
+/// q of pixel p is lane q * np + p, so that every loop is a vector loop; the order of the lanes
+/// changes nothing: each orbit is its own, and a pixel's samples are summed in integers); and
+/// the per-sample records reset.
+template <class T>
+HWY_INLINE void tile_starts_t(const TileFrame& f, Scratch<T>& s, size_t p0, size_t np) {
+    const size_t b = np * f.ns;
+    const double w1 = double(f.width - 1), h1 = double(f.height - 1);
+    size_t pi = p0 % f.width, pj = p0 / f.width; // pixel (pi, pj): no division per pixel
+    for (size_t p = 0; p < np; ++p, pi = pi + 1 == f.width ? (++pj, 0) : pi + 1)
+        s.u[p] = 2 * double(pi) - w1, s.v[p] = 2 * double(pj) - h1;
+    // 1 / (W - 1) as a factor: a product is as symmetric under negation as a quotient, and the
+    // same expression serves x and y, so the symmetry of the start points is exact either way.
+    for (size_t q = 0; q < f.ns; ++q) {
+        const double ox = 2 * f.offsets[q].x, oy = 2 * f.offsets[q].y;
+        T* __restrict x = s.x.data() + q * np;
+        T* __restrict y = s.y.data() + q * np;
+        const double* __restrict u = s.u.data();
+        const double* __restrict v = s.v.data();
+        for (size_t p = 0; p < np; ++p) {
+            x[p] = T(f.cx + f.hx * ((u[p] + ox) * f.iw));
+            y[p] = T(f.cy - f.hy * ((v[p] + oy) * f.ih));
+        }
+    }
+    for (size_t k = 0; k < b; ++k) s.id[k] = uint32_t(k);
+    std::fill_n(s.trap.data(), b, -1);
+    std::fill_n(s.ratio_out.data(), b, 0.0f);
+    std::fill_n(s.iteration.data(), b, f.max_iterations);
+}
+
+void tile_starts_f(const TileFrame& f, Scratch<float>& s, size_t p0, size_t np) {
+    tile_starts_t(f, s, p0, np);
+}
+void tile_starts_d(const TileFrame& f, Scratch<double>& s, size_t p0, size_t np) {
+    tile_starts_t(f, s, p0, np);
+}
+
+/// The mean of each pixel's ns samples (rgb: sample-major, 3 channels each) into out, summed in
+/// integers (order-independent): each channel value clamped to [0, 1] (NaN -> 0) and rounded
+/// to nearest (halves up; llround's rule for v >= 0) at 24 fractional bits, exactly (v * 2^24
+/// and the + 0.5 are exact in double), in one vectorised pass; then the sums per pixel.
+void tile_mean_all(const float* __restrict rgb, uint32_t* __restrict q, uint64_t* __restrict sum, size_t np,
+                   size_t ns, float* __restrict out) {
+    const size_t nv = 3 * np * ns;
+    // Two loops, each a vector loop (in one, GCC 12 turns the clamp into branches and keeps it
+    // scalar): the clamp on the bits (negative values and NaNs -> 0, values >= 1 -> 1), then the
+    // conversion (within int32's range).
+    for (size_t i = 0; i < nv; ++i) {
+        const auto u = std::bit_cast<std::int32_t>(rgb[i]);
+        q[i] = uint32_t(u > 0x7f800000 ? 0 : u >= 0x3f800000 ? 0x3f800000 : u < 0 ? 0 : u);
+    }
+    for (size_t i = 0; i < nv; ++i)
+        q[i] = uint32_t(std::int32_t(double(std::bit_cast<float>(q[i])) * sum_scale + 0.5));
+    const double inv = 1.0 / (sum_scale * double(ns));
+    if (ns == 1) {
+        for (size_t i = 0; i < nv; ++i) out[i] = float(double(q[i]) * inv);
+        return;
+    }
+    const size_t nc = 3 * np; // channel values per sample index
+    for (size_t i = 0; i < nc; ++i) sum[i] = q[i];
+    for (size_t k = 1; k < ns; ++k) {
+        const uint32_t* __restrict c = q + k * nc;
+        for (size_t i = 0; i < nc; ++i) sum[i] += c[i];
+    }
+    for (size_t i = 0; i < nc; ++i) out[i] = float(double(sum[i]) * inv);
 }
 
 } // namespace fp_orbit_trap::HWY_NAMESPACE
