@@ -38,4 +38,5 @@ row "Gumowski-Mira, many chains" bench/gm-chains.yaml
 row "Gumowski-Mira, single orbit" bench/gm-orbit.yaml
 row "default render (inversion/fig6a), 4e6 points" configs/inversion/fig6a.yaml --set renderer.points=4000000
 row "superformula ring (inversion/fig6d), 1e6 points" configs/inversion/fig6d.yaml --set renderer.points=1000000
-row "orbit-trap (orbit-trap/fig10a)" configs/orbit-trap/fig10a.yaml
+row "orbit-trap (orbit-trap/fig10a at 2400 x 2400)" configs/orbit-trap/fig10a.yaml --set renderer.width=2400 \
+    --set renderer.height=2400

@@ -834,6 +834,11 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
                 // The end of a steady run: a restart (its chain must wait out its skip again),
                 // or as many steps as the block's fewest points left, less one.
                 if (steady_left == 0 || sc.restarts) {
+                    // One map without the rules: the kernels left the streams where the run
+                    // began (see fused_t); they move on by its length now, before any restart
+                    // draws from them.
+                    const LaneTables<T>& lt = lane_tables<T>();
+                    if (lt.k == 1 && !lt.rules) pcg_jump(s.rs.get(), s.ri.get(), nb, steady_steps);
                     sc.plotted = settle_steady(s, nb, steady_steps);
                     steady_left = steady_steps = 0;
                 }

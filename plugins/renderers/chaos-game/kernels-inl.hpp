@@ -651,9 +651,10 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
             });
             some = hn::Ne(tot, zero);
         } else if (k == 1) {
-            // One map (a single orbit of one map): the draw's output is not needed, but the
-            // stream moves on as it would (start points after restarts come from it).
-            pcg_skip(du, a.rs + i, a.ri + i);
+            // One map: the draw's output is not needed, but the stream moves on as it would
+            // (start points after restarts come from it): here, or in a steady run at its end,
+            // by the run's length at once (state.hpp's pcg_jump, by the renderer).
+            if constexpr (!Steady) pcg_skip(du, a.rs + i, a.ri + i);
             c = zero;
             some = hn::Eq(zero, zero);
         } else {
@@ -783,9 +784,9 @@ HWY_INLINE fp_chaos::RunCounts fused_run_t(const fp_chaos::FusedArgs<T>& args, u
 
 /// The lean path of one chain of one map in a steady run (the papers' single orbit): the point,
 /// its random stream and its pending bin stay in registers from step to step, and the map's
-/// parameters are set once. Each step is fused_t's for that chain in the same operations (the
-/// stream's step with its output unused, the map, the finite test, the bin, the deposit one
-/// step later), so the bytes are the general path's (test_chaos_kernel). Stops after a step
+/// parameters are set once. Each step is fused_t's steady step for that chain in the same
+/// operations (the map, the finite test, the bin, the deposit one step later; the stream moves
+/// on at the steady run's end), so the bytes are the general path's (test_chaos_kernel). Stops after a step
 /// that gave a non-finite point, as fused_run_t does on a restart.
 template <class T, fp_chaos::LaneKind K>
 HWY_NOINLINE fp_chaos::RunCounts orbit_run_t(const fp_chaos::FusedArgs<T>& args, uint64_t steps) {
@@ -797,8 +798,6 @@ HWY_NOINLINE fp_chaos::RunCounts orbit_run_t(const fp_chaos::FusedArgs<T>& args,
     hn::Vec<decltype(d)> p[6];
     for (int j = 0; j < 6; ++j) p[j] = hn::Set(d, j < np ? f.tables->p[j][0] : T(0));
     auto x = hn::LoadU(d, bk.x), y = hn::LoadU(d, bk.y);
-    uint64_t state = f.draw.rs[0];
-    const uint64_t inc = f.draw.ri[0];
     uint32_t* const hits = f.hits;
     uint32_t idx = 0, pending = 0;
     fp_chaos::RunCounts out;
@@ -819,7 +818,6 @@ HWY_NOINLINE fp_chaos::RunCounts orbit_run_t(const fp_chaos::FusedArgs<T>& args,
     const auto small = hn::Set(d, sizeof(T) == 8 ? T(1e100) : T(1e12)); // 0.05 y^2 far from overflow
     auto fx = K == fp_chaos::LaneKind::gumowski_mira ? gm_f(x) : x;
     for (uint64_t s = 0; s < steps && !bad; ++s) {
-        state = state * pcg_mult_v + inc;
         if constexpr (K == fp_chaos::LaneKind::gumowski_mira) {
             hn::Vec<decltype(d)> nx;
             if (undamped && hn::AllTrue(d, hn::Lt(hn::Abs(y), small))) {
@@ -846,7 +844,6 @@ HWY_NOINLINE fp_chaos::RunCounts orbit_run_t(const fp_chaos::FusedArgs<T>& args,
     if (out.steps > 0) ++hits[pending];
     hn::StoreU(x, d, bk.x);
     hn::StoreU(y, d, bk.y);
-    f.draw.rs[0] = state;
     bk.prev[0] = 0;
     f.draw.restart[0] = bad ? 2 : 0;
     bk.idx[0] = idx;

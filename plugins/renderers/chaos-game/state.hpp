@@ -68,6 +68,20 @@ inline uint32_t pcg_next(uint64_t& state, uint64_t inc) {
     return (x >> rot) | (x << ((32u - rot) & 31u));
 }
 
+/// Advances each of n streams by `steps` outputs at once: the states `steps` calls of pcg_next
+/// would leave. (Jump-ahead for an LCG, F. Brown 1994: state * A + inc * G with A = mult^steps
+/// and G = 1 + mult + ... + mult^(steps - 1), modulo 2^64, by squaring.) A steady run of one
+/// map without the rules draws nothing from its streams, which then move on once at its end.
+inline void pcg_jump(uint64_t* rs, const uint64_t* ri, size_t n, uint64_t steps) {
+    uint64_t A = 1, G = 0, mult = pcg_mult, plus = 1;
+    for (uint64_t d = steps; d > 0; d >>= 1) {
+        if (d & 1) A *= mult, G = G * mult + plus;
+        plus *= mult + 1;
+        mult *= mult;
+    }
+    for (size_t i = 0; i < n; ++i) rs[i] = rs[i] * A + ri[i] * G;
+}
+
 /// fp::uniform_double on the SoA stream: uniform in [0, 1) with 53 random bits.
 inline double pcg_uniform(uint64_t& state, uint64_t inc) {
     const uint64_t hi = pcg_next(state, inc) >> 5, lo = pcg_next(state, inc) >> 6;
