@@ -89,8 +89,11 @@ HWY_INLINE void sin_cos(D d, hn::Vec<D> x, hn::Vec<D>& s, hn::Vec<D>& c) {
     const auto cr = hn::Add(hn::Sub(hn::Set(d, 1.0), hn::Mul(hn::Set(d, 0.5), z)),
                             hn::Mul(hn::Mul(z, z), math_detail::horner(d, z, cos_c)));
     // Quadrant q = k mod 4: sin x = (sr, cr, -sr, -cr)[q], cos x = (cr, -sr, -cr, sr)[q].
+    // (k converted only where it is an integer well inside int64's range: a NaN or infinite
+    // one, whose r is NaN anyway, takes 0; converting it would be undefined behaviour on the
+    // emulated targets.)
     const hn::RebindToSigned<D> di;
-    const auto q = hn::ConvertTo(di, k);
+    const auto q = hn::ConvertTo(di, hn::IfThenElseZero(hn::Lt(hn::Abs(k), hn::Set(d, 1e15)), k));
     const auto one = hn::Set(di, 1), two = hn::Set(di, 2);
     const auto odd = hn::RebindMask(d, hn::Eq(hn::And(q, one), one));
     const auto s_neg = hn::RebindMask(d, hn::Eq(hn::And(q, two), two));
@@ -186,8 +189,11 @@ HWY_INLINE hn::Vec<D> exp(D d, hn::Vec<D> x) {
     constexpr double log2e = 1.4426950408889634073599, c1 = 6.93145751953125e-1,
                      c2 = 1.42860682030941723212e-6;
     constexpr double max_log = 7.09782712893383996843e2, min_log = -7.451332191019412076235e2;
-    // Clamp first, so that n below stays in range; the ends are replaced at the bottom.
-    const auto xc = hn::Min(hn::Max(x, hn::Set(d, min_log)), hn::Set(d, max_log));
+    // Clamp first, so that n below stays in range (and NaN to 0: converting a NaN n to an
+    // integer would be undefined behaviour on the emulated targets); the ends and NaN are
+    // replaced at the bottom.
+    const auto xc =
+        hn::Min(hn::Max(hn::IfThenZeroElse(is_nan(x), x), hn::Set(d, min_log)), hn::Set(d, max_log));
     const auto n = hn::Floor(hn::Add(hn::Mul(xc, hn::Set(d, log2e)), hn::Set(d, 0.5)));
     auto r = hn::Sub(xc, hn::Mul(n, hn::Set(d, c1)));
     r = hn::Sub(r, hn::Mul(n, hn::Set(d, c2))); // |r| <= ln(2) / 2
