@@ -109,12 +109,13 @@ std::string short_num(double v) {
 
 class Superformula final : public fp::Shape {
 public:
-    explicit Superformula(const fp::ParamBag& p)
-        : m4_(p.real("m") / 4), inv_n1_(1 / p.real("n1")), n2_(p.real("n2")), n3_(p.real("n3")),
-          inv_a_(1 / p.real("a")), inv_b_(1 / p.real("b")), scale_(p.real("scale")), c_(p.vec2("centre")) {
+    explicit Superformula(const fp::ParamBag& p) : c_(p.vec2("centre")) {
+        k_.m4 = p.real("m") / 4, k_.inv_n1 = 1 / p.real("n1"), k_.n2 = p.real("n2"), k_.n3 = p.real("n3");
+        k_.inv_a = 1 / p.real("a"), k_.inv_b = 1 / p.real("b"), k_.scale = p.real("scale");
+        k_.cx = c_.x, k_.cy = c_.y;
         const double rot = p.real("rotation");
-        cr_ = std::cos(rot);
-        sr_ = std::sin(rot);
+        k_.cr = std::cos(rot);
+        k_.sr = std::sin(rot);
 
         // Radius bounds from dense samples, with a margin for what lies between samples.
         double lo = std::numeric_limits<double>::infinity(), hi = 0;
@@ -124,9 +125,9 @@ public:
             lo = std::min(lo, r);
             hi = std::max(hi, r);
         }
-        r_lo_ = 0.99 * lo;
-        r_hi_ = 1.01 * hi;
-        size_ = 2 * r_hi_;
+        k_.r_lo = 0.99 * lo;
+        k_.r_hi = 1.01 * hi;
+        size_ = 2 * k_.r_hi;
 
         // The inscribed 2048-gon whose kernel stands for the set's.
         bx_.resize(kernel_samples);
@@ -146,7 +147,6 @@ public:
             nx_[k] = -ey / len; // inward normal: the samples run counter-clockwise
             ny_[k] = ex / len;
         }
-        curve_ = {m4_, inv_n1_, n2_, n3_, inv_a_, inv_b_, scale_, c_.x, c_.y, cr_, sr_, r_lo_, r_hi_};
         if (!in_kernel(c_))
             throw fp::ParamError("superformula is too thin near its centre: the centre is not inside the "
                                  "kernel of its sampled boundary");
@@ -161,7 +161,9 @@ public:
         return true;
     }
 
-    fp::Box bounds() const override { return {c_.x - r_hi_, c_.x + r_hi_, c_.y - r_hi_, c_.y + r_hi_}; }
+    fp::Box bounds() const override {
+        return {c_.x - k_.r_hi, c_.x + k_.r_hi, c_.y - k_.r_hi, c_.y + k_.r_hi};
+    }
 
     std::vector<fp::Vec2> outline(std::size_t samples) const override {
         const std::size_t n = std::max<std::size_t>(samples, 16);
@@ -178,7 +180,7 @@ public:
 private:
     template <class T>
     void inside_t(fp::Points<const T> p, unsigned char* out) const {
-        fp_superformula::inside(curve_, p, out);
+        fp_superformula::inside(k_, p, out);
     }
 
     // w = o - c and f(0) are computed once per batch, in double (f(0) with the kernels' own
@@ -186,18 +188,18 @@ private:
     template <class T>
     void ray_t(fp::Vec2 o, fp::Points<const T> d, T* t) const {
         const double wx = o.x - c_.x, wy = o.y - c_.y;
-        if (wx == 0 && wy == 0) return fp_superformula::ray(curve_, nullptr, d, t);
+        if (wx == 0 && wy == 0) return fp_superformula::ray(k_, nullptr, d, t);
         const double nw = std::hypot(wx, wy);
-        const fp_superformula::Origin w{wx, wy, nw, nw - fp_superformula::radius_at(curve_, wx, wy)};
-        fp_superformula::ray(curve_, &w, d, t);
+        const fp_superformula::Origin w{wx, wy, nw, nw - fp_superformula::radius_at(k_, wx, wy)};
+        fp_superformula::ray(k_, &w, d, t);
     }
 
     /// r(theta) with libm, for the setup (the batches use the kernels' own functions).
     double radius(double th) const {
-        const double u = m4_ * th;
-        const double A = std::pow(std::abs(std::cos(u) * inv_a_), n2_);
-        const double B = std::pow(std::abs(std::sin(u) * inv_b_), n3_);
-        return scale_ * std::pow(A + B, -inv_n1_);
+        const double u = k_.m4 * th;
+        const double A = std::pow(std::abs(std::cos(u) * k_.inv_a), k_.n2);
+        const double B = std::pow(std::abs(std::sin(u) * k_.inv_b), k_.n3);
+        return k_.scale * std::pow(A + B, -k_.inv_n1);
     }
 
     /// The k-th of n sample angles, at the middles of n equal steps of (-pi, pi].
@@ -207,7 +209,7 @@ private:
 
     fp::Vec2 boundary(double th) const {
         const double r = radius(th), x = r * std::cos(th), y = r * std::sin(th);
-        return {c_.x + cr_ * x - sr_ * y, c_.y + sr_ * x + cr_ * y};
+        return {c_.x + k_.cr * x - k_.sr * y, c_.y + k_.sr * x + k_.cr * y};
     }
 
     static void check(double th, double r) {
@@ -217,12 +219,10 @@ private:
                 " at theta = " + short_num(th) + "; check m, n1, n2, n3, a and b");
     }
 
-    double m4_, inv_n1_, n2_, n3_, inv_a_, inv_b_, scale_;
     fp::Vec2 c_;
-    double cr_ = 1, sr_ = 0;
-    double r_lo_ = 0, r_hi_ = 0, size_ = 0;
+    fp_superformula::Curve k_{}; ///< the parameters, as the batch kernels take them too
+    double size_ = 0;
     std::vector<double> bx_, by_, nx_, ny_;
-    fp_superformula::Curve curve_{};
 };
 
 } // namespace
