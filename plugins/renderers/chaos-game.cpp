@@ -19,9 +19,9 @@
 // Chains run in blocks of 512 (the last few of a render on several workers: 128), in
 // lockstep, as structure-of-arrays state (x, y, previous map, colour, pcg32 state, age,
 // points left); one task per worker of the host's parallel_for takes the next block until
-// none is left. (The block state, buffers and histograms are in chaos_state.hpp, the
-// bookkeeping of a step and the steady runs in chaos_bookkeep.hpp, the fused step in
-// chaos_fused.hpp.)
+// none is left. (The block state, buffers and histograms are in chaos-game/state.hpp, the
+// steady runs in chaos-game/steady.hpp, the vectorised stages and the fused step in
+// chaos-game/kernels-inl.hpp, compiled per SIMD target.)
 // One step of a block:
 //   1. inside tests: one Transform::contains call per map with a set on the whole block
 //      (rules on);
@@ -42,13 +42,16 @@
 //      chains: their cache misses (a 4 MiB histogram does not fit in L2) then overlap the
 //      arithmetic instead of following it in a loop of their own (about 20% of the render's
 //      time on one thread; bench/README.md).
-// Known kernels: when every map is inversion in a circle about its centre (Transform::kernel()
-// returns circle_inversion), the scheme is a plain Picard step, the rules are on and the chains
-// are float (AVX-512), steps 1-3 (and 5, when the colourer needs no colour) run instead as one
-// fused pass, 16 chains per vector with the circles' parameters in registers and tables, no
-// calls and no grouping (chaos_fused.hpp). It computes the same draws and the same float
-// operations in the same order, so the image is the same bytes; `kernels: generic` turns it
-// off (tests/unit/test_chaos_kernel.cpp renders recipes both ways).
+// Known kernels: when every map is a known kernel of one kind (Transform::kernel(): inversion
+// in a circle about its centre, affine, Gumowski-Mira) and the scheme is a plain Picard step,
+// steps 1-5 run instead as one fused pass per SIMD target, a vector of chains at a time with
+// the maps' parameters in registers and tables, no calls and no grouping
+// (chaos-game/kernels-inl.hpp's fused_t). It computes the same draws and the same operations
+// in the same order, so the image is the same bytes; `kernels: generic` turns it off
+// (tests/unit/test_chaos_kernel.cpp renders recipes both ways). While every chain of a block is
+// past its skip and far from its last point, the block runs steady (chaos-game/steady.hpp):
+// the pass leaves age, idle, points left and activity alone, and they are settled at the run's
+// end, with colour or without.
 // So a step costs 2k + 1 virtual calls per block (k maps), none per point; nothing is
 // allocated, looked up, thrown or logged per point. Block buffers are allocated once per
 // worker and stay in L1/L2 (about 100 bytes per chain, k more for the tests, 8 k for the
@@ -770,8 +773,8 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
     uint64_t* dep_out = s.dep.get();
     const uint64_t* lag_dep = nullptr;
     uint32_t nfull = 0;
-    // The fused step's steady runs (fused_rules_step<true, true>): steps the block may still
-    // run that way (0: not in one) and the steps run since the run began.
+    // The fused step's steady runs (fused_t with Steady): steps the block may still run that
+    // way (0: not in one) and the steps run since the run began.
     uint64_t steady_left = 0, steady_steps = 0, steady_wait = 0;
     // A block of few chains counting hits only runs lean (kernels-inl.hpp's fused_run_t): the
     // fused steps up to the next poll in one call, each depositing its own bins.
@@ -794,7 +797,7 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
         Counts sc;
         uint64_t steps_run = 1;
         if (fused_) {
-            if (!Colour && steady_left == 0) {
+            if (steady_left == 0) {
                 if (steady_wait > 0) {
                     --steady_wait;
                 } else {

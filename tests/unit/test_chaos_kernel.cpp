@@ -260,6 +260,12 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
         // Hits only with few points per chain (50 or 51) and a skip of 3: the fused path's steady
         // runs end one step before the first chain would run out, then single steps finish.
         bench + "points: 5003, chains: 100, skip: 3, colourer: {type: density}, " + circles_maps(),
+        // The same with colour (steady runs carry the colours too), and with the flame colourer
+        // on an expanding map beside a contracting one: steady runs ended by restarts.
+        bench + "points: 5003, chains: 100, skip: 3, colourer: {type: map-colour}, " + circles_maps(),
+        "type: chaos-game, width: 64, height: 64, view: [-2, 2, -2, 2], points: 100000, chains: 100, skip: "
+        "2, colourer: {type: flame}, maps: [{type: affine, coefficients: [1.5, 0.2, -0.1, 1.4, 0.01, 0]}, "
+        "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.3, 0.1], weight: 4}]",
         // Hits only, skip 0, 700 chains (a block of 512 and a partial one; on 2 threads blocks of
         // 128 at the end).
         bench + "points: 200000, chains: 700, skip: 0, seed: 4, colourer: {type: density}, " + circles_maps(),

@@ -727,8 +727,10 @@ HWY_INLINE fp_chaos::Counts fused_colour(const fp_chaos::FusedArgs<T>& f) {
     using C = fp_chaos::LaneColour;
     using D = FusedTag<T, Narrow>;
     if constexpr (!Narrow) {
-        if (f.tables->colour == C::map) return fused_t<D, K, Rules, C::map, false>(f);
-        if (f.tables->colour == C::average) return fused_t<D, K, Rules, C::average, false>(f);
+        if (f.tables->colour == C::map)
+            return f.steady ? fused_t<D, K, Rules, C::map, true>(f) : fused_t<D, K, Rules, C::map, false>(f);
+        if (f.tables->colour == C::average)
+            return f.steady ? fused_t<D, K, Rules, C::average, true>(f) : fused_t<D, K, Rules, C::average, false>(f);
     }
     return f.steady ? fused_t<D, K, Rules, C::none, true>(f) : fused_t<D, K, Rules, C::none, false>(f);
 }

@@ -119,7 +119,7 @@ struct FusedArgs {
     BookArgs<T> book;
     std::uint32_t* hits;
     const std::uint32_t* lag;
-    bool steady; ///< the block is in a steady run (see steady.hpp; hits only)
+    bool steady; ///< the block is in a steady run (see steady.hpp)
     /// With colour: the worker's bins (4 counters each), the previous step's packed colours
     /// (beside `lag`, its bins), deposited during the pass like the hits; the bins whose hits
     /// reach `spill_at` are listed in `full` (count in *nfull) for the caller to spill.
