@@ -730,7 +730,8 @@ HWY_INLINE fp_chaos::Counts fused_colour(const fp_chaos::FusedArgs<T>& f) {
         if (f.tables->colour == C::map)
             return f.steady ? fused_t<D, K, Rules, C::map, true>(f) : fused_t<D, K, Rules, C::map, false>(f);
         if (f.tables->colour == C::average)
-            return f.steady ? fused_t<D, K, Rules, C::average, true>(f) : fused_t<D, K, Rules, C::average, false>(f);
+            return f.steady ? fused_t<D, K, Rules, C::average, true>(f)
+                            : fused_t<D, K, Rules, C::average, false>(f);
     }
     return f.steady ? fused_t<D, K, Rules, C::none, true>(f) : fused_t<D, K, Rules, C::none, false>(f);
 }
