@@ -206,29 +206,31 @@ HWY_INLINE hn::Mask<DU> count_down(DU du, uint64_t* left, hn::Mask<DU> dec) {
 
 // ---------------------------------------------------------------- the draw
 /// Rules on: the total allowed weight t, then u = high 32 bits of r * t and chosen = #{j :
-/// cum_j <= u}; `ok(j)` is the mask of the chains for which map j is allowed. KMax bounds k
-/// at compile time, so that the loops over the maps unroll (k <= 16 in practice); the masks
-/// are kept as bits between the two loops.
+/// cum_j <= u}, cum_j the allowed weight of maps 0..j; `ok(j)` is the mask of the chains for
+/// which map j is allowed. KMax bounds k at compile time, so that the loops over the maps
+/// unroll (k <= 16 in practice). The running sums of the first loop are the cum_j: kept in
+/// memory between the loops (one store and one load a map, where keeping the masks as bits
+/// took a mask-to-bits and a bits-to-mask conversion, each several instructions on targets
+/// without mask registers).
 template <size_t KMax, class DU, class Ok>
 HWY_INLINE hn::Vec<DU> draw_allowed(DU du, const uint32_t* q, uint32_t k, hn::Vec<DU> r, hn::Vec<DU>& tot,
                                     Ok&& ok) {
     using U = hn::TFromD<DU>;
-    uint8_t bits[KMax][(fp::simd::HWY_NAMESPACE::max_lanes<U> + 7) / 8];
+    constexpr size_t L = fp::simd::HWY_NAMESPACE::max_lanes<U>;
+    alignas(HWY_MAX_BYTES) U cum[KMax * L];
     // (IfThenElse(m, Add(a, b), a): one masked add where the target has them.)
     tot = hn::Zero(du);
     for (size_t j = 0; j < KMax; ++j) {
         if (j == k) break;
-        const auto m = ok(uint32_t(j));
-        hn::StoreMaskBits(du, m, bits[j]);
-        tot = hn::IfThenElse(m, hn::Add(tot, hn::Set(du, U(q[j]))), tot);
+        tot = hn::IfThenElse(ok(uint32_t(j)), hn::Add(tot, hn::Set(du, U(q[j]))), tot);
+        hn::Store(tot, du, cum + j * L);
     }
     const auto u = mul_high32(du, r, tot);
-    auto cum = hn::Zero(du), c = hn::Zero(du);
+    auto c = hn::Zero(du);
     const auto one = hn::Set(du, U(1));
     for (size_t j = 0; j < KMax; ++j) {
         if (j == k) break;
-        cum = hn::IfThenElse(hn::LoadMaskBits(du, bits[j]), hn::Add(cum, hn::Set(du, U(q[j]))), cum);
-        c = hn::IfThenElse(hn::Gt(cum, u), c, hn::Add(c, one));
+        c = hn::IfThenElse(hn::Gt(hn::Load(du, cum + j * L), u), c, hn::Add(c, one));
     }
     return c;
 }
