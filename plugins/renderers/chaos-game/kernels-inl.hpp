@@ -484,22 +484,28 @@ size_t deposit_colour(uint32_t* bins, const uint32_t* idx, const uint64_t* dep, 
 }
 
 // ---------------------------------------------------------------- the fused step
-/// The per-lane value of a map's parameter: a table lookup when the maps fit one vector, else
-/// a selection per map (the same values).
-template <class D>
-HWY_INLINE hn::Vec<D> per_map(D d, const hn::TFromD<D>* table, uint32_t k,
-                              hn::Vec<hn::RebindToUnsigned<D>> c) {
+/// The per-lane values of n of the maps' parameters (tables table(0) .. table(n - 1)): table
+/// lookups when the maps fit one vector, else a selection per map (the same values). The
+/// lookup's indices are made once for all n tables.
+template <size_t n, class D, class Table>
+HWY_INLINE void per_maps(D d, Table&& table, uint32_t k, hn::Vec<hn::RebindToUnsigned<D>> c,
+                         hn::Vec<D> (&out)[n]) {
     const hn::RebindToUnsigned<D> du;
     using U = hn::TFromD<decltype(du)>;
-    if (k == 1) return hn::Set(d, table[0]); // (a single map: its value in every lane)
-    if (k <= hn::Lanes(d)) {
-        const auto idx = hn::Min(c, hn::Set(du, U(k - 1)));
-        return hn::TableLookupLanes(hn::LoadU(d, table), hn::IndicesFromVec(d, idx));
+    if (k == 1) { // (a single map: its values in every lane)
+        for (size_t j = 0; j < n; ++j) out[j] = hn::Set(d, table(j)[0]);
+    } else if (k <= hn::Lanes(d)) {
+        const auto idx = hn::IndicesFromVec(d, hn::Min(c, hn::Set(du, U(k - 1))));
+        for (size_t j = 0; j < n; ++j) out[j] = hn::TableLookupLanes(hn::LoadU(d, table(j)), idx);
+    } else {
+        for (size_t j = 0; j < n; ++j) {
+            const auto* t = table(j);
+            auto v = hn::Set(d, t[0]);
+            for (uint32_t m = 1; m < k; ++m)
+                v = hn::IfThenElse(hn::RebindMask(d, hn::Eq(c, hn::Set(du, U(m)))), hn::Set(d, t[m]), v);
+            out[j] = v;
+        }
     }
-    auto v = hn::Set(d, table[0]);
-    for (uint32_t j = 1; j < k; ++j)
-        v = hn::IfThenElse(hn::RebindMask(d, hn::Eq(c, hn::Set(du, U(j)))), hn::Set(d, table[j]), v);
-    return v;
 }
 
 /// Rules off: Walker's alias table in lanes. m = r * k; column m >> 32, kept when the low 32
@@ -515,7 +521,10 @@ HWY_INLINE hn::Vec<DU> alias_lanes(DU du, hn::Vec<DU> r, uint32_t k, const hn::T
         frac = hn::Mul(r, vk);
     else
         frac = hn::And(mul_small(du, r, vk), hn::Set(du, U(0xffffffffu)));
-    return hn::IfThenElse(hn::Lt(frac, per_map(du, thr, k, col)), col, per_map(du, alias, k, col));
+    hn::Vec<DU> ta[2];
+    per_maps(
+        du, [&](size_t j) { return j == 0 ? thr : alias; }, k, col, ta);
+    return hn::IfThenElse(hn::Lt(frac, ta[0]), col, ta[1]);
 }
 
 /// The map of kind K applied to (x, y), with its parameters in lanes: p[0..5] in the order of
@@ -553,9 +562,16 @@ HWY_INLINE void apply_kind(D d, const hn::Vec<D> (&p)[6], hn::Vec<D>& x, hn::Vec
 template <fp_chaos::LaneKind K, class D>
 HWY_INLINE void apply_lanes(D d, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
                             hn::Vec<hn::RebindToUnsigned<D>> c, hn::Vec<D>& x, hn::Vec<D>& y) {
-    constexpr int n = K == fp_chaos::LaneKind::affine ? 6 : 3;
     hn::Vec<D> p[6];
-    for (int j = 0; j < 6; ++j) p[j] = j < n ? per_map(d, t.p[j], t.k, c) : hn::Zero(d);
+    if constexpr (K == fp_chaos::LaneKind::affine) {
+        per_maps(
+            d, [&](size_t j) { return t.p[j]; }, t.k, c, p);
+    } else {
+        hn::Vec<D> q[3];
+        per_maps(
+            d, [&](size_t j) { return t.p[j]; }, t.k, c, q);
+        for (int j = 0; j < 6; ++j) p[j] = j < 3 ? q[j] : hn::Zero(d);
+    }
     apply_kind<K>(d, p, x, y);
 }
 
@@ -576,15 +592,19 @@ HWY_INLINE void colour_lanes(D, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
         m = hn::MaskFromVec(
             hn::BitCast(df, hn::TruncateTo(du32, hn::VecFromMask(hn::RebindToUnsigned<D>(), mv))));
     }
-    auto one = [&](const float* table, float* chain) {
-        const auto mc = per_map(df, table, t.k, c32);
+    hn::Vec<decltype(df)> mc[3];
+    per_maps(
+        df, [&](size_t j) { return j == 0   ? t.cr
+                                   : j == 1 ? t.cg
+                                            : t.cb; }, t.k, c32, mc);
+    auto one = [&](hn::Vec<decltype(df)> cm, float* chain) {
         const auto old = hn::LoadU(df, chain);
-        const auto nc = C == fp_chaos::LaneColour::map ? mc : hn::Mul(hn::Add(old, mc), hn::Set(df, 0.5f));
+        const auto nc = C == fp_chaos::LaneColour::map ? cm : hn::Mul(hn::Add(old, cm), hn::Set(df, 0.5f));
         hn::StoreU(hn::IfThenElse(m, nc, old), df, chain);
     };
-    one(t.cr, b.cr + i);
-    one(t.cg, b.cg + i);
-    one(t.cb, b.cb + i);
+    one(mc[0], b.cr + i);
+    one(mc[1], b.cg + i);
+    one(mc[2], b.cb + i);
 }
 
 /// bins[lag[i]] += the widened lag_dep[i] for the nl chains from i; the bins whose hits reach
