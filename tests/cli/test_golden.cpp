@@ -1,5 +1,6 @@
-// Golden images: two configs rendered small and compared with tests/golden/*.png through
-// OpenImageIO's ImageBufAlgo::compare.
+// Golden images: one or two figures of each paper rendered small (128 x 128, well under a second
+// each) and compared with tests/golden/*.png through OpenImageIO's ImageBufAlgo::compare. Each
+// config gets its own --set overrides beside the size, since not every renderer has `points`.
 //
 // Tolerance: a channel may differ by at most 1.5/255 (above half an LSB of the 8-bit PNG, so
 // a different rounding of one float sum passes), and at most 0.2% of the pixels may exceed
@@ -15,12 +16,15 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace {
 
 struct Golden {
-    const char* config; // under configs/
-    const char* golden; // under tests/golden/
+    const char* config;            // under configs/
+    const char* golden;            // under tests/golden/
+    std::vector<const char*> sets; // --set overrides beside renderer.width and renderer.height
 };
 
 void PrintTo(const Golden& g, std::ostream* os) { *os << g.config; }
@@ -32,9 +36,17 @@ TEST_P(GoldenImage, MatchesWithinTolerance) {
     const std::string dir = fp::test::scratch_dir(std::string("golden_") + g.golden);
     const std::string out = dir + "/render.png";
     const std::string golden = fp::test::source_dir() + "/tests/golden/" + g.golden;
-    const auto r = fp::test::run_cli({"render", "--quiet", fp::test::source_dir() + "/configs/" + g.config,
-                                      "-o", out, "--set", "renderer.width=128", "--set",
-                                      "renderer.height=128", "--set", "renderer.points=400000"});
+    std::vector<std::string> args = {"render",
+                                     "--quiet",
+                                     fp::test::source_dir() + "/configs/" + g.config,
+                                     "-o",
+                                     out,
+                                     "--set",
+                                     "renderer.width=128",
+                                     "--set",
+                                     "renderer.height=128"};
+    for (const char* s : g.sets) args.insert(args.end(), {"--set", s});
+    const auto r = fp::test::run_cli(args);
     ASSERT_EQ(r.rc, 0) << r.err;
     if (std::getenv("FIXPOINT_UPDATE_GOLDEN")) {
         std::filesystem::copy_file(out, golden, std::filesystem::copy_options::overwrite_existing);
@@ -48,12 +60,40 @@ TEST_P(GoldenImage, MatchesWithinTolerance) {
     EXPECT_LT(c.mean_error, 0.002);
 }
 
-INSTANTIATE_TEST_SUITE_P(Paper01, GoldenImage,
-                         testing::Values(Golden{"inversion/fig4b.yaml", "fig4b.png"},
-                                         Golden{"inversion/fig6c.yaml", "fig6c.png"}),
-                         [](const testing::TestParamInfo<Golden>& i) {
-                             std::string s = i.param.golden;
-                             return s.substr(0, s.find('.'));
-                         });
+std::string golden_name(const testing::TestParamInfo<Golden>& i) {
+    std::string s = i.param.golden;
+    return s.substr(0, s.find('.'));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Paper01, GoldenImage,
+    testing::Values(Golden{"inversion/fig4b.yaml", "fig4b.png", {"renderer.points=400000"}},
+                    Golden{"inversion/fig6c.yaml", "fig6c.png", {"renderer.points=400000"}}),
+    golden_name);
+
+// Paper 02: SP iteration with q-system parameters in Q_{-1.5,0.2} (Fig. 7(c)).
+INSTANTIATE_TEST_SUITE_P(Paper02, GoldenImage,
+                         testing::Values(Golden{
+                             "iterations/fig7c.yaml", "iterations_fig7c.png", {"renderer.points=400000"}}),
+                         golden_name);
+
+// Paper 03: the superfractal of two Gumowski-Mira maps coloured by distance from the centroid
+// (Fig. 6(a)); the config's own single orbit of 30000 points (one chain) is the figure.
+INSTANTIATE_TEST_SUITE_P(Paper03, GoldenImage,
+                         testing::Values(Golden{"gumowski-mira/fig6a.yaml", "gumowski_mira_fig6a.png", {}}),
+                         golden_name);
+
+// Paper 04: p4 wallpaper orbit traps under the S-iteration with the vector parameter
+// alpha = [1.1, 0.5] (Fig. 9(a)); one sample per pixel instead of 8.
+INSTANTIATE_TEST_SUITE_P(Paper04, GoldenImage,
+                         testing::Values(Golden{
+                             "orbit-trap/fig9a.yaml", "orbit_trap_fig9a.png", {"renderer.samples=1"}}),
+                         golden_name);
+
+// Paper 05, Example 2 (Fig. 5, right): the carpet of Fig. 3 with the triangle carpet placed in
+// its four corner squares (the mfs renderer draws polygons: no `points` to set).
+INSTANTIATE_TEST_SUITE_P(Paper05, GoldenImage,
+                         testing::Values(Golden{"mfs/fig5-right.yaml", "mfs_fig5_right.png", {}}),
+                         golden_name);
 
 } // namespace
