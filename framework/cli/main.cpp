@@ -53,7 +53,7 @@ struct Options {
     std::string vary;
     int columns = 0;
     unsigned threads = 0;
-    bool quiet = false, force = false;
+    bool quiet = false, force = false, check = false;
     std::string steps = "1";
     long long level = -1;
 };
@@ -66,7 +66,28 @@ Registry make_registry(const Options& o) {
         if (!fs::is_directory(d, ec)) throw InputError("--plugin-dir: '" + d + "' is not a folder");
         reg.load_dir(d);
     }
+    // A plugin file that did not load is skipped with one line each (`plugins --check` lists
+    // them instead); a config that asks for a plugin it would have provided fails naming it.
+    if (!o.check)
+        for (const auto& r : reg.refused()) spdlog::warn("warning: plugin file skipped: {}", r.reason);
     return reg;
+}
+
+/// The pipeline of a config, its warnings told (a plugin other than the recipe's).
+Pipeline load_told(const Registry& reg, const Options& o) {
+    Pipeline p = load_pipeline(reg, o.config, o.sets);
+    for (const auto& w : p.warnings) spdlog::warn("warning: {}", w);
+    return p;
+}
+
+/// The error for a plugin name that is not loaded: the file that would have provided it and
+/// why it did not load, or suggestions.
+[[noreturn]] void unknown_plugin(const Registry& reg, const std::string& name) {
+    if (const auto* r = reg.refused_for(name))
+        throw InputError("plugin " + quote(name) + " is not available: " + r->reason);
+    const auto near = reg.closest(name, std::nullopt);
+    throw InputError("unknown plugin " + quote(name) +
+                     (near.empty() ? "" : " (did you mean '" + near[0] + "'?)"));
 }
 
 std::string default_output(const std::string& config) { return fs::path(config).stem().string() + ".png"; }
@@ -172,7 +193,7 @@ std::string render_vector_checked(const Pipeline& p, unsigned threads, Format f,
 // Paper 05's Algorithm 1: the addresses of a renderer's polygons at a level, one per line.
 int cmd_addresses(const Options& o) {
     const Registry reg = make_registry(o);
-    const Pipeline p = load_pipeline(reg, o.config, o.sets);
+    const Pipeline p = load_told(reg, o);
     std::vector<std::string> lines;
     try {
         lines = p.renderer->polygon_addresses(o.level);
@@ -269,7 +290,11 @@ int cmd_collection(const Options& o, bool validate_only) {
     const Registry reg = make_registry(o);
     const auto [path, values] = parse_vary(o.vary);
     std::vector<Pipeline> pipes;
-    for (const auto& v : values) pipes.push_back(load_pipeline(reg, o.config, o.sets, path + "=" + v));
+    for (const auto& v : values) {
+        pipes.push_back(load_pipeline(reg, o.config, o.sets, path + "=" + v));
+        if (pipes.size() == 1) // (every child has the same plugins: told once)
+            for (const auto& w : pipes[0].warnings) spdlog::warn("warning: {}", w);
+    }
     const unsigned threads = o.threads ? o.threads : hardware_threads();
     for (const auto& p : pipes) check_memory(p, threads);
     check_collection_memory(pipes, threads, o.columns);
@@ -326,7 +351,7 @@ int cmd_render(const Options& o, bool validate_only) {
     install_sigint();
     if (!o.vary.empty()) return cmd_collection(o, validate_only);
     const Registry reg = make_registry(o);
-    const Pipeline p = load_pipeline(reg, o.config, o.sets);
+    const Pipeline p = load_told(reg, o);
     const unsigned threads = o.threads ? o.threads : hardware_threads();
     check_memory(p, threads);
     const Output output = resolve_output(o, p);
@@ -412,6 +437,17 @@ int cmd_plugins(const Options& o) {
                              (near.empty() ? "" : " (did you mean '" + near[0] + "'?)"));
         }
     }
+    if (o.check) {
+        // Every plugin file of the folders: loaded (with its plugin) or refused (with why).
+        std::vector<std::pair<std::string, std::string>> lines;
+        for (const auto* e : reg.all(kind))
+            lines.emplace_back(e->file.string(), "ok       " + std::string(e->desc->name));
+        if (!kind)
+            for (const auto& r : reg.refused()) lines.emplace_back(r.file.string(), "refused  " + r.reason);
+        std::sort(lines.begin(), lines.end());
+        for (const auto& [file, what] : lines) std::printf("%s: %s\n", file.c_str(), what.c_str());
+        return reg.refused().empty() ? 0 : 1;
+    }
     for (const auto* e : reg.all(kind))
         std::printf("%-17s %-20s %-7s %s\n", std::string(kind_name(e->desc->kind)).c_str(), e->desc->name,
                     e->desc->version, e->desc->summary);
@@ -421,11 +457,7 @@ int cmd_plugins(const Options& o) {
 int cmd_describe(const Options& o) {
     const Registry reg = make_registry(o);
     const PluginEntry* e = reg.find(o.name);
-    if (!e) {
-        const auto near = reg.closest(o.name, std::nullopt);
-        throw InputError("unknown plugin " + quote(o.name) +
-                         (near.empty() ? "" : " (did you mean '" + near[0] + "'?)"));
-    }
+    if (!e || reg.refused_for(o.name)) unknown_plugin(reg, o.name);
     const auto& d = *e->desc;
     std::printf("%s (%s, version %s)\n  %s\n  file: %s\n", d.name, std::string(kind_name(d.kind)).c_str(),
                 d.version, d.summary, e->file.c_str());
@@ -568,6 +600,8 @@ int main(int argc, char** argv) {
 
     auto* plugins = app.add_subcommand("plugins", "List the plugins found");
     plugins->add_option("--kind", o.kind, "Only this kind (shape, transform, iteration-scheme, ...)");
+    plugins->add_flag("--check", o.check,
+                      "List every plugin file with its plugin or why it was refused (exit 1 if any was)");
 
     auto* describe = app.add_subcommand("describe", "Show a plugin's parameters");
     describe->add_option("name", o.name, "Plugin name")->required();

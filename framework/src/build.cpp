@@ -212,12 +212,20 @@ std::vector<TParam> validate_params(const Registry& reg, const ParamSpec* specs,
         bool known = std::find(ignore.begin(), ignore.end(), k) != ignore.end();
         for (std::size_t j = 0; j < n_specs && !known; ++j) known = k == specs[j].name;
         if (known) continue;
-        std::vector<std::string> names;
+        // The keys of a list item that stand beside the plugin's (a map's weight and colour)
+        // are candidates too: a typo in them is not the plugin's.
+        std::vector<std::string> names, item;
         for (std::size_t j = 0; j < n_specs; ++j) names.emplace_back(specs[j].name);
+        for (const auto& x : ignore)
+            if (x != "type") item.push_back(x);
+        names.insert(names.end(), item.begin(), item.end());
         const auto near = suggest(k, names);
+        const std::string did = near.empty() ? "" : " (did you mean " + quoted_list(near) + "?)";
+        if (item.empty())
+            fail(node.key_marks[i], path, "unknown parameter " + quote(k) + " for " + owner + did);
         fail(node.key_marks[i], path,
-             "unknown parameter " + quote(k) + " for " + owner +
-                 (near.empty() ? "" : " (did you mean " + quoted_list(near) + "?)"));
+             "unknown key " + quote(k) + ": not a parameter of " + owner + " nor a key of the item (" +
+                 join(item, ", ") + ")" + did);
     }
     std::vector<TParam> out;
     for (std::size_t j = 0; j < n_specs; ++j) {
@@ -354,6 +362,10 @@ std::unique_ptr<TObject> validate(const Registry& reg, Kind kind, const CNode& n
     if (!type->is_scalar())
         fail(type->mark, path + ".type", "expected a plugin name, got " + type->describe());
     const PluginEntry* e = reg.find(type->scalar);
+    // A plugin file in a folder that did not load, which would have provided this name (or a
+    // second plugin of the name: which one is meant is not known).
+    if (const RefusedPlugin* r = reg.refused_for(type->scalar))
+        fail(type->mark, path + ".type", "plugin " + quote(type->scalar) + " is not available: " + r->reason);
     if (!e) {
         const auto near = reg.closest(type->scalar, kind);
         fail(type->mark, path + ".type",

@@ -5,8 +5,40 @@
 #include <fixpoint/version.hpp>
 
 #include <algorithm>
+#include <cstdio>
+#include <map>
 
 namespace fp::host {
+
+namespace {
+
+/// FNV-1a (64 bits) of a plugin's file, "fnv1a64:" and 16 hex digits: tells two builds of one
+/// version apart in a recipe (an identity, not a security measure). Empty if it cannot be read.
+std::string file_hash(const std::filesystem::path& f) {
+    std::FILE* fp = std::fopen(f.c_str(), "rb");
+    if (!fp) return "";
+    std::uint64_t h = 14695981039346656037ull;
+    unsigned char buf[1 << 16];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, fp)) > 0;)
+        for (std::size_t i = 0; i < n; ++i) h = (h ^ buf[i]) * 1099511628211ull;
+    const bool ok = !std::ferror(fp);
+    std::fclose(fp);
+    if (!ok) return "";
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+    return std::string("fnv1a64:") + hex;
+}
+
+/// The plugins a validated tree uses, by name.
+void used_plugins(const TObject& t, std::map<std::string, const PluginEntry*>& out) {
+    out.emplace(t.plugin->desc->name, t.plugin);
+    for (const auto& p : t.params) {
+        if (p.object) used_plugins(*p.object, out);
+        for (const auto& it : p.items) used_plugins(*it.object, out);
+    }
+}
+
+} // namespace
 
 Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets,
                        const std::string& vary) {
@@ -30,7 +62,7 @@ Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::
 Pipeline load_pipeline(const Registry& reg, CNode root) {
     auto fail = [](const Mark& m, const std::string& msg) { throw InputError(m.str() + ": " + msg); };
     if (!root.is_map()) fail(root.mark, "expected a mapping with a 'renderer:' key, got " + root.describe());
-    const std::vector<std::string> top = {"renderer", "output", "fixpoint_version"};
+    const std::vector<std::string> top = {"renderer", "output", "fixpoint_version", "plugins"};
     for (std::size_t i = 0; i < root.keys.size(); ++i) {
         const auto& k = root.keys[i].first;
         if (std::find(top.begin(), top.end(), k) != top.end()) continue;
@@ -69,8 +101,36 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
     if (!p.renderer) throw InternalError("renderer plugin built an object that is not a Renderer");
     p.renderer_mark = r->mark;
 
+    // The plugins the render uses, each "VERSION HASH": recorded in the recipe, and compared
+    // with those a recipe (or a config copied from one) was made with.
+    std::map<std::string, const PluginEntry*> used;
+    used_plugins(*typed, used);
+    CNode record = map_node();
+    for (const auto& [name, e] : used) {
+        const std::string hash = file_hash(e->file);
+        record.keys.emplace_back(
+            name, scalar_node(std::string(e->desc->version) + (hash.empty() ? "" : " " + hash), true));
+    }
+    record.key_marks.resize(record.keys.size());
+    if (const CNode* given = root.find("plugins")) {
+        if (!given->is_map())
+            fail(given->mark, "plugins: expected a mapping of plugin names to 'VERSION HASH' (as a recipe "
+                              "records them), got " +
+                                  given->describe());
+        for (std::size_t i = 0; i < given->keys.size(); ++i) {
+            const auto& [name, v] = given->keys[i];
+            if (!v.is_scalar())
+                fail(v.mark, "plugins." + name + ": expected 'VERSION HASH', got " + v.describe());
+            const CNode* now = record.find(name);
+            if (now && now->scalar != v.scalar)
+                p.warnings.push_back("plugin " + quote(name) + " is " + now->scalar +
+                                     ", the recipe was made with " + v.scalar + ": the image may differ");
+        }
+    }
+
     CNode recipe = map_node();
     recipe.keys.emplace_back("fixpoint_version", scalar_node(FIXPOINT_VERSION, true));
+    recipe.keys.emplace_back("plugins", std::move(record));
     recipe.keys.emplace_back("renderer", resolved(*typed));
     CNode out = map_node();
     out.keys.emplace_back("bit_depth", scalar_node(std::to_string(p.bit_depth)));

@@ -54,16 +54,37 @@ void Registry::load_dir(const fs::path& dir) {
     if (ec) throw unreadable(ec);
     for (; it != fs::directory_iterator(); it.increment(ec)) {
         if (ec) throw unreadable(ec);
-        if (it->path().extension() != ".so") continue;
-        // Follows links: a link loop or a dangling link named .so is an error of its own.
-        const bool regular = it->is_regular_file(ec);
-        if (ec)
-            throw InputError("cannot load plugin " + quote(it->path().string(), 200) + ": " + ec.message());
-        if (regular) files.push_back(it->path());
+        if (it->path().extension() == ".so") files.push_back(it->path());
     }
     if (ec) throw unreadable(ec);
     std::sort(files.begin(), files.end()); // a fixed order: messages do not depend on the file system
-    for (const auto& f : files) load_file(f);
+    for (const auto& f : files) {
+        // Follows links: a link loop or a dangling link named .so is refused like a bad file;
+        // anything else that is not a regular file (a folder named x.so) is not a candidate.
+        std::error_code ec2;
+        const bool regular = fs::is_regular_file(f, ec2);
+        if (ec2) {
+            refused_.push_back(
+                {f, "cannot load plugin " + quote(f.string(), 200) + ": " + ec2.message(), ""});
+            continue;
+        }
+        if (!regular) continue;
+        last_name_.clear();
+        try {
+            load_file(f);
+        } catch (const InputError& e) {
+            refused_.push_back({f, e.what(), last_name_});
+        }
+    }
+}
+
+const RefusedPlugin* Registry::refused_for(std::string_view name) const {
+    for (const auto& r : refused_)
+        if (r.name == name) return &r;
+    if (find(name)) return nullptr;
+    for (const auto& r : refused_)
+        if (r.name.empty() && r.file.stem() == name) return &r;
+    return nullptr;
 }
 
 // Boost.DLL 1.74 wraps dlerror() as "boost::dll::shared_library::load() failed (dlerror system
@@ -111,6 +132,7 @@ const PluginEntry& Registry::load_file(const fs::path& file) {
     if (d.abi != abi_version || !d.create || !d.summary || (!d.params && d.n_params) ||
         unsigned(d.kind) >= unsigned(kind_count))
         throw InputError("plugin '" + f + "' has a malformed descriptor");
+    last_name_ = d.name ? d.name : "";
     if (!kebab(d.name))
         throw InputError("plugin '" + f + "' has name '" + std::string(d.name ? d.name : "") +
                          "', which is not kebab-case");

@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -112,6 +114,53 @@ TEST(Render, RecipeRoundTripReproducesTheImage) {
     EXPECT_TRUE(read_file(dir + "/first.png") == read_file(dir + "/second.png"));
     // The recipe of the re-render is the same recipe.
     EXPECT_EQ(run_cli({"recipe", dir + "/second.png"}).out, r.out);
+}
+
+// FNV-1a (64 bits) of a file, written out here independently of pipeline.cpp's.
+std::string fnv1a64(const std::string& path) {
+    std::uint64_t h = 14695981039346656037ull;
+    for (const char c : read_file(path)) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+    return hex;
+}
+
+// A recipe records every plugin the render used, "VERSION fnv1a64:HASH" of its file; a
+// re-render with another version or build of one says so in one line, and still renders.
+TEST(Render, RecipeRecordsThePluginsAndWarnsWhenOneDiffers) {
+    const auto dir = scratch_dir("recipe_plugins");
+    write_file(dir + "/cfg.yaml", three_circles);
+    render(dir, "first.png");
+    const auto r = run_cli({"recipe", dir + "/first.png"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto plugins = fs::path(FIXPOINT_BIN).parent_path().parent_path() / "lib" / "fixpoint" / "plugins";
+    const std::string circle = "1.0.0 fnv1a64:" + fnv1a64((plugins / "circle.so").string());
+    for (const char* name : {"chaos-game", "inversion", "circle"})
+        EXPECT_NE(r.out.find(std::string("  ") + name + ": \"1.0.0 fnv1a64:" +
+                             fnv1a64((plugins / (std::string(name) + ".so")).string()) + "\"\n"),
+                  std::string::npos)
+            << name << "\n"
+            << r.out;
+    // The same plugins: nothing to say.
+    write_file(dir + "/same.yaml", r.out);
+    auto again = run_cli({"render", "--quiet", dir + "/same.yaml", "-o", dir + "/same.png"});
+    EXPECT_EQ(again.rc, 0);
+    EXPECT_EQ(again.err, "");
+    // Another build of circle.
+    write_file(dir + "/other.yaml", fp::test::replace_once(r.out, "circle: \"" + circle + "\"",
+                                                           "circle: \"0.9.0 fnv1a64:0123456789abcdef\""));
+    again = run_cli({"render", "--quiet", dir + "/other.yaml", "-o", dir + "/other.png"});
+    EXPECT_EQ(again.rc, 0);
+    EXPECT_EQ(again.err,
+              "warning: plugin 'circle' is " + circle +
+                  ", the recipe was made with 0.9.0 fnv1a64:0123456789abcdef: the image may differ\n");
+    EXPECT_TRUE(read_file(dir + "/same.png") == read_file(dir + "/other.png"));
+    // A record that is not a mapping of names to scalars is refused where it stands.
+    write_file(dir + "/bad.yaml", fp::test::replace_once(r.out, "circle: \"" + circle + "\"", "circle: [1]"));
+    again = run_cli({"render", "--quiet", dir + "/bad.yaml", "-o", dir + "/bad.png"});
+    EXPECT_EQ(again.rc, 2);
+    EXPECT_NE(again.err.find(": plugins.circle: expected 'VERSION HASH', got "), std::string::npos)
+        << again.err;
 }
 
 TEST(Render, FormatsFromTheExtension) {
@@ -259,30 +308,63 @@ TEST(Plugins, ListAndDescribe) {
     EXPECT_EQ(r.err, "unknown plugin 'circel' (did you mean 'circle'?)\n");
 }
 
-TEST(Plugins, BrokenPluginFilesAreNamed) {
+// A file in a plugin folder that does not load is skipped with one warning line each, and
+// every other plugin works (issue 13: one stale .so must not block every command); a config
+// that asks for a plugin such a file would have provided fails naming the file, and
+// `plugins --check` lists every file with its plugin or why it was refused.
+TEST(Plugins, BrokenPluginFilesAreSkippedAndNamed) {
     const auto dir = scratch_dir("broken_plugins");
     write_file(dir + "/junk.so", "this is not a shared library");
+    const std::string junk = "cannot load plugin '" + dir + "/junk.so': ";
     auto r = run_cli({"--plugin-dir", dir, "plugins"});
-    EXPECT_EQ(r.rc, 2);
-    EXPECT_EQ(r.err.rfind("cannot load plugin '" + dir + "/junk.so': ", 0), 0u) << r.err;
+    EXPECT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(r.err.rfind("warning: plugin file skipped: " + junk, 0), 0u) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.out.find("shape             circle "), std::string::npos) << r.out;
+    // A render that needs none of it runs.
+    const std::string small = dir + "/small.yaml";
+    write_file(small, three_circles);
+    r = run_cli({"--plugin-dir", dir, "render", "-q", small, "-o", dir + "/small.png"});
+    EXPECT_EQ(r.rc, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir + "/small.png"));
+    // Asking for the plugin the file is named after names the file and why.
+    r = run_cli({"--plugin-dir", dir, "describe", "junk"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err.substr(r.err.find('\n') + 1).rfind("plugin 'junk' is not available: " + junk, 0), 0u)
+        << r.err;
+    // --check: one line per file, the refused one with its reason; exit 1.
+    r = run_cli({"--plugin-dir", dir, "plugins", "--check"});
+    EXPECT_EQ(r.rc, 1);
+    EXPECT_EQ(r.err, "");
+    EXPECT_NE(r.out.find(dir + "/junk.so: refused  " + junk), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("/circle.so: ok       circle\n"), std::string::npos) << r.out;
+
     // A real shared library that is not a plugin.
     const auto dir2 = scratch_dir("not_a_plugin");
     fs::copy_file(fs::path(FIXPOINT_BIN).parent_path().parent_path() / "lib" / "libfixpoint_sdk.so",
                   dir2 + "/sdk.so");
     r = run_cli({"--plugin-dir", dir2, "plugins"});
-    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.rc, 0);
     EXPECT_EQ(r.err,
-              "'" + dir2 +
+              "warning: plugin file skipped: '" + dir2 +
                   "/sdk.so' is not a fixpoint plugin (it exports no fixpoint_abi/fixpoint_descriptor)\n");
-    // The same plugin under two names.
+
+    // The same plugin under two names: listed once; a config that uses the name fails, naming
+    // both files (which one is meant is not known), at the type's line and column.
     const auto dir3 = scratch_dir("duplicate");
     const auto plugins = fs::path(FIXPOINT_BIN).parent_path().parent_path() / "lib" / "fixpoint" / "plugins";
     fs::copy_file(plugins / "circle.so", dir3 + "/circle-copy.so");
+    const std::string two = "two plugins named 'circle': '" + fs::canonical(plugins / "circle.so").string() +
+                            "' and '" + dir3 + "/circle-copy.so'";
     r = run_cli({"--plugin-dir", dir3, "plugins"});
+    EXPECT_EQ(r.rc, 0);
+    EXPECT_EQ(r.err, "warning: plugin file skipped: " + two + "\n");
+    r = run_cli({"--plugin-dir", dir3, "render", "-q", small, "-o", dir3 + "/small.png"});
     EXPECT_EQ(r.rc, 2);
-    EXPECT_EQ(r.err, "two plugins named 'circle': '" + fs::canonical(plugins / "circle.so").string() +
-                         "' and '" + dir3 + "/circle-copy.so'\n");
+    EXPECT_EQ(r.err, "warning: plugin file skipped: " + two + "\n" + small +
+                         ":10:39: renderer.maps[0].shape.type: plugin 'circle' is not available: " + two +
+                         "\n");
+    EXPECT_FALSE(fs::exists(dir3 + "/small.png"));
 }
 
 // ------------------------------------------------------------------ every config renders

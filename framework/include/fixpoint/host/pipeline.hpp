@@ -25,6 +25,9 @@ struct Pipeline {
     /// The resolved recipe: every default filled in, the version; no output path (so that
     /// rendering a recipe gives the same bytes whatever it is written to).
     std::string recipe;
+    /// Things to tell the user before rendering (a plugin that differs from the one the
+    /// recipe was made with), one line each, without a "warning:" prefix.
+    std::vector<std::string> warnings;
 };
 
 /// Parse, apply the overrides (`sets`, then `vary`: one more assignment from --vary), validate,

@@ -22,6 +22,15 @@ struct PluginEntry {
     std::shared_ptr<boost::dll::shared_library> lib;
 };
 
+/// A file in a plugin folder that did not load: skipped (one bad file must not block every
+/// command), reported by the caller, and named by the error when a config asks for a plugin
+/// that file would have provided.
+struct RefusedPlugin {
+    std::filesystem::path file;
+    std::string reason; ///< the whole message, naming the file
+    std::string name;   ///< the plugin's name when it could be read (a duplicate), else empty
+};
+
 class Registry {
 public:
     Registry() = default;
@@ -33,13 +42,21 @@ public:
     /// executable), then every folder of FIXPOINT_PLUGIN_PATH.
     static std::vector<std::filesystem::path> default_dirs();
 
-    /// Load every `*.so` in `dir` (a missing folder is skipped).
+    /// Load every `*.so` in `dir` (a missing folder is skipped). A file that fails to load is
+    /// skipped and listed in refused(); a folder that cannot be read throws fp::InputError.
     void load_dir(const std::filesystem::path& dir);
     /// Load one plugin file. Throws fp::InputError naming the file for a file that is not a
     /// plugin, a mismatched ABI, or a name taken by another file.
     const PluginEntry& load_file(const std::filesystem::path& file);
 
     const PluginEntry* find(std::string_view name) const;
+    /// The files of the folders that did not load, in the order met.
+    const std::vector<RefusedPlugin>& refused() const { return refused_; }
+    /// The refused file that would have provided plugin `name`: one that declared that name
+    /// (a second plugin of a name already loaded), or, when no plugin has the name, one whose
+    /// file is named after it (`name.so`: the descriptor of a file that did not load is not
+    /// read). Null when none.
+    const RefusedPlugin* refused_for(std::string_view name) const;
     /// All plugins, sorted by kind then name; only those of `kind` when given.
     std::vector<const PluginEntry*> all(std::optional<Kind> kind = std::nullopt) const;
     /// Closest names to `name` (for "did you mean").
@@ -50,6 +67,8 @@ public:
 
 private:
     std::vector<std::unique_ptr<PluginEntry>> entries_;
+    std::vector<RefusedPlugin> refused_;
+    std::string last_name_; ///< the name read by the last load_file, for a refusal's record
 };
 
 /// Edit distance, for suggestions.
