@@ -206,28 +206,31 @@ HWY_INLINE hn::Mask<DU> count_down(DU du, uint64_t* left, hn::Mask<DU> dec) {
 
 // ---------------------------------------------------------------- the draw
 /// Rules on: the total allowed weight t, then u = high 32 bits of r * t and chosen = #{j :
-/// cum_j <= u}, cum_j the allowed weight of maps 0..j; `ok(j)` is the mask of the chains for
-/// which map j is allowed. KMax bounds k at compile time, so that the loops over the maps
+/// cum_j <= u}, cum_j the allowed weight of maps 0..j; `excluded(j, vj)` is the mask of the
+/// chains for which map j is not allowed (vj: j in every lane, kept as a vector that counts up,
+/// not broadcast anew for each map). KMax bounds k at compile time, so that the loops over the maps
 /// unroll (k <= 16 in practice). The running sums of the first loop are the cum_j: kept in
 /// memory between the loops (one store and one load a map, where keeping the masks as bits
 /// took a mask-to-bits and a bits-to-mask conversion, each several instructions on targets
 /// without mask registers).
-template <size_t KMax, class DU, class Ok>
+template <size_t KMax, class DU, class Excluded>
 HWY_INLINE hn::Vec<DU> draw_allowed(DU du, const uint32_t* q, uint32_t k, hn::Vec<DU> r, hn::Vec<DU>& tot,
-                                    Ok&& ok) {
+                                    Excluded&& excluded) {
     using U = hn::TFromD<DU>;
     constexpr size_t L = fp::simd::HWY_NAMESPACE::max_lanes<U>;
     alignas(HWY_MAX_BYTES) U cum[KMax * L];
-    // (IfThenElse(m, Add(a, b), a): one masked add where the target has them.)
+    // (IfThenElse(m, a, Add(a, b)): one masked add where the target has them.)
     tot = hn::Zero(du);
+    auto vj = hn::Zero(du);
+    const auto one = hn::Set(du, U(1));
     for (size_t j = 0; j < KMax; ++j) {
         if (j == k) break;
-        tot = hn::IfThenElse(ok(uint32_t(j)), hn::Add(tot, hn::Set(du, U(q[j]))), tot);
+        tot = hn::IfThenElse(excluded(uint32_t(j), vj), tot, hn::Add(tot, hn::Set(du, U(q[j]))));
         hn::Store(tot, du, cum + j * L);
+        vj = hn::Add(vj, one);
     }
     const auto u = mul_high32(du, r, tot);
     auto c = hn::Zero(du);
-    const auto one = hn::Set(du, U(1));
     for (size_t j = 0; j < KMax; ++j) {
         if (j == k) break;
         c = hn::IfThenElse(hn::Gt(hn::Load(du, cum + j * L), u), c, hn::Add(c, one));
@@ -236,11 +239,11 @@ HWY_INLINE hn::Vec<DU> draw_allowed(DU du, const uint32_t* q, uint32_t k, hn::Ve
 }
 
 /// draw_allowed with the loops unrolled for up to 16 maps.
-template <class DU, class Ok>
+template <class DU, class Excluded>
 HWY_INLINE hn::Vec<DU> draw_any(DU du, const uint32_t* q, uint32_t k, hn::Vec<DU> r, hn::Vec<DU>& tot,
-                                Ok&& ok) {
-    if (k <= 16) return draw_allowed<16>(du, q, k, r, tot, ok);
-    return draw_allowed<fp_chaos::table_size>(du, q, k, r, tot, ok);
+                                Excluded&& excluded) {
+    if (k <= 16) return draw_allowed<16>(du, q, k, r, tot, excluded);
+    return draw_allowed<fp_chaos::table_size>(du, q, k, r, tot, excluded);
 }
 
 template <class DU>
@@ -254,8 +257,8 @@ HWY_INLINE void draw_rules_t(DU du, const fp_chaos::DrawArgs& args) {
         const auto act = hn::Ne(load32(du, a.active + i), zero);
         const auto r = pcg_next(du, a.rs + i, a.ri + i);
         auto tot = zero;
-        const auto c = draw_any(du, a.q, a.k, r, tot, [&](uint32_t j) {
-            return hn::And(zero_bytes(du, a.inside + j * a.row + i), hn::Ne(p, hn::Set(du, U(j))));
+        const auto c = draw_any(du, a.q, a.k, r, tot, [&](uint32_t j, hn::Vec<DU> vj) {
+            return hn::Or(hn::Not(zero_bytes(du, a.inside + j * a.row + i)), hn::Eq(p, vj));
         });
         const auto some = hn::Ne(tot, zero);
         store32(du, hn::IfThenElse(hn::And(act, some), c, none), a.chosen + i);
@@ -664,12 +667,12 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         if constexpr (Rules) {
             const auto r = pcg_next(du, a.rs + i, a.ri + i);
             auto tot = zero;
-            c = draw_any(du, t.q, k, r, tot, [&](uint32_t j) {
-                const auto other = hn::Ne(p, hn::Set(du, U(j)));
-                if constexpr (K != fp_chaos::LaneKind::circle) return other;
+            c = draw_any(du, t.q, k, r, tot, [&](uint32_t j, hn::Vec<decltype(du)> vj) {
+                const auto previous = hn::Eq(p, vj);
+                if constexpr (K != fp_chaos::LaneKind::circle) return previous;
                 const auto dx = hn::Sub(x, hn::Set(d, t.p[0][j])), dy = hn::Sub(y, hn::Set(d, t.p[1][j]));
                 const auto in = hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Set(d, t.p[2][j]));
-                return hn::AndNot(hn::RebindMask(du, in), other);
+                return hn::Or(hn::RebindMask(du, in), previous);
             });
             some = hn::Ne(tot, zero);
         } else if (k == 1) {
