@@ -354,7 +354,12 @@ HWY_INLINE hn::Vec<hn::RebindToSigned<DF>> quantise(DF df, const float* p) {
     const auto c = hn::LoadU(df, p);
     const auto c0 = hn::IfThenElse(hn::Gt(c, zero), c, zero);
     const auto c1 = hn::IfThenElse(hn::Lt(c0, one), c0, one);
-    return hn::ConvertTo(di, hn::Add(hn::Mul(c1, hn::Set(df, 65535.0f)), hn::Set(df, 0.5f)));
+    // floor of v = c1 * 65535 + 0.5 in [0.5, 65535.5]: truncated, then 2^23 added, whose sum is
+    // exact and holds the integer in its mantissa (as bin_index does): the integers of a
+    // converting instruction without the overflow fix-up of Highway's ConvertTo.
+    const auto v = hn::Add(hn::Mul(c1, hn::Set(df, 65535.0f)), hn::Set(df, 0.5f));
+    const auto big = hn::Set(df, 8388608.0f);
+    return hn::Sub(hn::BitCast(di, hn::Add(hn::Trunc(v), big)), hn::BitCast(di, big));
 }
 
 /// dep[i] = 1 | r << 16 | g << 32 | b << 48 for the lanes of one vector of chains.
@@ -370,15 +375,23 @@ HWY_INLINE void pack_colours(D, const fp_chaos::BookArgs<hn::TFromD<D>>& a, size
     a.dep[i] = uint64_t(hn::GetLane(lo)) | uint64_t(hn::GetLane(hi)) << 32;
 #else
     if constexpr (sizeof(hn::TFromD<D>) == 4) {
-        const hn::Half<decltype(d32)> dh;
-        const hn::Rebind<uint64_t, decltype(dh)> d64;
+        // Interleaving lo and hi gives the 64-bit words (lo in the low half: little-endian),
+        // but within each 128-bit block: InterleaveLower pairs lanes 0 and 1 of every block,
+        // InterleaveUpper lanes 2 and 3. So the lanes are first permuted so that block b holds
+        // chains 2b, 2b + 1 (lanes 0, 1) and N/2 + 2b, N/2 + 2b + 1 (lanes 2, 3): the lower
+        // interleave is then chains 0 .. N/2 - 1 in order, the upper one the rest. (Two
+        // permutes and two interleaves, where widening each half took ten instructions.)
+        const hn::Repartition<uint64_t, decltype(d32)> d64;
         const size_t h = hn::Lanes(d64);
-        const auto w0 = hn::Or(hn::PromoteTo(d64, hn::LowerHalf(dh, lo)),
-                               hn::ShiftLeft<32>(hn::PromoteTo(d64, hn::LowerHalf(dh, hi))));
-        const auto w1 = hn::Or(hn::PromoteTo(d64, hn::UpperHalf(dh, lo)),
-                               hn::ShiftLeft<32>(hn::PromoteTo(d64, hn::UpperHalf(dh, hi))));
-        hn::StoreU(w0, d64, a.dep + i);
-        hn::StoreU(w1, d64, a.dep + i + h);
+        const auto j = hn::Iota(d32, 0);
+        const auto m = hn::And(j, hn::Set(d32, 3u));
+        const auto src =
+            hn::Add(hn::Add(hn::And(m, hn::Set(d32, 1u)), hn::ShiftLeft<1>(hn::ShiftRight<2>(j))),
+                    hn::Mul(hn::ShiftRight<1>(m), hn::Set(d32, uint32_t(hn::Lanes(d32) / 2))));
+        const auto idx = hn::IndicesFromVec(d32, src);
+        const auto plo = hn::TableLookupLanes(lo, idx), phi = hn::TableLookupLanes(hi, idx);
+        hn::StoreU(hn::BitCast(d64, hn::InterleaveLower(d32, plo, phi)), d64, a.dep + i);
+        hn::StoreU(hn::BitCast(d64, hn::InterleaveUpper(d32, plo, phi)), d64, a.dep + i + h);
     } else {
         const hn::Rebind<uint64_t, D> d64;
         hn::StoreU(hn::Or(hn::PromoteTo(d64, lo), hn::ShiftLeft<32>(hn::PromoteTo(d64, hi))), d64, a.dep + i);
@@ -610,28 +623,36 @@ HWY_INLINE void colour_lanes(D, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
     one(mc[2], b.cb + i);
 }
 
-/// bins[lag[i]] += the widened lag_dep[i] for the nl chains from i; the bins whose hits reach
-/// spill_at are listed.
+/// bins[lag[l]] += the widened lag_dep[l] for one chain l; the bin is listed when its hits
+/// reach spill_at.
 template <class T>
-HWY_INLINE void deposit_lagged(const fp_chaos::FusedArgs<T>& f, size_t i, size_t nl) {
-    for (size_t l = i; l < i + nl; ++l) {
-        uint32_t* b = f.bins + 4 * size_t(f.lag[l]);
+HWY_INLINE void deposit_one(const fp_chaos::FusedArgs<T>& f, size_t l) {
+    uint32_t* b = f.bins + 4 * size_t(f.lag[l]);
 #if HWY_TARGET == HWY_SCALAR
-        const uint64_t v = f.lag_dep[l];
-        b[0] += uint32_t(v & 0xffffu), b[1] += uint32_t((v >> 16) & 0xffffu);
-        b[2] += uint32_t((v >> 32) & 0xffffu), b[3] += uint32_t(v >> 48);
-        const uint32_t h = b[0];
+    const uint64_t v = f.lag_dep[l];
+    b[0] += uint32_t(v & 0xffffu), b[1] += uint32_t((v >> 16) & 0xffffu);
+    b[2] += uint32_t((v >> 32) & 0xffffu), b[3] += uint32_t(v >> 48);
+    const uint32_t h = b[0];
 #else
-        const hn::FixedTag<uint32_t, 4> d4;
-        const hn::FixedTag<uint16_t, 4> d16;
-        const auto v =
-            hn::Add(hn::LoadU(d4, b),
-                    hn::PromoteTo(d4, hn::LoadU(d16, reinterpret_cast<const uint16_t*>(f.lag_dep + l))));
-        hn::StoreU(v, d4, b);
-        const uint32_t h = hn::GetLane(v);
+    const hn::FixedTag<uint32_t, 4> d4;
+    const hn::FixedTag<uint16_t, 4> d16;
+    const auto v =
+        hn::Add(hn::LoadU(d4, b),
+                hn::PromoteTo(d4, hn::LoadU(d16, reinterpret_cast<const uint16_t*>(f.lag_dep + l))));
+    hn::StoreU(v, d4, b);
+    const uint32_t h = hn::GetLane(v);
 #endif
-        if (HWY_UNLIKELY(h >= f.spill_at)) f.full[(*f.nfull)++] = f.lag[l];
-    }
+    if (HWY_UNLIKELY(h >= f.spill_at)) f.full[(*f.nfull)++] = f.lag[l];
+}
+
+/// deposit_one for the nl chains from i: a whole vector's (MaxLanes, known when compiling)
+/// unrolled, without a loop counter per deposit.
+template <class D, class T>
+HWY_INLINE void deposit_lagged(D d, const fp_chaos::FusedArgs<T>& f, size_t i, size_t nl) {
+    if (nl == hn::MaxLanes(d))
+        for (size_t l = 0; l < hn::MaxLanes(d); ++l) deposit_one(f, i + l);
+    else
+        for (size_t l = 0; l < nl; ++l) deposit_one(f, i + l);
 }
 
 // (Not inlined into its dispatchers: each variant is a function of its own, so that the
@@ -726,7 +747,7 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
             pack_colours(d, bk, i);
             // The previous step's points, whose bins are known from the start: their
             // read-modify-writes overlap this vector's arithmetic.
-            if (f.lag) deposit_lagged(f, i, nl);
+            if (f.lag) deposit_lagged(d, f, i, nl);
         }
         if (C == fp_chaos::LaneColour::none && f.lag) {
             // The previous step's bins, whose addresses are known from the start: their
