@@ -53,7 +53,7 @@ struct Options {
     std::string vary;
     int columns = 0;
     unsigned threads = 0;
-    bool quiet = false, force = false, check = false;
+    bool quiet = false, force = false, check = false, verbose = false;
     std::string steps = "1";
     long long level = -1;
 };
@@ -524,7 +524,8 @@ int cmd_conformance(const Options& o) {
     if (o.files.empty()) targets = reg.all();
     int failed = 0, passed = 0;
     for (const auto* e : targets) {
-        const auto findings = run_conformance(reg, *e);
+        const auto report = conformance_report(reg, *e);
+        const auto& findings = report.findings;
         if (findings.empty()) {
             ++passed;
             std::printf("PASS %s (%s)\n", e->desc->name, e->file.c_str());
@@ -533,6 +534,9 @@ int cmd_conformance(const Options& o) {
             std::printf("FAIL %s (%s)\n", e->desc->name, e->file.c_str());
             for (const auto& f : findings) std::printf("  - %s\n", f.c_str());
         }
+        if (o.verbose)
+            for (const auto& c : report.checks)
+                std::printf("    %s %s\n", c.passed ? "PASS" : "FAIL", c.name.c_str());
     }
     std::printf("%d passed, %d failed\n", passed, failed);
     return failed ? 1 : 0;
@@ -627,6 +631,7 @@ int main(int argc, char** argv) {
 
     auto* conformance = app.add_subcommand("conformance", "Run the plugin conformance suite");
     conformance->add_option("files", o.files, "Plugin files (default: every plugin found)");
+    conformance->add_flag("-v,--verbose", o.verbose, "List every check run and its result");
 
     try {
         app.parse(argc, argv);

@@ -4,6 +4,8 @@
 #include <fixpoint/host/conformance.hpp>
 #include <fixpoint/host/runtime.hpp>
 
+#include "conformance_detail.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -16,13 +18,8 @@ namespace fp::host {
 
 namespace {
 
-using Findings = std::vector<std::string>;
-
-// Deterministic sample points.
-struct Sampler {
-    Rng rng = chain_stream(20261121, 7);
-    double in(double a, double b) { return a + (b - a) * uniform_double(rng); }
-};
+using detail::Findings;
+using detail::Sampler;
 
 const std::string not_std_exception = "an exception that is not a std::exception (throw fp::InputError or "
                                       "another std::exception)";
@@ -54,18 +51,6 @@ bool same_on_two_threads(F f) {
     if (ec) std::rethrow_exception(ec);
     return a == b && a == c;
 }
-
-// A contraction used to drive iteration schemes without depending on other plugins.
-class TestAffine final : public TransformBase<TestAffine> {
-public:
-    template <class T>
-    void map_pt(T& x, T& y) const {
-        const T nx = T(0.5) * x - T(0.3) * y + T(0.1);
-        const T ny = T(0.3) * x + T(0.5) * y - T(0.2);
-        x = nx;
-        y = ny;
-    }
-};
 
 template <class T>
 bool bit_equal(const std::vector<T>& a, const std::vector<T>& b) {
@@ -286,40 +271,6 @@ void check_transform(const Transform& t, Findings& f) {
     }
     check_known_kernel<double>(t, x0, y0, f);
     check_known_kernel<float>(t, x0, y0, f);
-}
-
-// ------------------------------------------------------------------ IterationScheme
-void check_scheme(const IterationScheme& s, Findings& f) {
-    TestAffine t;
-    Sampler smp;
-    constexpr std::size_t n = 500;
-    std::vector<double> x0(n), y0(n);
-    for (std::size_t i = 0; i < n; ++i) x0[i] = smp.in(-1, 1), y0[i] = smp.in(-1, 1);
-    for (std::uint64_t step : {0ull, 1ull, 7ull}) {
-        auto one_step = [&](Points<double> p) { s.step(t, p, nullptr, step); };
-        auto batch = [&] { return map_batch_and_pointwise(x0, y0, one_step).batch; };
-        const MapResults res = map_batch_and_pointwise(x0, y0, one_step);
-        if (!bit_equal(res.batch, res.pointwise)) {
-            f.push_back("iteration-scheme: step() on a batch differs from point-by-point");
-            return;
-        }
-        if (!same_on_two_threads(batch)) {
-            f.push_back("iteration-scheme: results differ when evaluated from two threads at once");
-            return;
-        }
-        if (s.is_picard()) {
-            // The promise renderers rely on: step() is exactly T(p), special values included.
-            std::vector<double> x = x0, y = y0, ex = x0, ey = y0;
-            x[0] = ex[0] = std::numeric_limits<double>::infinity();
-            y[1] = ey[1] = std::numeric_limits<double>::quiet_NaN();
-            s.step(t, Points<double>{x.data(), y.data(), n}, nullptr, step);
-            t.apply(Points<double>{ex.data(), ey.data(), n}, nullptr);
-            if (!bit_equal(x, ex) || !bit_equal(y, ey)) {
-                f.push_back("iteration-scheme: is_picard() is true, but step() is not exactly T(p)");
-                return;
-            }
-        }
-    }
 }
 
 // ------------------------------------------------------------------ Metric
@@ -689,6 +640,7 @@ CNode example_node(const PluginDescriptor& d) {
 // Expect validation or construction of `n` to be refused with a bad-input error.
 void expect_refused(const Registry& reg, const PluginDescriptor& d, const CNode& n, const std::string& what,
                     Findings& f) {
+    const std::size_t before = f.size();
     try {
         auto t = validate(reg, d.kind, n, d.name);
         build(reg, *t);
@@ -700,6 +652,7 @@ void expect_refused(const Registry& reg, const PluginDescriptor& d, const CNode&
     } catch (...) {
         f.push_back("parameters: " + what + " threw " + not_std_exception);
     }
+    f.record("parameters: " + what + " is refused", before);
 }
 
 void set_param(CNode& n, const std::string& key, CNode v) {
@@ -711,27 +664,109 @@ void set_param(CNode& n, const std::string& key, CNode v) {
     }
 }
 
-} // namespace
-
-std::vector<std::string> check_object(const Object& obj, Kind kind) {
-    Findings f;
+// The kind's checks on an object. Schemes record their checks one by one; the other kinds
+// record one check for all of theirs (their findings say which failed).
+void check_kind(const Object& obj, Kind kind, Findings& f) {
+    const std::size_t before = f.size();
     switch (kind) {
     case Kind::Shape: check_shape(dynamic_cast<const Shape&>(obj), f); break;
     case Kind::Transform: check_transform(dynamic_cast<const Transform&>(obj), f); break;
-    case Kind::IterationScheme: check_scheme(dynamic_cast<const IterationScheme&>(obj), f); break;
+    case Kind::IterationScheme: detail::check_scheme(dynamic_cast<const IterationScheme&>(obj), f); return;
     case Kind::NumberSystem: check_numbers(dynamic_cast<const NumberSystem&>(obj), f); break;
     case Kind::Trap: check_trap(dynamic_cast<const Trap&>(obj), f); break;
     case Kind::Metric: check_metric(dynamic_cast<const Metric&>(obj), f); break;
     case Kind::Colourer: check_colourer(dynamic_cast<const Colourer&>(obj), f); break;
     case Kind::Renderer: check_renderer(dynamic_cast<const Renderer&>(obj), f); break;
     }
-    return f;
+    f.record(std::string(kind_name(kind)) + ": the kind's checks", before);
+}
+
+// check_kind(), with what the plugin throws reported as a finding.
+void checks_of(const Object& obj, Kind kind, Findings& f) {
+    try {
+        check_kind(obj, kind, f);
+    } catch (const std::exception& err) {
+        f.check("checks: the plugin does not throw", std::string("checks: the plugin threw: ") + err.what());
+    } catch (...) {
+        f.check("checks: the plugin does not throw", "checks: the plugin threw " + not_std_exception);
+    }
+}
+
+// A scheme's behaviour depends on its parameters more than a shape's: besides the example,
+// it is checked with a few values drawn from the declared ranges (finite Real and Int
+// ranges; sequences, which have no range, as periodic lists of weights in [0, 1]). Each
+// draw goes through validate and build like a config; a draw the plugin refuses with a
+// bad-input error (values fine alone but not together) is skipped. Findings name the draw.
+void check_draws(const Registry& reg, const PluginDescriptor& d, const CNode& ex, Findings& f) {
+    Rng rng = chain_stream(20261121, 13);
+    // On a grid of a thousandth of the range: short to print, and as good a sample.
+    auto draw = [&](double lo, double hi) { return lo + (hi - lo) * uniform_below(rng, 1001) / 1000; };
+    constexpr int draws = 3;
+    for (int k = 0; k < draws; ++k) {
+        CNode n = ex;
+        std::string what;
+        for (std::uint32_t i = 0; i < d.n_params; ++i) {
+            const ParamSpec& s = d.params[i];
+            CNode v;
+            if ((s.type == ParamType::Real || s.type == ParamType::Int) && std::isfinite(s.lo) &&
+                std::isfinite(s.hi)) {
+                double x = draw(s.lo, s.hi);
+                if (s.type == ParamType::Int)
+                    x = std::clamp(std::floor(x + 0.5), std::ceil(s.lo), std::floor(s.hi));
+                if ((s.lo_open && x <= s.lo) || (s.hi_open && x >= s.hi)) x = 0.5 * (s.lo + s.hi);
+                v = scalar_node(format_real(x));
+            } else if (s.type == ParamType::Sequence) {
+                // Three values: a list of two reads as one q-number.
+                v = seq_node();
+                for (int j = 0; j < 3; ++j) v.items.push_back(scalar_node(format_real(draw(0, 1))));
+            } else {
+                continue;
+            }
+            what += std::string(what.empty() ? "" : ", ") + s.name + ": " +
+                    (v.is_seq()
+                         ? "[" + v.items[0].scalar + ", " + v.items[1].scalar + ", " + v.items[2].scalar + "]"
+                         : v.scalar);
+            set_param(n, s.name, std::move(v));
+        }
+        if (what.empty()) return; // nothing to draw
+        std::shared_ptr<const Object> obj;
+        try {
+            obj = build(reg, *validate(reg, d.kind, n, d.name));
+        } catch (const InputError&) {
+            continue; // refused as a whole: not a finding
+        } catch (const std::exception& err) {
+            f.push_back("build: drawn parameters (" + what + ") gave a non-parameter error: " + err.what());
+            continue;
+        } catch (...) {
+            f.push_back("build: drawn parameters (" + what + ") threw " + not_std_exception);
+            continue;
+        }
+        // A finding the example already gave is not repeated; new ones say the draw.
+        Findings g;
+        checks_of(*obj, d.kind, g);
+        for (auto& c : g.checks) f.checks.push_back({c.name + " (drawn: " + what + ")", c.passed});
+        for (auto& m : g.failures)
+            if (std::find(f.failures.begin(), f.failures.end(), m) == f.failures.end())
+                f.push_back(m + " (with drawn parameters " + what + ")");
+    }
+}
+
+} // namespace
+
+std::vector<std::string> check_object(const Object& obj, Kind kind) {
+    Findings f;
+    check_kind(obj, kind, f);
+    return f.failures;
 }
 
 std::vector<std::string> run_conformance(const Registry& reg, const PluginEntry& e) {
+    return conformance_report(reg, e).findings;
+}
+
+ConformanceReport conformance_report(const Registry& reg, const PluginEntry& e) {
     Findings f;
     const PluginDescriptor& d = *e.desc;
-    // Metadata.
+    const std::size_t before_meta = f.size();
     if (!d.summary || !*d.summary) f.push_back("metadata: no summary");
     if (!d.version || !*d.version) f.push_back("metadata: no version");
     for (std::uint32_t i = 0; i < d.n_params; ++i) {
@@ -745,7 +780,9 @@ std::vector<std::string> run_conformance(const Registry& reg, const PluginEntry&
                     f.push_back("metadata: item parameter '" + std::string(s.item_params[j].name) +
                                 "' has no doc line");
     }
+    f.record("metadata: summary, version, parameter names and docs", before_meta);
     // Builds from its example.
+    const std::size_t before_build = f.size();
     CNode ex;
     std::shared_ptr<const Object> obj;
     try {
@@ -754,11 +791,11 @@ std::vector<std::string> run_conformance(const Registry& reg, const PluginEntry&
         obj = build(reg, *t);
     } catch (const std::exception& err) {
         f.push_back(std::string("build: the example does not build: ") + err.what());
-        return f;
     } catch (...) {
         f.push_back("build: the example does not build: it threw " + not_std_exception);
-        return f;
     }
+    f.record("build: the example builds", before_build);
+    if (!obj) return {f.failures, f.checks};
     // Bad parameters are refused.
     {
         CNode n = ex;
@@ -804,15 +841,9 @@ std::vector<std::string> run_conformance(const Registry& reg, const PluginEntry&
             expect_refused(reg, d, n, "NaN in '" + nm + "'", f);
         }
     }
-    try {
-        auto more = check_object(*obj, d.kind);
-        f.insert(f.end(), more.begin(), more.end());
-    } catch (const std::exception& err) {
-        f.push_back(std::string("checks: the plugin threw: ") + err.what());
-    } catch (...) {
-        f.push_back("checks: the plugin threw " + not_std_exception);
-    }
-    return f;
+    checks_of(*obj, d.kind, f);
+    if (d.kind == Kind::IterationScheme) check_draws(reg, d, ex, f);
+    return {f.failures, f.checks};
 }
 
 } // namespace fp::host
