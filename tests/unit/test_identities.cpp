@@ -250,20 +250,8 @@ TEST(GumowskiMiraIdentities, AlphaNonZeroScalesAreaBy1PlusAlphaTimes1Minus015YSq
 
 // ================================================================== vector S-iteration (paper 04)
 
-bool has_plugin(const std::string& yaml) {
-    try {
-        host().make_object(fp::Kind::Transform, yaml, "<string>");
-        return true;
-    } catch (const fp::InputError&) {
-        return false;
-    }
-}
-
-// Paper 04's p4m map of Fig. 8 (P32 as in configs/orbit-trap/fig8a.yaml: the p4m condition).
-const std::string p4m =
-    "{type: wallpaper, group: p4m, P03: [0, -0.234602], P04: [0, -0.231376], P13: [0, -0.931333], "
-    "P14: [0, -0.982975], P23: [0, 0.429163], P24: [0, 0.363704], P30: [-0.234602, 0], P31: [-0.931333, 0], "
-    "P32: [0.429163, 0], P40: [-0.231376, 0], P41: [-0.982975, 0], P42: [0.363704, 0]}";
+using fp::test::has_plugin;
+const std::string& p4m = fp::test::p4m_fig8;
 
 // `a` and `b` equal as numbers; NaN equals NaN (the same lanes blow up on both sides).
 template <class T>

@@ -39,21 +39,8 @@ Render render(const std::string& yaml, unsigned threads = 2) {
     return out;
 }
 
-bool has_plugin(const std::string& yaml) {
-    try {
-        host().make_object(fp::Kind::Transform, yaml, "<string>");
-        return true;
-    } catch (const fp::InputError&) {
-        return false;
-    }
-}
-
-// Paper 04's p4m example (Fig. 8), with the misprint P32 = [0.422963, 0] fixed to 0.429163 (the
-// p4m condition P32.x = P23.y).
-const std::string p4m =
-    "{type: wallpaper, group: p4m, P03: [0, -0.234602], P04: [0, -0.231376], P13: [0, -0.931333], "
-    "P14: [0, -0.982975], P23: [0, 0.429163], P24: [0, 0.363704], P30: [-0.234602, 0], P31: [-0.931333, 0], "
-    "P32: [0.429163, 0], P40: [-0.231376, 0], P41: [-0.982975, 0], P42: [0.363704, 0]}";
+using fp::test::has_plugin;
+const std::string& p4m = fp::test::p4m_fig8;
 
 std::string orbit_trap(const std::string& extra, int size = 64) {
     return "{type: orbit-trap, width: " + std::to_string(size) + ", height: " + std::to_string(size) +
