@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <mutex>
 
 namespace fp::host {
 
@@ -14,7 +15,7 @@ namespace {
 
 /// FNV-1a (64 bits) of a plugin's file, "fnv1a64:" and 16 hex digits: tells two builds of one
 /// version apart in a recipe (an identity, not a security measure). Empty if it cannot be read.
-std::string file_hash(const std::filesystem::path& f) {
+std::string hash_file(const std::filesystem::path& f) {
     std::FILE* fp = std::fopen(f.c_str(), "rb");
     if (!fp) return "";
     std::uint64_t h = 14695981039346656037ull;
@@ -27,6 +28,17 @@ std::string file_hash(const std::filesystem::path& f) {
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
     return std::string("fnv1a64:") + hex;
+}
+
+/// hash_file once per file and process: a loaded plugin's file does not change under it, and
+/// a process that loads many pipelines (a collection, the fuzzer) reads each file once.
+std::string file_hash(const std::filesystem::path& f) {
+    static std::mutex m;
+    static std::map<std::filesystem::path, std::string> known;
+    const std::lock_guard<std::mutex> lock(m);
+    const auto it = known.find(f);
+    if (it != known.end()) return it->second;
+    return known.emplace(f, hash_file(f)).first->second;
 }
 
 /// The plugins a validated tree uses, by name.
