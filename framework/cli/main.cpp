@@ -73,9 +73,8 @@ Registry make_registry(const Options& o) {
     return reg;
 }
 
-/// The pipeline of a config, its warnings told (a plugin other than the recipe's).
-Pipeline load_told(const Registry& reg, const Options& o) {
-    Pipeline p = load_pipeline(reg, o.config, o.sets);
+/// A pipeline's warnings (a plugin other than the recipe's), one line each.
+const Pipeline& told(const Pipeline& p) {
     for (const auto& w : p.warnings) spdlog::warn("warning: {}", w);
     return p;
 }
@@ -193,7 +192,7 @@ std::string render_vector_checked(const Pipeline& p, unsigned threads, Format f,
 // Paper 05's Algorithm 1: the addresses of a renderer's polygons at a level, one per line.
 int cmd_addresses(const Options& o) {
     const Registry reg = make_registry(o);
-    const Pipeline p = load_told(reg, o);
+    const Pipeline p = told(load_pipeline(reg, o.config, o.sets));
     std::vector<std::string> lines;
     try {
         lines = p.renderer->polygon_addresses(o.level);
@@ -290,11 +289,8 @@ int cmd_collection(const Options& o, bool validate_only) {
     const Registry reg = make_registry(o);
     const auto [path, values] = parse_vary(o.vary);
     std::vector<Pipeline> pipes;
-    for (const auto& v : values) {
-        pipes.push_back(load_pipeline(reg, o.config, o.sets, path + "=" + v));
-        if (pipes.size() == 1) // (every child has the same plugins: told once)
-            for (const auto& w : pipes[0].warnings) spdlog::warn("warning: {}", w);
-    }
+    for (const auto& v : values) pipes.push_back(load_pipeline(reg, o.config, o.sets, path + "=" + v));
+    told(pipes[0]); // (every child has the same plugins: told once)
     const unsigned threads = o.threads ? o.threads : hardware_threads();
     for (const auto& p : pipes) check_memory(p, threads);
     check_collection_memory(pipes, threads, o.columns);
@@ -351,7 +347,7 @@ int cmd_render(const Options& o, bool validate_only) {
     install_sigint();
     if (!o.vary.empty()) return cmd_collection(o, validate_only);
     const Registry reg = make_registry(o);
-    const Pipeline p = load_told(reg, o);
+    const Pipeline p = told(load_pipeline(reg, o.config, o.sets));
     const unsigned threads = o.threads ? o.threads : hardware_threads();
     check_memory(p, threads);
     const Output output = resolve_output(o, p);
@@ -442,8 +438,8 @@ int cmd_plugins(const Options& o) {
         std::vector<std::pair<std::string, std::string>> lines;
         for (const auto* e : reg.all(kind))
             lines.emplace_back(e->file.string(), "ok       " + std::string(e->desc->name));
-        if (!kind)
-            for (const auto& r : reg.refused()) lines.emplace_back(r.file.string(), "refused  " + r.reason);
+        // (A refused file's kind is not known: listed whatever --kind says.)
+        for (const auto& r : reg.refused()) lines.emplace_back(r.file.string(), "refused  " + r.reason);
         std::sort(lines.begin(), lines.end());
         for (const auto& [file, what] : lines) std::printf("%s: %s\n", file.c_str(), what.c_str());
         return reg.refused().empty() ? 0 : 1;

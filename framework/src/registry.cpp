@@ -69,11 +69,11 @@ void Registry::load_dir(const fs::path& dir) {
             continue;
         }
         if (!regular) continue;
-        last_name_.clear();
+        std::string name;
         try {
-            load_file(f);
+            load(f, name);
         } catch (const InputError& e) {
-            refused_.push_back({f, e.what(), last_name_});
+            refused_.push_back({f, e.what(), name});
         }
     }
 }
@@ -106,6 +106,11 @@ static bool kebab(const char* s) {
 }
 
 const PluginEntry& Registry::load_file(const fs::path& file) {
+    std::string name;
+    return load(file, name);
+}
+
+const PluginEntry& Registry::load(const fs::path& file, std::string& name) {
     std::error_code ec;
     const fs::path canon = fs::weakly_canonical(file, ec);
     const fs::path path = ec ? file : canon;
@@ -132,7 +137,7 @@ const PluginEntry& Registry::load_file(const fs::path& file) {
     if (d.abi != abi_version || !d.create || !d.summary || (!d.params && d.n_params) ||
         unsigned(d.kind) >= unsigned(kind_count))
         throw InputError("plugin '" + f + "' has a malformed descriptor");
-    last_name_ = d.name ? d.name : "";
+    name = d.name ? d.name : "";
     if (!kebab(d.name))
         throw InputError("plugin '" + f + "' has name '" + std::string(d.name ? d.name : "") +
                          "', which is not kebab-case");

@@ -68,7 +68,9 @@ public:
 private:
     std::vector<std::unique_ptr<PluginEntry>> entries_;
     std::vector<RefusedPlugin> refused_;
-    std::string last_name_; ///< the name read by the last load_file, for a refusal's record
+    /// load_file's work; `name` gets the plugin's name as soon as its descriptor is read, so
+    /// that a refusal after that point (a duplicate, a name not in kebab-case) can record it.
+    const PluginEntry& load(const std::filesystem::path& file, std::string& name);
 };
 
 /// Edit distance, for suggestions.
