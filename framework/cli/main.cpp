@@ -50,7 +50,7 @@ struct Options {
     std::vector<std::string> plugin_dirs;
     std::string config, out, image, name, transform, scheme = "{type: picard}", kind;
     std::vector<std::string> sets, files;
-    std::string vary;
+    std::string vary, example;
     int columns = 0;
     unsigned threads = 0;
     bool quiet = false, force = false, check = false, verbose = false;
@@ -81,14 +81,6 @@ const Pipeline& told(const Pipeline& p) {
 
 /// The error for a plugin name that is not loaded: the file that would have provided it and
 /// why it did not load, or suggestions.
-[[noreturn]] void unknown_plugin(const Registry& reg, const std::string& name) {
-    if (const auto* r = reg.refused_for(name))
-        throw InputError("plugin " + quote(name) + " is not available: " + r->reason);
-    const auto near = reg.closest(name, std::nullopt);
-    throw InputError("unknown plugin " + quote(name) +
-                     (near.empty() ? "" : " (did you mean '" + near[0] + "'?)"));
-}
-
 std::string default_output(const std::string& config) { return fs::path(config).stem().string() + ".png"; }
 
 // Where a render writes, and what the user said about it.
@@ -121,31 +113,10 @@ void check_output_for(const Output& out, const Options& o) {
     }
 }
 
-void check_memory(const Pipeline& p, unsigned threads) {
-    const std::uint64_t need = p.renderer->memory_bytes(threads), have = available_memory();
-    if (need > have)
-        throw InputError(p.renderer_mark.str() + ": renderer: a " + std::to_string(p.renderer->width()) +
-                         "x" + std::to_string(p.renderer->height()) + " render needs " + format_bytes(need) +
-                         " of memory with " + std::to_string(threads) + " thread(s); this machine has " +
-                         format_bytes(have) + " available");
-}
-
-// A render that drew nothing is refused rather than written as a silent black image; one that
-// drew almost nothing is written with a warning.
-void check_drawn(const Pipeline& p, const RenderStats& st) {
-    if (st.drawn == RenderStats::unknown_count) return;
-    // Chains that restart or escape explain an empty image; say so only when there were any.
-    std::string why;
-    if (st.restarts || st.bad_values)
-        why = "; " + std::to_string(st.restarts) + " restarted chain" + (st.restarts == 1 ? "" : "s") + ", " +
-              std::to_string(st.bad_values) + " bad value" + (st.bad_values == 1 ? "" : "s") +
-              " (points escaping to infinity or NaN)";
-    if (st.drawn == 0)
-        throw InputError(p.renderer_mark.str() + ": renderer: nothing was drawn (0 of " +
-                         std::to_string(st.samples) + " " + st.unit + " " + st.drawn_means + why +
-                         "); check the view and the parameters");
-    if (double(st.drawn) < 0.001 * double(st.samples))
-        spdlog::warn("warning: only {} of {} {} {}{}", st.drawn, st.samples, st.unit, st.drawn_means, why);
+// A render that drew almost nothing is written with a warning (check_drawn refuses one that
+// drew nothing).
+void warn_drawn(const Pipeline& p, const RenderStats& st) {
+    if (const std::string w = check_drawn(p, st); !w.empty()) spdlog::warn("warning: {}", w);
 }
 
 // Render one pipeline with a progress bar; the image is checked (not empty, not interrupted)
@@ -167,7 +138,7 @@ Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStat
     }
     secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (g_interrupted.load()) throw Cancelled();
-    check_drawn(p, stats);
+    warn_drawn(p, stats);
     return img;
 }
 
@@ -185,7 +156,7 @@ std::string render_vector_checked(const Pipeline& p, unsigned threads, Format f,
     }
     secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (g_interrupted.load()) throw Cancelled();
-    check_drawn(p, stats);
+    warn_drawn(p, stats);
     return doc;
 }
 
@@ -452,8 +423,7 @@ int cmd_plugins(const Options& o) {
 
 int cmd_describe(const Options& o) {
     const Registry reg = make_registry(o);
-    const PluginEntry* e = reg.find(o.name);
-    if (!e || reg.refused_for(o.name)) unknown_plugin(reg, o.name);
+    const PluginEntry* e = &reg.get(o.name);
     const auto& d = *e->desc;
     std::printf("%s (%s, version %s)\n  %s\n  file: %s\n", d.name, std::string(kind_name(d.kind)).c_str(),
                 d.version, d.summary, e->file.c_str());
@@ -516,11 +486,18 @@ int cmd_recipe(const Options& o) {
 int cmd_conformance(const Options& o) {
     Registry reg = make_registry(o);
     std::vector<const PluginEntry*> targets;
-    for (const auto& f : o.files) targets.push_back(&reg.load_file(f));
+    // A plugin file, or the name of a plugin found in the plugin folders.
+    for (const auto& f : o.files) {
+        const PluginEntry* named =
+            f.find('/') == std::string::npos && !f.ends_with(".so") ? reg.find(f) : nullptr;
+        targets.push_back(named ? named : &reg.load_file(f));
+    }
     if (o.files.empty()) targets = reg.all();
+    if (!o.example.empty() && targets.size() != 1)
+        throw InputError("--example: name the one plugin it is an example of");
     int failed = 0, passed = 0;
     for (const auto* e : targets) {
-        const auto report = conformance_report(reg, *e);
+        const auto report = conformance_report(reg, *e, o.example.empty() ? nullptr : &o.example);
         const auto& findings = report.findings;
         if (findings.empty()) {
             ++passed;
@@ -626,8 +603,11 @@ int main(int argc, char** argv) {
     addresses->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
 
     auto* conformance = app.add_subcommand("conformance", "Run the plugin conformance suite");
-    conformance->add_option("files", o.files, "Plugin files (default: every plugin found)");
+    conformance->add_option("files", o.files, "Plugin files or names (default: every plugin found)");
     conformance->add_flag("-v,--verbose", o.verbose, "List every check run and its result");
+    conformance->add_option("--example", o.example,
+                            "Parameters to check the plugin with instead of its own example (a YAML mapping, "
+                            "as '{file: my_scheme.py}' for a python-scheme)");
 
     try {
         app.parse(argc, argv);

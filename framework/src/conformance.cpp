@@ -628,9 +628,12 @@ bool snake_or_paper(const char* s) {
     return true;
 }
 
-// The example with `type:` added, as a node.
-CNode example_node(const PluginDescriptor& d) {
-    CNode n = parse_yaml(d.example ? d.example : "{}", std::string("<example of ") + d.name + ">");
+// The example (the plugin's own unless `given`) with `type:` added, as a node.
+CNode example_node(const PluginDescriptor& d, const std::string* given) {
+    CNode n = given ? parse_yaml(*given, "--example")
+                    : parse_yaml(d.example ? d.example : "{}", std::string("<example of ") + d.name + ">");
+    if (given && n.type != CNode::Type::Null && !n.is_map())
+        throw InputError(n.mark.str() + ": expected a mapping of parameters, got " + n.describe());
     if (n.type == CNode::Type::Null) n = map_node();
     n.keys.insert(n.keys.begin(), {"type", scalar_node(d.name)});
     n.key_marks.insert(n.key_marks.begin(), n.mark);
@@ -763,7 +766,7 @@ std::vector<std::string> run_conformance(const Registry& reg, const PluginEntry&
     return conformance_report(reg, e).findings;
 }
 
-ConformanceReport conformance_report(const Registry& reg, const PluginEntry& e) {
+ConformanceReport conformance_report(const Registry& reg, const PluginEntry& e, const std::string* example) {
     Findings f;
     const PluginDescriptor& d = *e.desc;
     const std::size_t before_meta = f.size();
@@ -786,7 +789,7 @@ ConformanceReport conformance_report(const Registry& reg, const PluginEntry& e) 
     CNode ex;
     std::shared_ptr<const Object> obj;
     try {
-        ex = example_node(d);
+        ex = example_node(d, example);
         auto t = validate(reg, d.kind, ex, d.name);
         obj = build(reg, *t);
     } catch (const std::exception& err) {

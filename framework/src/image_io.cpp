@@ -99,6 +99,13 @@ void write_image(const Image& img, const std::string& path, int bit_depth, const
     write_bytes(reinterpret_cast<const char*>(buf.data()), buf.size(), path);
 }
 
+void quantise_pixels(const Image& img, int bit_depth, void* out) {
+    const auto n = static_cast<OIIO::stride_t>(img.pixels.size());
+    if (!OIIO::convert_pixel_values(OIIO::TypeDesc::FLOAT, img.pixels.data(),
+                                    bit_depth == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8, out, n))
+        throw InternalError("OpenImageIO could not convert the pixels");
+}
+
 // The recipe an mfs SVG carries in <metadata id="fixpoint-recipe"> (see plugins/renderers/mfs_draw.hpp).
 static std::string read_svg_recipe(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

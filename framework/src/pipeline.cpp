@@ -1,6 +1,7 @@
 // The top level of a config file.
 #include <fixpoint/host/image_io.hpp>
 #include <fixpoint/host/pipeline.hpp>
+#include <fixpoint/host/runtime.hpp>
 #include <fixpoint/text.hpp>
 #include <fixpoint/version.hpp>
 
@@ -151,6 +152,33 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
     recipe.key_marks.resize(recipe.keys.size());
     p.recipe = emit_yaml(recipe);
     return p;
+}
+
+void check_memory(const Pipeline& p, unsigned threads) {
+    const std::uint64_t need = p.renderer->memory_bytes(threads), have = available_memory();
+    if (need > have)
+        throw InputError(p.renderer_mark.str() + ": renderer: a " + std::to_string(p.renderer->width()) +
+                         "x" + std::to_string(p.renderer->height()) + " render needs " + format_bytes(need) +
+                         " of memory with " + std::to_string(threads) + " thread(s); this machine has " +
+                         format_bytes(have) + " available");
+}
+
+std::string check_drawn(const Pipeline& p, const RenderStats& st) {
+    if (st.drawn == RenderStats::unknown_count) return "";
+    // Chains that restart or escape explain an empty image; say so only when there were any.
+    std::string why;
+    if (st.restarts || st.bad_values)
+        why = "; " + std::to_string(st.restarts) + " restarted chain" + (st.restarts == 1 ? "" : "s") + ", " +
+              std::to_string(st.bad_values) + " bad value" + (st.bad_values == 1 ? "" : "s") +
+              " (points escaping to infinity or NaN)";
+    if (st.drawn == 0)
+        throw InputError(p.renderer_mark.str() + ": renderer: nothing was drawn (0 of " +
+                         std::to_string(st.samples) + " " + st.unit + " " + st.drawn_means + why +
+                         "); check the view and the parameters");
+    if (double(st.drawn) < 0.001 * double(st.samples))
+        return "only " + std::to_string(st.drawn) + " of " + std::to_string(st.samples) + " " + st.unit +
+               " " + st.drawn_means + why;
+    return "";
 }
 
 } // namespace fp::host

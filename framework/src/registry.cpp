@@ -78,6 +78,16 @@ void Registry::load_dir(const fs::path& dir) {
     }
 }
 
+const PluginEntry& Registry::get(const std::string& name) const {
+    const PluginEntry* e = find(name);
+    if (const auto* r = refused_for(name))
+        throw InputError("plugin " + quote(name) + " is not available: " + r->reason);
+    if (e) return *e;
+    const auto near = closest(name, std::nullopt);
+    throw InputError("unknown plugin " + quote(name) +
+                     (near.empty() ? "" : " (did you mean '" + near[0] + "'?)"));
+}
+
 const RefusedPlugin* Registry::refused_for(std::string_view name) const {
     for (const auto& r : refused_)
         if (r.name == name) return &r;

@@ -30,8 +30,11 @@ struct ConformanceReport {
     std::vector<CheckResult> checks;   ///< every check run, in order
 };
 
-/// Run every check on one plugin, with the list of checks run.
-ConformanceReport conformance_report(const Registry& reg, const PluginEntry& plugin);
+/// Run every check on one plugin, with the list of checks run. `example` (a YAML mapping of
+/// parameters) replaces the plugin's own example when given: a python-scheme is checked with
+/// the user's file.
+ConformanceReport conformance_report(const Registry& reg, const PluginEntry& plugin,
+                                     const std::string* example = nullptr);
 
 /// Run every check on one plugin; returns the failures (empty: conformant).
 std::vector<std::string> run_conformance(const Registry& reg, const PluginEntry& plugin);

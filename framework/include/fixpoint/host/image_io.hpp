@@ -33,6 +33,10 @@ void check_output(const std::string& path);
 /// `recipe` goes into the ImageDescription metadata.
 void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe);
 
+/// The pixels as an 8- or 16-bit PNG or TIFF of write_image stores them (OpenImageIO's
+/// conversion, the one write_image uses): width * height * channels values of `bit_depth` bits
+/// at `out` (std::uint8_t or std::uint16_t).
+void quantise_pixels(const Image& img, int bit_depth, void* out);
 /// Write a whole file (a vector document) atomically, as write_image does. Throws fp::InputError.
 void write_bytes(const std::string& bytes, const std::string& path);
 void write_bytes(const char* data, std::size_t size, const std::string& path);

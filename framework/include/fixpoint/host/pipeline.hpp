@@ -38,4 +38,13 @@ Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::
                        const std::string& vary = "");
 Pipeline load_pipeline(const Registry& reg, CNode root);
 
+/// Refuse, before it starts, a render that needs more memory than the machine has available
+/// with `threads` workers (fp::InputError at the renderer).
+void check_memory(const Pipeline& p, unsigned threads);
+
+/// Refuse a render that drew nothing rather than give a silent black image (fp::InputError at
+/// the renderer). Returns a warning (without a "warning: " prefix) for one that drew almost
+/// nothing, else an empty string.
+std::string check_drawn(const Pipeline& p, const RenderStats& st);
+
 } // namespace fp::host

@@ -50,6 +50,10 @@ public:
     const PluginEntry& load_file(const std::filesystem::path& file);
 
     const PluginEntry* find(std::string_view name) const;
+    /// The plugin `name` for a command that names one (describe): throws fp::InputError
+    /// "unknown plugin 'X' (did you mean 'Y'?)", or "plugin 'X' is not available: REASON" when
+    /// a refused file would have provided it.
+    const PluginEntry& get(const std::string& name) const;
     /// The files of the folders that did not load, in the order met.
     const std::vector<RefusedPlugin>& refused() const { return refused_; }
     /// The refused file that would have provided plugin `name`: one that declared that name
