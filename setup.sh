@@ -29,6 +29,7 @@ packages=(
     libspdlog-dev libfmt-dev libtbb-dev libcli11-dev libpcg-cpp-dev
     libgtest-dev libgmock-dev libbenchmark-dev clang-format fonts-dejavu-core
     libcairo2-dev libhwy-dev
+    python3-dev pybind11-dev python3-numpy
 )
 quick=${FIXPOINT_QUICK:-}
 if [ -n "$quick" ] && [ -n "${CI:-}" ]; then
@@ -36,6 +37,8 @@ if [ -n "$quick" ] && [ -n "${CI:-}" ]; then
     quick=
 fi
 sanitize=
+# The Python tests: pytest, and Pillow to read the PNGs the CLI writes.
+[ "$mode" = test ] && packages+=(python3-pytest python3-pil)
 if [ "$mode" = test ] && [ -z "$quick" ]; then
     sanitize=1
     # The sanitizer build: clang 14 with its runtimes (ASan, UBSan, libFuzzer).
@@ -66,6 +69,15 @@ cmake --build build -j"$jobs"
 
 build/bin/fixpoint render configs/inversion/fig6a.yaml -o fixpoint.png
 echo "setup: rendered configs/inversion/fig6a.yaml to fixpoint.png"
+
+# The Python module, importable by Debian's python3 from anywhere: a .pth file in the user's
+# site-packages names the build's package folder (docs/python.md).
+if [ -d build/lib/python3/dist-packages/fixpoint ]; then
+    site=$(/usr/bin/python3 -c 'import site; print(site.getusersitepackages())')
+    mkdir -p "$site"
+    echo "$PWD/build/lib/python3/dist-packages" >"$site/fixpoint.pth"
+    echo "setup: python3 can import fixpoint (through $site/fixpoint.pth)"
+fi
 [ "$mode" = test ] || exit 0
 
 started=$SECONDS
@@ -92,11 +104,14 @@ export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=$leaks"
 
 # Debug (asserts) at -O1 (CMakeLists.txt), so that the tests' renders stay quick enough.
 CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DFIXPOINT_SANITIZE=ON \
-    -DFIXPOINT_FUZZ=ON -DFIXPOINT_WERROR=ON -DFIXPOINT_BUILD_TESTS=ON -DFIXPOINT_BUILD_BENCH=OFF >/dev/null
+    -DFIXPOINT_FUZZ=ON -DFIXPOINT_WERROR=ON -DFIXPOINT_BUILD_TESTS=ON -DFIXPOINT_BUILD_BENCH=OFF \
+    -DFIXPOINT_PYTHON=OFF >/dev/null
 cmake --build build-asan -j"$jobs"
 stage "sanitizer build (build-asan)"
 
 # Every test but the style check and the out-of-tree plugin (nothing sanitizer-specific in them).
+# (No Python in this build: an interpreter not built with ASan under an ASan executable
+# reports its own allocator's habits; the Release build runs the Python tests.)
 started=$SECONDS
 ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -E '^(clang_format|external_plugin)$'
 stage "tests (build-asan)"

@@ -1,0 +1,135 @@
+"""fixpoint from Python: render configs to numpy arrays, evaluate maps and schemes on points,
+list and describe the plugins.
+
+    import fixpoint
+    image, recipe = fixpoint.render("configs/inversion/fig6a.yaml", renderer__points=1e6)
+
+Bad input raises fixpoint.Error, whose ``file``, ``line`` and ``column`` point into the
+config; its text is the CLI's error line. See docs/python.md.
+"""
+
+import json
+import os
+import warnings as _warnings
+
+from ._errors import Error
+from . import _fixpoint
+
+__version__ = _fixpoint.__version__
+__all__ = ["Error", "render", "eval", "plugins", "describe", "add_plugin_dir", "quantise", "read_recipe"]
+
+
+def _warn():
+    for w in _fixpoint.take_warnings():
+        _warnings.warn(w, RuntimeWarning, stacklevel=3)
+
+
+def _yaml(value):
+    """A Python value as YAML text (JSON is YAML); strings are taken as YAML already."""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, float) and value.is_integer() and abs(value) < 2**53:
+        return str(int(value))  # 1e6 -> 1000000: integer parameters take it
+    return json.dumps(value)
+
+
+def _config(config):
+    """(text or path, is_text) for a path, a YAML string or a dict."""
+    if isinstance(config, dict):
+        return json.dumps(config), True
+    if isinstance(config, os.PathLike):
+        return os.fspath(config), False
+    if isinstance(config, str):
+        # A YAML document has a newline or is a flow mapping; anything else is a path.
+        if "\n" in config or config.lstrip().startswith("{"):
+            return config, True
+        return config, False
+    raise TypeError(f"config: expected a path, a YAML string or a dict, got {type(config).__name__}")
+
+
+def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None, **overrides):
+    """Render a config and return ``(image, recipe)``.
+
+    config     a config file (or an image fixpoint wrote: its recipe), YAML text, or a dict.
+    sets       overrides as the CLI's --set takes them: ["renderer.points=1e6", ...].
+    overrides  the same as keywords, with ``__`` for the dots: renderer__points=1e6;
+               values are YAML text or Python values (lists, numbers).
+    threads    worker threads (0: all the machine has); the image does not depend on it.
+    progress   called with the fraction done (0 to 1), from this thread, about ten times a
+               second; an exception it raises stops the render and is raised here.
+    output     also write the image there, with its recipe, as ``fixpoint render -o`` does.
+    dtype      None: the pixels as the image file stores them (uint8, or uint16 for
+               ``output.bit_depth: 16``), equal to the PNG's; "float32": linear floats.
+
+    The GIL is released while rendering; Ctrl-C stops the render (KeyboardInterrupt).
+    ``render.last_stats`` holds the last render's summary (points, restarts, ...).
+    """
+    text, is_text = _config(config)
+    assignments = list(sets) + [f"{k.replace('__', '.')}={_yaml(v)}" for k, v in overrides.items()]
+    if dtype not in (None, "float32"):
+        raise ValueError(f"dtype: expected None or 'float32', got {dtype!r}")
+    try:
+        pixels, recipe, stats, warns, bit_depth = _fixpoint.render(
+            text, is_text, assignments, int(threads), progress, os.fspath(output) if output else "")
+    finally:
+        _warn()
+    for w in warns:
+        _warnings.warn(w, RuntimeWarning, stacklevel=2)
+    render.last_stats = stats
+    if dtype == "float32":
+        return pixels, recipe
+    return _fixpoint.quantise(pixels, bit_depth), recipe
+
+
+render.last_stats = None
+
+
+def eval(transform, points, scheme="{type: picard}", steps=1):  # noqa: A001 (the CLI's name)
+    """Apply ``steps`` steps of ``scheme`` with ``transform`` to points, as ``fixpoint eval``.
+
+    transform, scheme  plugin instances as YAML text ("{type: inversion, shape: ...}") or dicts.
+    points             an array of shape (n, 2); computed in double precision.
+    Returns a new float64 array of shape (n, 2).
+    """
+    import numpy as np
+
+    pts = np.asarray(points, dtype=np.float64)
+    if pts.ndim == 1 and pts.shape[0] == 2:
+        pts = pts.reshape(1, 2)
+    try:
+        return _fixpoint.eval(_yaml(transform), _yaml(scheme), pts, int(steps))
+    finally:
+        _warn()
+
+
+def plugins(kind=None):
+    """Every plugin found, as dicts (name, kind, version, summary, file); only ``kind`` if given."""
+    try:
+        return _fixpoint.plugins(kind)
+    finally:
+        _warn()
+
+
+def describe(name):
+    """A plugin's description: its plugins() entry plus ``params`` (name, type, default, range,
+    doc, ...) and ``example``."""
+    try:
+        return _fixpoint.describe(name)
+    finally:
+        _warn()
+
+
+def add_plugin_dir(path):
+    """Load the plugins of another folder (as the CLI's --plugin-dir)."""
+    _fixpoint.add_plugin_dir(os.fspath(path))
+    _warn()
+
+
+def quantise(pixels, bit_depth=8):
+    """Float pixels as an image file of ``bit_depth`` (8 or 16) stores them."""
+    return _fixpoint.quantise(pixels, int(bit_depth))
+
+
+def read_recipe(path):
+    """The recipe fixpoint embedded in an image it wrote."""
+    return _fixpoint.read_recipe(os.fspath(path))

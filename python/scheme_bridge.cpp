@@ -1,0 +1,214 @@
+// The Python side of the python-scheme plugin (plugins/iterations/python-scheme.cpp): runs a
+// scheme's step(T, x, y, n) on whole batches as numpy arrays.
+//
+// Built like an extension module: it names Python's symbols without linking libpython, and
+// takes them from the process (the python executable, or the libpython the plugin loaded
+// with global symbols). Every call into Python holds the GIL; render threads take it once
+// per batch, so Python schemes are serialised, and deterministic like every scheme: a
+// step's result depends on its batch alone.
+#include <fixpoint/fixpoint.hpp>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <string>
+
+namespace py = pybind11;
+
+namespace {
+
+/// Start the interpreter when the process has none (the fixpoint CLI), and let other threads
+/// take the GIL: the render's workers call the scheme.
+void ensure_interpreter() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        if (Py_IsInitialized()) return;
+        // No signal handlers: the CLI's own SIGINT handler stops renders.
+        Py_InitializeEx(0);
+        PyEval_SaveThread();
+    });
+}
+
+/// "file:line: Type: message" of the Python exception being handled, from its traceback's
+/// last frame in the scheme's own code where there is one.
+std::string describe(py::error_already_set& e, const std::string& source) {
+    std::string where;
+    try {
+        py::object tb = py::reinterpret_borrow<py::object>(e.trace());
+        std::string line;
+        while (tb && !tb.is_none()) {
+            py::object frame = tb.attr("tb_frame");
+            const std::string file = py::str(frame.attr("f_code").attr("co_filename"));
+            if (file == source) line = py::str(tb.attr("tb_lineno"));
+            tb = tb.attr("tb_next");
+        }
+        if (!line.empty()) where = source + ":" + line + ": ";
+    } catch (const py::error_already_set&) {
+    }
+    std::string type = "Exception";
+    try {
+        if (e.type()) type = py::str(e.type().attr("__name__"));
+    } catch (const py::error_already_set&) {
+    }
+    std::string msg;
+    try {
+        if (e.value()) msg = py::str(e.value());
+    } catch (const py::error_already_set&) {
+    }
+    // A SyntaxError knows its own line.
+    if (where.empty() && type == "SyntaxError") {
+        try {
+            where = source + ":" + std::string(py::str(e.value().attr("lineno"))) + ": ";
+            msg = py::str(e.value().attr("msg"));
+        } catch (const py::error_already_set&) {
+        }
+    }
+    return where + type + (msg.empty() ? "" : ": " + msg);
+}
+
+class PyScheme final : public fp::IterationScheme {
+public:
+    explicit PyScheme(const fp::ParamBag& p) {
+        const bool has_file = p.has("file"), has_code = p.has("code");
+        if (has_file == has_code)
+            throw fp::ParamError(has_file ? "code" : "file", "give either 'file' or 'code', not both");
+        std::string code;
+        if (has_file) {
+            source_ = p.string("file");
+            std::ifstream in(source_, std::ios::binary);
+            if (!in)
+                throw fp::ParamError("file", "cannot read '" + source_ + "': " + std::strerror(errno) +
+                                                 " (a path relative to the working folder)");
+            std::ostringstream ss;
+            ss << in.rdbuf();
+            code = ss.str();
+        } else {
+            source_ = "<code>";
+            code = p.string("code");
+        }
+        ensure_interpreter();
+        py::gil_scoped_acquire gil;
+        try {
+            // Each scheme its own namespace: two python-schemes never share globals.
+            py::dict ns;
+            const py::module_ builtins = py::module_::import("builtins");
+            ns["__builtins__"] = builtins;
+            ns["__name__"] = "fixpoint_scheme";
+            ns["__file__"] = source_;
+            py::tuple args(p.reals("args").size());
+            for (std::size_t i = 0; i < p.reals("args").size(); ++i) args[i] = p.reals("args")[i];
+            ns["args"] = args;
+            ns["np"] = py::module_::import("numpy");
+            py::object compiled = builtins.attr("compile")(py::str(code), py::str(source_), "exec");
+            builtins.attr("exec")(compiled, ns);
+            ns_ = ns;
+            if (!ns.contains("step") || !PyCallable_Check(ns["step"].ptr()))
+                throw fp::ParamError(has_file ? "file" : "code",
+                                     source_ + " defines no function step(T, x, y, n)");
+            step_ = ns["step"];
+            if (ns.contains("applications")) {
+                const long a = ns["applications"].cast<long>();
+                if (a < 1 || a > 64)
+                    throw fp::ParamError(has_file ? "file" : "code",
+                                         source_ + ": applications must be from 1 to 64, got " +
+                                             std::to_string(a));
+                applications_ = unsigned(a);
+            }
+            if (ns.contains("picard")) picard_ = ns["picard"].cast<bool>();
+        } catch (py::error_already_set& e) {
+            throw fp::ParamError(has_file ? "file" : "code", describe(e, source_));
+        } catch (const py::cast_error& e) {
+            throw fp::ParamError(has_file ? "file" : "code",
+                                 source_ + ": 'applications' must be a whole number and 'picard' a bool");
+        }
+    }
+
+    ~PyScheme() override {
+        // Python objects are released with the GIL held; after the interpreter is gone (a
+        // Python process exiting) they are left alone.
+        if (Py_IsInitialized()) {
+            py::gil_scoped_acquire gil;
+            step_ = py::object();
+            ns_ = py::object();
+        } else {
+            step_.release();
+            ns_.release();
+        }
+    }
+
+    void step(const fp::Transform& t, fp::Points<float> p, fp::Mask m, std::uint64_t n) const override {
+        run(t, p, m, n);
+    }
+    void step(const fp::Transform& t, fp::Points<double> p, fp::Mask m, std::uint64_t n) const override {
+        run(t, p, m, n);
+    }
+    unsigned applications() const override { return applications_; }
+    bool is_picard() const override { return picard_; }
+
+private:
+    template <class T>
+    void run(const fp::Transform& t, fp::Points<T> p, fp::Mask mask, std::uint64_t n) const {
+        if (p.n == 0) return;
+        py::gil_scoped_acquire gil;
+        // Each render thread keeps its Python thread state rather than making and deleting one
+        // per batch.
+        static thread_local bool kept = false;
+        if (!kept) gil.inc_ref(), kept = true;
+        try {
+            using Array = py::array_t<T, py::array::c_style | py::array::forcecast>;
+            // The map on whole arrays, in the batch's precision; each call gets new arrays.
+            py::cpp_function map([&t](Array x, Array y) {
+                if (x.ndim() != 1 || y.ndim() != 1 || x.shape(0) != y.shape(0))
+                    throw py::value_error("T(x, y): x and y must be 1-dimensional arrays of one length");
+                const auto len = std::size_t(x.shape(0));
+                Array ox(len), oy(len);
+                std::copy_n(x.data(), len, ox.mutable_data());
+                std::copy_n(y.data(), len, oy.mutable_data());
+                t.apply(fp::Points<T>{ox.mutable_data(), oy.mutable_data(), len}, nullptr);
+                return py::make_tuple(ox, oy);
+            });
+            Array x(p.n), y(p.n);
+            std::copy_n(p.x, p.n, x.mutable_data());
+            std::copy_n(p.y, p.n, y.mutable_data());
+            py::object r = step_(map, x, y, n);
+            if (!py::isinstance<py::tuple>(r) || py::len(r) != 2)
+                throw fp::InputError("python-scheme: " + source_ + ": step must return a tuple (x, y)");
+            const Array rx = Array::ensure(r.cast<py::tuple>()[0]),
+                        ry = Array::ensure(r.cast<py::tuple>()[1]);
+            if (!rx || !ry || rx.ndim() != 1 || ry.ndim() != 1 || std::size_t(rx.shape(0)) != p.n ||
+                std::size_t(ry.shape(0)) != p.n)
+                throw fp::InputError("python-scheme: " + source_ + ": step must return two arrays of " +
+                                     std::to_string(p.n) + " numbers, as many as it was given");
+            const T* ax = rx.data();
+            const T* ay = ry.data();
+            for (std::size_t i = 0; i < p.n; ++i)
+                if (!mask || mask[i]) p.x[i] = ax[i], p.y[i] = ay[i];
+        } catch (py::error_already_set& e) {
+            throw fp::InputError("python-scheme: " + describe(e, source_));
+        } catch (const py::cast_error& e) {
+            throw fp::InputError("python-scheme: " + source_ +
+                                 ": step returned something that is not arrays");
+        }
+    }
+
+    std::string source_;
+    // (py::object, not py::dict: a dict's default constructor calls Python, which may not be
+    // running yet when the members are made.)
+    py::object ns_;
+    py::object step_;
+    unsigned applications_ = 1;
+    bool picard_ = false;
+};
+
+} // namespace
+
+extern "C" __attribute__((visibility("default"))) void
+fixpoint_make_python_scheme(const fp::ParamBag& p, std::shared_ptr<const fp::IterationScheme>& out) {
+    out = std::make_shared<const PyScheme>(p);
+}
