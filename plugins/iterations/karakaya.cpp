@@ -7,29 +7,41 @@
 //     p_{n+1} = (1 - alpha_n - beta_n) u_n + alpha_n T(u_n) + beta_n T(v_n),
 //
 // with the five parameters numbers of the scheme's number system (paper 02 Sec. 4; products
-// are 2x2 matrices, see combine.hpp). Any real value is accepted: the paper drops the bounds
+// are 2x2 matrices, see fixpoint/scheme.hpp). Any real value is accepted: the paper drops the bounds
 // (alpha + beta, a + b in [0, 1]) on purpose. Three applications of T per step (T(p), T(v),
 // T(u)), all with the same map.
 //
 // Reductions (tests/unit/test_schemes_b.cpp): beta = b = 0 is SP (alpha, a, gamma);
 // alpha = beta = a = b = 0 is Mann(gamma); a = b = 0 is Mann(gamma) followed by
 // Mann(alpha + beta).
-#include "combine.hpp"
+#include <fixpoint/fixpoint.hpp>
+#include <fixpoint/scheme.hpp>
 
 namespace {
 
-class Karakaya final : public fp_iter::SchemeBase<Karakaya> {
+class Karakaya final : public fp::SchemeBase<Karakaya> {
 public:
-    static constexpr const char* sequences[] = {"alpha", "beta", "gamma", "a", "b"};
+    static constexpr fp::ParamSpec params[] = {
+        fp::scheme::numbers_param,
+        fp::scheme::seq(
+            "alpha", "0.5",
+            "alpha_n: weight of T(u_n) in p_{n+1} = (1 - alpha_n - beta_n) u_n + alpha_n T(u_n) + beta_n "
+            "T(v_n)"),
+        fp::scheme::seq("beta", "0.2", "beta_n: weight of T(v_n) in p_{n+1}"),
+        fp::scheme::seq("gamma", "0.5",
+                        "gamma_n: weight of T(p_n) in v_n = (1 - gamma_n) p_n + gamma_n T(p_n)"),
+        fp::scheme::seq("a", "0.5",
+                        "a_n: weight of T(v_n) in u_n = (1 - a_n - b_n) v_n + a_n T(v_n) + b_n T(p_n)"),
+        fp::scheme::seq("b", "0.2", "b_n: weight of T(p_n) in u_n"),
+    };
     using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 3; }
 
     template <class T>
-    void kernel(fp_iter::Chunk<T>& c, const fp_iter::Coefs& k, std::uint64_t) const {
-        using fp_iter::identity;
-        const fp::Mat2 &alpha = k[0], &beta = k[1], &gamma = k[2], &a = k[3], &b = k[4];
-        fp_iter::Buf<T> tp, v, tv;
+    void kernel(Chunk<T>& c, const Coefs& k, std::uint64_t) const {
+        const fp::Mat2 &alpha = k["alpha"], &beta = k["beta"], &gamma = k["gamma"], &a = k["a"], &b = k["b"];
+        Buf<T> tp, v, tv;
         c.t(tp, c.p);                                                // T(p)
         c.lin(v, identity - gamma, c.p, gamma, tp);                  // v
         c.t(tv, v);                                                  // T(v)
@@ -39,18 +51,6 @@ public:
     }
 };
 
-constexpr fp::ParamSpec params[] = {
-    fp_iter::numbers_param,
-    fp_iter::seq(
-        "alpha", "0.5",
-        "alpha_n: weight of T(u_n) in p_{n+1} = (1 - alpha_n - beta_n) u_n + alpha_n T(u_n) + beta_n "
-        "T(v_n)"),
-    fp_iter::seq("beta", "0.2", "beta_n: weight of T(v_n) in p_{n+1}"),
-    fp_iter::seq("gamma", "0.5", "gamma_n: weight of T(p_n) in v_n = (1 - gamma_n) p_n + gamma_n T(p_n)"),
-    fp_iter::seq("a", "0.5", "a_n: weight of T(v_n) in u_n = (1 - a_n - b_n) v_n + a_n T(v_n) + b_n T(p_n)"),
-    fp_iter::seq("b", "0.2", "b_n: weight of T(p_n) in u_n"),
-};
-
 } // namespace
 
 FIXPOINT_PLUGIN(
@@ -58,4 +58,4 @@ FIXPOINT_PLUGIN(
                            "the Karakaya et al. three-step iteration (2013, paper 02 eq. (8)): p <- "
                            "(1 - alpha - beta) u + alpha T(u) + beta T(v), u = (1 - a - b) v + a T(v) "
                            "+ b T(p), v = (1 - gamma) p + gamma T(p)",
-                           params))
+                           Karakaya::params))

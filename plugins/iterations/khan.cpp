@@ -8,34 +8,33 @@
 // paper 02 does (Fig. 7(d): "Khan iteration with a_n = 0.3 + 0.5q"). a_n is a number of the
 // scheme's number system (paper 02 Sec. 4), any real value. a = 0 is Picard, a = 1 is Picard
 // twice; the S-iteration, eq. (6), with alpha = 1 and beta = a is this.
-#include "combine.hpp"
+#include <fixpoint/fixpoint.hpp>
+#include <fixpoint/scheme.hpp>
 
 namespace {
 
-class Khan final : public fp_iter::SchemeBase<Khan> {
+class Khan final : public fp::SchemeBase<Khan> {
 public:
-    static constexpr const char* sequences[] = {"a"};
+    static constexpr fp::ParamSpec params[] = {
+        fp::scheme::numbers_param,
+        fp::scheme::seq("a", "0.5", "a_n: weight of T(p_n) in the Mann step u_n (Khan's alpha_n)"),
+    };
     using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 2; }
 
     template <class T>
-    void kernel(fp_iter::Chunk<T>& c, const fp_iter::Coefs& k, std::uint64_t) const {
-        const fp::Mat2& a = k[0];
-        fp_iter::Buf<T> u;
-        c.t(u, c.p);                                // T(p)
-        c.lin(u, fp_iter::identity - a, c.p, a, u); // u = (1 - a) p + a T(p)
-        c.t(c.p, u);                                // p' = T(u)
+    void kernel(Chunk<T>& c, const Coefs& k, std::uint64_t) const {
+        const fp::Mat2& a = k["a"];
+        Buf<T> u;
+        c.t(u, c.p);                       // T(p)
+        c.lin(u, identity - a, c.p, a, u); // u = (1 - a) p + a T(p)
+        c.t(c.p, u);                       // p' = T(u)
     }
-};
-
-constexpr fp::ParamSpec params[] = {
-    fp_iter::numbers_param,
-    fp_iter::seq("a", "0.5", "a_n: weight of T(p_n) in the Mann step u_n (Khan's alpha_n)"),
 };
 
 } // namespace
 
 FIXPOINT_PLUGIN(fp::describe<Khan>(
     fp::Kind::IterationScheme, "khan",
-    "the Picard-Mann hybrid iteration (Khan 2013): p <- T(u), u = (1 - a) p + a T(p)", params))
+    "the Picard-Mann hybrid iteration (Khan 2013): p <- T(u), u = (1 - a) p + a T(p)", Khan::params))

@@ -4,29 +4,29 @@
 //
 // with alpha_n a number of the scheme's number system (paper 02, eq. (9) and Sec. 4). Any
 // real value is accepted: the paper drops the [0, 1] bounds on purpose. alpha = 1 is Picard.
-#include "combine.hpp"
+#include <fixpoint/fixpoint.hpp>
+#include <fixpoint/scheme.hpp>
 
 namespace {
 
-class Mann final : public fp_iter::SchemeBase<Mann> {
+class Mann final : public fp::SchemeBase<Mann> {
 public:
-    static constexpr const char* sequences[] = {"alpha"};
+    static constexpr fp::ParamSpec params[] = {
+        fp::scheme::numbers_param,
+        fp::scheme::seq("alpha", "0.5", "alpha_n: weight of T(p_n)"),
+    };
     using SchemeBase::SchemeBase;
 
     template <class T>
-    void kernel(fp_iter::Chunk<T>& c, const fp_iter::Coefs& k, std::uint64_t) const {
-        fp_iter::Buf<T> tp;
-        c.t(tp, c.p);
-        c.lin(c.p, fp_iter::identity - k[0], c.p, k[0], tp);
+    void kernel(Chunk<T>& c, const Coefs& k, std::uint64_t) const {
+        const fp::Mat2& alpha = k["alpha"];
+        Buf<T> tp;
+        c.t(tp, c.p);                                 // T(p)
+        c.lin(c.p, identity - alpha, c.p, alpha, tp); // p' = (1 - alpha) p + alpha T(p)
     }
-};
-
-constexpr fp::ParamSpec params[] = {
-    fp_iter::numbers_param,
-    fp_iter::seq("alpha", "0.5", "alpha_n: weight of T(p_n)"),
 };
 
 } // namespace
 
 FIXPOINT_PLUGIN(fp::describe<Mann>(fp::Kind::IterationScheme, "mann",
-                                   "the Mann iteration p <- (1 - alpha) p + alpha T(p)", params))
+                                   "the Mann iteration p <- (1 - alpha) p + alpha T(p)", Mann::params))

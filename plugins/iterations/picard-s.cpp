@@ -12,33 +12,32 @@
 // scheme's number system, any real value. Picard-S(beta, gamma) = T o S(alpha = beta,
 // beta = gamma); it is CR with alpha = 1; gamma = 0 gives T(T(p)) (for an inversion, an
 // involution, that is p again up to rounding).
-#include "combine.hpp"
+#include <fixpoint/fixpoint.hpp>
+#include <fixpoint/scheme.hpp>
 
 namespace {
 
-class PicardS final : public fp_iter::SchemeBase<PicardS> {
+class PicardS final : public fp::SchemeBase<PicardS> {
 public:
-    static constexpr const char* sequences[] = {"beta", "gamma"};
+    static constexpr fp::ParamSpec params[] = {
+        fp::scheme::numbers_param,
+        fp::scheme::seq("beta", "0.5", "beta_n: weight of T(v_n) against T(p_n) in u_n"),
+        fp::scheme::seq("gamma", "0.5", "gamma_n: weight of T(p_n) in v_n"),
+    };
     using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 3; }
 
     template <class T>
-    void kernel(fp_iter::Chunk<T>& c, const fp_iter::Coefs& k, std::uint64_t) const {
-        const fp::Mat2 &beta = k[0], &gamma = k[1];
-        fp_iter::Buf<T> tp, v;
-        c.t(tp, c.p);                                        // T(p)
-        c.lin(v, fp_iter::identity - gamma, c.p, gamma, tp); // v = (1 - gamma) p + gamma T(p)
-        c.t(v, v);                                           // T(v)
-        c.lin(v, fp_iter::identity - beta, tp, beta, v);     // u = (1 - beta) T(p) + beta T(v)
-        c.t(c.p, v);                                         // p' = T(u)
+    void kernel(Chunk<T>& c, const Coefs& k, std::uint64_t) const {
+        const fp::Mat2 &beta = k["beta"], &gamma = k["gamma"];
+        Buf<T> tp, v;
+        c.t(tp, c.p);                               // T(p)
+        c.lin(v, identity - gamma, c.p, gamma, tp); // v = (1 - gamma) p + gamma T(p)
+        c.t(v, v);                                  // T(v)
+        c.lin(v, identity - beta, tp, beta, v);     // u = (1 - beta) T(p) + beta T(v)
+        c.t(c.p, v);                                // p' = T(u)
     }
-};
-
-constexpr fp::ParamSpec params[] = {
-    fp_iter::numbers_param,
-    fp_iter::seq("beta", "0.5", "beta_n: weight of T(v_n) against T(p_n) in u_n"),
-    fp_iter::seq("gamma", "0.5", "gamma_n: weight of T(p_n) in v_n"),
 };
 
 } // namespace
@@ -47,4 +46,4 @@ FIXPOINT_PLUGIN(fp::describe<PicardS>(
     fp::Kind::IterationScheme, "picard-s",
     "the Picard-S hybrid iteration (Gürsoy-Karakaya 2014): p <- T(u), u = (1 - beta) T(p) "
     "+ beta T(v), v = (1 - gamma) p + gamma T(p)",
-    params))
+    PicardS::params))

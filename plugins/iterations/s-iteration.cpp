@@ -7,32 +7,31 @@
 //
 // The parameters are numbers of the scheme's number system (paper 02 Sec. 4, Fig. 9(a)), any
 // real value. beta = 0 is Picard; alpha = 1 is the Picard-Mann hybrid (khan) with alpha = beta.
-#include "combine.hpp"
+#include <fixpoint/fixpoint.hpp>
+#include <fixpoint/scheme.hpp>
 
 namespace {
 
-class SIteration final : public fp_iter::SchemeBase<SIteration> {
+class SIteration final : public fp::SchemeBase<SIteration> {
 public:
-    static constexpr const char* sequences[] = {"alpha", "beta"};
+    static constexpr fp::ParamSpec params[] = {
+        fp::scheme::numbers_param,
+        fp::scheme::seq("alpha", "0.5", "alpha_n: weight of T(u_n) against T(p_n) in p_{n+1}"),
+        fp::scheme::seq("beta", "0.5", "beta_n: weight of T(p_n) in u_n (beta = 0 is Picard)"),
+    };
     using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 2; }
 
     template <class T>
-    void kernel(fp_iter::Chunk<T>& c, const fp_iter::Coefs& k, std::uint64_t) const {
-        const fp::Mat2 &alpha = k[0], &beta = k[1];
-        fp_iter::Buf<T> tp, u;
-        c.t(tp, c.p);                                        // T(p)
-        c.lin(u, fp_iter::identity - beta, c.p, beta, tp);   // u = (1 - beta) p + beta T(p)
-        c.t(u, u);                                           // T(u)
-        c.lin(c.p, fp_iter::identity - alpha, tp, alpha, u); // p' = (1 - alpha) T(p) + alpha T(u)
+    void kernel(Chunk<T>& c, const Coefs& k, std::uint64_t) const {
+        const fp::Mat2 &alpha = k["alpha"], &beta = k["beta"];
+        Buf<T> tp, u;
+        c.t(tp, c.p);                               // T(p)
+        c.lin(u, identity - beta, c.p, beta, tp);   // u = (1 - beta) p + beta T(p)
+        c.t(u, u);                                  // T(u)
+        c.lin(c.p, identity - alpha, tp, alpha, u); // p' = (1 - alpha) T(p) + alpha T(u)
     }
-};
-
-constexpr fp::ParamSpec params[] = {
-    fp_iter::numbers_param,
-    fp_iter::seq("alpha", "0.5", "alpha_n: weight of T(u_n) against T(p_n) in p_{n+1}"),
-    fp_iter::seq("beta", "0.5", "beta_n: weight of T(p_n) in u_n (beta = 0 is Picard)"),
 };
 
 } // namespace
@@ -41,4 +40,4 @@ FIXPOINT_PLUGIN(fp::describe<SIteration>(
     fp::Kind::IterationScheme, "s-iteration",
     "the S-iteration (Agarwal-O'Regan-Sahu 2007, paper 02 eq. (6)): p <- (1 - alpha) T(p) "
     "+ alpha T(u), u = (1 - beta) p + beta T(p)",
-    params))
+    SIteration::params))

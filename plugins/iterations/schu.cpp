@@ -6,7 +6,7 @@
 //
 // T^{n+1} the (n+1)-fold composition of T, n the step index passed to step() (counted from
 // 0, as in paper 02: p_1 = (1 - alpha_0) p_0 + alpha_0 T(p_0)). alpha_n is a number of the
-// scheme's number system (combine.hpp); any real value is accepted.
+// scheme's number system (fixpoint/scheme.hpp); any real value is accepted.
 //
 // Involutions (Transform::is_involution(): the inversions of the chaos game). T^2 = id, so
 // T^k = T for odd k and id for even k (eq. (22)). With k = n + 1:
@@ -34,21 +34,33 @@
 // its fixed point, so for large n Schu on such a map is Mann towards the fixed point of T.
 // applications() keeps the default 1: exact on involutions (at most one, none at odd n); for
 // other maps step n takes n + 1.
-#include "combine.hpp"
+#include <fixpoint/fixpoint.hpp>
+#include <fixpoint/scheme.hpp>
 
 #include <string>
 
 namespace {
 
-class Schu final : public fp_iter::SchemeBase<Schu> {
+class Schu final : public fp::SchemeBase<Schu> {
 public:
-    static constexpr const char* sequences[] = {"alpha"};
+    static constexpr fp::ParamSpec params[] = {
+        fp::scheme::numbers_param,
+        fp::scheme::seq("alpha", "0.5",
+                        "alpha_n: weight of T^{n+1}(p_n) in p_{n+1} = (1 - alpha_n) p_n + alpha_n "
+                        "T^{n+1}(p_n)"),
+        fp::param::integer(
+            "max_compositions",
+            "most applications of T one step may take when the map is not an involution (step n "
+            "needs n + 1); a step needing more is refused. Involutions (inversions) need at most 1")
+            .def("1000")
+            .min(1),
+    };
 
     explicit Schu(const fp::ParamBag& p)
         : SchemeBase(p), max_compositions_(std::uint64_t(p.integer("max_compositions"))) {}
 
     template <class T>
-    void kernel(fp_iter::Chunk<T>& c, const fp_iter::Coefs& k, std::uint64_t n) const {
+    void kernel(Chunk<T>& c, const Coefs& k, std::uint64_t n) const {
         std::uint64_t compositions = n + 1;
         if (c.map.is_involution()) {
             if (compositions % 2 == 0) return; // T^{n+1} = id: p_{n+1} = p_n
@@ -56,10 +68,11 @@ public:
         } else if (compositions > max_compositions_) {
             too_long(n);
         }
-        fp_iter::Buf<T> tp;
+        Buf<T> tp;
         c.t(tp, c.p);
         for (std::uint64_t i = 1; i < compositions; ++i) c.t(tp, tp);
-        c.lin(c.p, fp_iter::identity - k[0], c.p, k[0], tp);
+        const fp::Mat2& alpha = k["alpha"];
+        c.lin(c.p, identity - alpha, c.p, alpha, tp);
     }
 
     void check_steps(const fp::Transform& t, std::uint64_t last_n) const override {
@@ -78,19 +91,6 @@ private:
     std::uint64_t max_compositions_;
 };
 
-constexpr fp::ParamSpec params[] = {
-    fp_iter::numbers_param,
-    fp_iter::seq("alpha", "0.5",
-                 "alpha_n: weight of T^{n+1}(p_n) in p_{n+1} = (1 - alpha_n) p_n + alpha_n "
-                 "T^{n+1}(p_n)"),
-    fp::param::integer(
-        "max_compositions",
-        "most applications of T one step may take when the map is not an involution (step n "
-        "needs n + 1); a step needing more is refused. Involutions (inversions) need at most 1")
-        .def("1000")
-        .min(1),
-};
-
 } // namespace
 
 FIXPOINT_PLUGIN(
@@ -98,4 +98,4 @@ FIXPOINT_PLUGIN(
                        "the Schu iteration (1991, paper 02 eq. (21)): p_{n+1} <- (1 - alpha_n) p_n + "
                        "alpha_n T^{n+1}(p_n); on an involution, Mann with alpha_n at even n and no move "
                        "at odd n",
-                       params))
+                       Schu::params))

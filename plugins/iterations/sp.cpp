@@ -10,35 +10,34 @@
 // Fig. 7(b)-(c); Phuengrattana and Suantai wrote alpha_n, beta_n, gamma_n). This is the Karakaya
 // iteration, eq. (8), with beta = b = 0 (paper 02 Fig. 4). The parameters are numbers of the
 // scheme's number system, any real value. a = gamma = 0 is Mann.
-#include "combine.hpp"
+#include <fixpoint/fixpoint.hpp>
+#include <fixpoint/scheme.hpp>
 
 namespace {
 
-class Sp final : public fp_iter::SchemeBase<Sp> {
+class Sp final : public fp::SchemeBase<Sp> {
 public:
-    static constexpr const char* sequences[] = {"alpha", "a", "gamma"};
+    static constexpr fp::ParamSpec params[] = {
+        fp::scheme::numbers_param,
+        fp::scheme::seq("alpha", "0.5", "alpha_n: weight of T(u_n) in p_{n+1}"),
+        fp::scheme::seq("a", "0.5", "a_n: weight of T(v_n) in u_n"),
+        fp::scheme::seq("gamma", "0.5", "gamma_n: weight of T(p_n) in v_n (a = gamma = 0 is Mann)"),
+    };
     using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 3; }
 
     template <class T>
-    void kernel(fp_iter::Chunk<T>& c, const fp_iter::Coefs& k, std::uint64_t) const {
-        const fp::Mat2 &alpha = k[0], &a = k[1], &gamma = k[2];
-        fp_iter::Buf<T> w;
-        c.t(w, c.p);                                          // T(p)
-        c.lin(c.p, fp_iter::identity - gamma, c.p, gamma, w); // v = (1 - gamma) p + gamma T(p)
-        c.t(w, c.p);                                          // T(v)
-        c.lin(c.p, fp_iter::identity - a, c.p, a, w);         // u = (1 - a) v + a T(v)
-        c.t(w, c.p);                                          // T(u)
-        c.lin(c.p, fp_iter::identity - alpha, c.p, alpha, w); // p' = (1 - alpha) u + alpha T(u)
+    void kernel(Chunk<T>& c, const Coefs& k, std::uint64_t) const {
+        const fp::Mat2 &alpha = k["alpha"], &a = k["a"], &gamma = k["gamma"];
+        Buf<T> w;
+        c.t(w, c.p);                                 // T(p)
+        c.lin(c.p, identity - gamma, c.p, gamma, w); // v = (1 - gamma) p + gamma T(p)
+        c.t(w, c.p);                                 // T(v)
+        c.lin(c.p, identity - a, c.p, a, w);         // u = (1 - a) v + a T(v)
+        c.t(w, c.p);                                 // T(u)
+        c.lin(c.p, identity - alpha, c.p, alpha, w); // p' = (1 - alpha) u + alpha T(u)
     }
-};
-
-constexpr fp::ParamSpec params[] = {
-    fp_iter::numbers_param,
-    fp_iter::seq("alpha", "0.5", "alpha_n: weight of T(u_n) in p_{n+1}"),
-    fp_iter::seq("a", "0.5", "a_n: weight of T(v_n) in u_n"),
-    fp_iter::seq("gamma", "0.5", "gamma_n: weight of T(p_n) in v_n (a = gamma = 0 is Mann)"),
 };
 
 } // namespace
@@ -47,4 +46,4 @@ FIXPOINT_PLUGIN(
     fp::describe<Sp>(fp::Kind::IterationScheme, "sp",
                      "the SP iteration (Phuengrattana-Suantai 2011): p <- (1 - alpha) u + alpha T(u), "
                      "u = (1 - a) v + a T(v), v = (1 - gamma) p + gamma T(p)",
-                     params))
+                     Sp::params))

@@ -261,7 +261,7 @@ bool same_value(T a, T b) {
 
 // Equal, not within a tolerance: the vector parameter [x, 0] in the complex numbers (or any
 // q-system) has the multiplier M(x + 0q) = [[x, A * 0], [0, x + 2B * 0]] = [[x, -0 or 0], [0, x]],
-// and the real scalar x has [[x, 0], [0, x]]. The schemes' combinations (combine-inl.hpp) compute
+// and the real scalar x has [[x, 0], [0, x]]. The schemes' combinations (fixpoint/scheme-inl.hpp) compute
 // (a x0 + b y0) + (e x1 + f y1) in that order with no FMA, so the zero entries add a signed zero
 // to each product a x0, which leaves a nonzero product unchanged: both forms compute the same
 // numbers, in float and in double. The one possible difference is the sign of an exact zero

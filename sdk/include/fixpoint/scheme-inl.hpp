@@ -1,14 +1,15 @@
-// The point loops of combine.hpp's chunks (linear combinations of points, the masked
-// write-back), compiled once per instruction set of the build from combine.hpp itself and
-// dispatched at run time: every scheme plugin includes combine.hpp once, so each carries its
+// The point loops of fixpoint/scheme.hpp's chunks (linear combinations of points, the masked
+// write-back), compiled once per instruction set of the build from scheme.hpp itself and
+// dispatched at run time: every scheme plugin includes scheme.hpp once, so each carries its
 // own copies. Plain loops, vectorised by the compiler with each target's instructions, in the
-// order of the scalar expressions (no FMA: the same bits on every target).
+// order of the scalar expressions (no FMA: the same bits on every target). Not for plugins to
+// include: scheme.hpp does.
 
-#if defined(FP_ITER_COMBINE_INL_HPP_) == defined(HWY_TARGET_TOGGLE)
-#ifdef FP_ITER_COMBINE_INL_HPP_
-#undef FP_ITER_COMBINE_INL_HPP_
+#if defined(FIXPOINT_SCHEME_INL_HPP_) == defined(HWY_TARGET_TOGGLE)
+#ifdef FIXPOINT_SCHEME_INL_HPP_
+#undef FIXPOINT_SCHEME_INL_HPP_
 #else
-#define FP_ITER_COMBINE_INL_HPP_
+#define FIXPOINT_SCHEME_INL_HPP_
 #endif
 
 #include <hwy/highway.h>
@@ -16,7 +17,8 @@
 #include <cstddef>
 
 HWY_BEFORE_NAMESPACE();
-namespace fp_iter::HWY_NAMESPACE {
+// inline: a plugin of several files may include scheme.hpp in more than one.
+namespace fp::scheme::HWY_NAMESPACE {
 
 /// dst <- A u + B v with k = {A.a, A.b, A.c, A.d, B.a, B.b, B.c, B.d} (dst may alias u or v).
 template <class T>
@@ -57,31 +59,32 @@ HWY_INLINE void merge_t(T* x, T* y, const T* px, const T* py, const unsigned cha
     }
 }
 
-void lin2_f(const float* k, const float* ux, const float* uy, const float* vx, const float* vy, float* dx,
-            float* dy, std::size_t n) {
+inline void lin2_f(const float* k, const float* ux, const float* uy, const float* vx, const float* vy,
+                   float* dx, float* dy, std::size_t n) {
     lin2_t(k, ux, uy, vx, vy, dx, dy, n);
 }
-void lin2_d(const double* k, const double* ux, const double* uy, const double* vx, const double* vy,
-            double* dx, double* dy, std::size_t n) {
+inline void lin2_d(const double* k, const double* ux, const double* uy, const double* vx, const double* vy,
+                   double* dx, double* dy, std::size_t n) {
     lin2_t(k, ux, uy, vx, vy, dx, dy, n);
 }
-void lin3_f(const float* k, const float* ux, const float* uy, const float* vx, const float* vy,
-            const float* wx, const float* wy, float* dx, float* dy, std::size_t n) {
+inline void lin3_f(const float* k, const float* ux, const float* uy, const float* vx, const float* vy,
+                   const float* wx, const float* wy, float* dx, float* dy, std::size_t n) {
     lin3_t(k, ux, uy, vx, vy, wx, wy, dx, dy, n);
 }
-void lin3_d(const double* k, const double* ux, const double* uy, const double* vx, const double* vy,
-            const double* wx, const double* wy, double* dx, double* dy, std::size_t n) {
+inline void lin3_d(const double* k, const double* ux, const double* uy, const double* vx, const double* vy,
+                   const double* wx, const double* wy, double* dx, double* dy, std::size_t n) {
     lin3_t(k, ux, uy, vx, vy, wx, wy, dx, dy, n);
 }
-void merge_f(float* x, float* y, const float* px, const float* py, const unsigned char* m, std::size_t n) {
+inline void merge_f(float* x, float* y, const float* px, const float* py, const unsigned char* m,
+                    std::size_t n) {
     merge_t(x, y, px, py, m, n);
 }
-void merge_d(double* x, double* y, const double* px, const double* py, const unsigned char* m,
-             std::size_t n) {
+inline void merge_d(double* x, double* y, const double* px, const double* py, const unsigned char* m,
+                    std::size_t n) {
     merge_t(x, y, px, py, m, n);
 }
 
-} // namespace fp_iter::HWY_NAMESPACE
+} // namespace fp::scheme::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
 #endif // per-target include guard

@@ -1,0 +1,309 @@
+// SchemeBase: write an iteration scheme of paper 02 (Mann, Ishikawa, Noor, SP, S, CR, ...) as
+// a few linear combinations of points, in any number system; every built-in scheme but picard
+// and switching is one (plugins/iterations/), and docs/writing-a-scheme.md is the guide.
+//
+// Every such scheme is a few linear combinations of p and of T applied to intermediate points,
+// with coefficients that are numbers of the scheme's number system (real, complex, q-system;
+// paper 02 Sec. 4). Multiplying by a fixed number c = a + qb is a linear map of the plane,
+// the 2x2 matrix M(c) = NumberSystem::multiplier(c) (for the reals c I), and M is linear in c:
+// M(1 - c) = I - M(c), M(1 - c - d) = I - M(c) - M(d). So a step turns each parameter into
+// its matrix once per batch (the step index n is the same for the whole batch), and the
+// point loops are small fixed matrix products over structure-of-arrays chunks: no per-point
+// dispatch on the number system. The mappings R and Q of eqs. (18)-(19) are the identity on
+// this representation ((x, y) <-> x + qy), so "Q o T o R" is simply T.
+//
+// A scheme derives from fp::SchemeBase<Derived>, declares its parameters once, as the public
+// static member `params` (fp::scheme::numbers_param and a fp::scheme::seq per coefficient,
+// plus any other parameter it reads itself), and writes one step for a chunk of points:
+//
+//   class Mann final : public fp::SchemeBase<Mann> {
+//   public:
+//       static constexpr fp::ParamSpec params[] = {
+//           fp::scheme::numbers_param,
+//           fp::scheme::seq("alpha", "0.5", "alpha_n: weight of T(p_n)"),
+//       };
+//       using SchemeBase::SchemeBase;
+//
+//       template <class T>
+//       void kernel(Chunk<T>& c, const Coefs& k, std::uint64_t n) const {
+//           const fp::Mat2& alpha = k["alpha"]; // the matrix of alpha_n at this step
+//           Buf<T> tp;
+//           c.t(tp, c.p);                                // T(p)
+//           c.lin(c.p, identity - alpha, c.p, alpha, tp); // p <- (1 - alpha) p + alpha T(p)
+//       }
+//   };
+//   FIXPOINT_PLUGIN(fp::describe<Mann>(fp::Kind::IterationScheme, "mann", "...", Mann::params))
+//
+// SchemeBase reads `numbers` and every sequence parameter of `params` (refusing q-numbers when
+// the scheme computes in the reals), and per batch turns each sequence's value at step n into
+// its matrix. k["alpha"] finds the matrix by name at compile time: a name that `params` does
+// not declare as a sequence does not compile, and a bare index is refused. c.p holds the
+// chunk's points (in place: the result goes there), c.t(dst, src) applies the map, c.lin(...)
+// forms linear combinations with the matrices; the loops run on the best instruction set of
+// the CPU (fixpoint/scheme-inl.hpp, dispatched at run time) and give the same bits on all.
+//
+// Including this header compiles those loops into the plugin (Highway's foreach_target), so
+// include it once per plugin, from the scheme's .cpp.
+#pragma once
+
+#include <fixpoint/batch.hpp>
+#include <fixpoint/errors.hpp>
+#include <fixpoint/iteration.hpp>
+#include <fixpoint/number_system.hpp>
+#include <fixpoint/params.hpp>
+#include <fixpoint/transform.hpp>
+#include <fixpoint/types.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+// The chunks' point loops, once per instruction set (scheme-inl.hpp), dispatched at run time.
+// Named by its path on the SDK's include path, in the source tree and installed alike.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "fixpoint/scheme-inl.hpp"
+#include <hwy/foreach_target.h> // IWYU pragma: keep
+
+#include <fixpoint/scheme-inl.hpp>
+
+namespace fp::scheme {
+namespace detail {
+HWY_EXPORT(lin2_f);
+HWY_EXPORT(lin2_d);
+HWY_EXPORT(lin3_f);
+HWY_EXPORT(lin3_d);
+HWY_EXPORT(merge_f);
+HWY_EXPORT(merge_d);
+
+inline void lin2(const float* k, const float* ux, const float* uy, const float* vx, const float* vy,
+                 float* dx, float* dy, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(lin2_f)(k, ux, uy, vx, vy, dx, dy, n);
+}
+inline void lin2(const double* k, const double* ux, const double* uy, const double* vx, const double* vy,
+                 double* dx, double* dy, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(lin2_d)(k, ux, uy, vx, vy, dx, dy, n);
+}
+inline void lin3(const float* k, const float* ux, const float* uy, const float* vx, const float* vy,
+                 const float* wx, const float* wy, float* dx, float* dy, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(lin3_f)(k, ux, uy, vx, vy, wx, wy, dx, dy, n);
+}
+inline void lin3(const double* k, const double* ux, const double* uy, const double* vx, const double* vy,
+                 const double* wx, const double* wy, double* dx, double* dy, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(lin3_d)(k, ux, uy, vx, vy, wx, wy, dx, dy, n);
+}
+inline void merge(float* x, float* y, const float* px, const float* py, const unsigned char* m,
+                  std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(merge_f)(x, y, px, py, m, n);
+}
+inline void merge(double* x, double* y, const double* px, const double* py, const unsigned char* m,
+                  std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(merge_d)(x, y, px, py, m, n);
+}
+
+/// How many of `params` are sequences (the coefficients of a scheme).
+template <std::size_t N>
+consteval std::size_t sequence_count(const ParamSpec (&params)[N]) {
+    std::size_t count = 0;
+    for (const ParamSpec& s : params) count += s.type == ParamType::Sequence;
+    return count;
+}
+
+// Not constexpr on purpose: reaching it at compile time is the error message.
+inline void no_sequence_parameter_of_this_name_in_params() {}
+
+/// The position of sequence `name` among the sequences of `params`.
+template <std::size_t N>
+consteval std::size_t sequence_index(const ParamSpec (&params)[N], std::string_view name) {
+    std::size_t index = 0;
+    for (const ParamSpec& s : params) {
+        if (s.type != ParamType::Sequence) continue;
+        if (std::string_view(s.name) == name) return index;
+        ++index;
+    }
+    no_sequence_parameter_of_this_name_in_params();
+    return index;
+}
+
+/// True when `params` declares `numbers`, an object of kind number-system.
+template <std::size_t N>
+consteval bool declares_numbers(const ParamSpec (&params)[N]) {
+    for (const ParamSpec& s : params)
+        if (std::string_view(s.name) == "numbers")
+            return s.type == ParamType::Object && s.kind == Kind::NumberSystem;
+    return false;
+}
+} // namespace detail
+
+/// A chunk of up to fp::chunk_size points, or scratch space for one, on the stack.
+template <class T>
+struct Buf {
+    alignas(64) T x[chunk_size];
+    alignas(64) T y[chunk_size];
+};
+
+/// The points of one chunk and the operations a scheme's kernel combines them with.
+template <class T>
+struct Chunk {
+    // A constructor, not aggregate initialisation: `p` is filled right after, and zeroing its
+    // 2 KiB for every batch showed up in profiles.
+    Chunk(const Transform& m, std::size_t count) : map(m), n(count) {}
+
+    const Transform& map; ///< T
+    std::size_t n;        ///< the points in this chunk (at most chunk_size)
+    Buf<T> p;             ///< the points; the kernel leaves the new points here
+
+    /// dst <- T(src) (dst may be src).
+    void t(Buf<T>& dst, const Buf<T>& src) const {
+        if (&dst != &src) copy(dst, src);
+        map.apply(Points<T>{dst.x, dst.y, n}, nullptr);
+    }
+    /// dst <- src.
+    void copy(Buf<T>& dst, const Buf<T>& src) const {
+        std::copy(src.x, src.x + n, dst.x);
+        std::copy(src.y, src.y + n, dst.y);
+    }
+    /// dst <- A u + B v (matrices acting on points; dst may alias u or v).
+    void lin(Buf<T>& dst, const Mat2& A, const Buf<T>& u, const Mat2& B, const Buf<T>& v) const {
+        const T k[8] = {T(A.a), T(A.b), T(A.c), T(A.d), T(B.a), T(B.b), T(B.c), T(B.d)};
+        detail::lin2(k, u.x, u.y, v.x, v.y, dst.x, dst.y, n);
+    }
+    /// dst <- A u + B v + C w (dst may alias any of them).
+    void lin(Buf<T>& dst, const Mat2& A, const Buf<T>& u, const Mat2& B, const Buf<T>& v, const Mat2& C,
+             const Buf<T>& w) const {
+        const T k[12] = {T(A.a), T(A.b), T(A.c), T(A.d), T(B.a), T(B.b),
+                         T(B.c), T(B.d), T(C.a), T(C.b), T(C.c), T(C.d)};
+        detail::lin3(k, u.x, u.y, v.x, v.y, w.x, w.y, dst.x, dst.y, n);
+    }
+};
+
+/// The matrix of the number 1 (M(1) = I in every number system) and of 0.
+constexpr Mat2 identity{1, 0, 0, 1};
+constexpr Mat2 zero{0, 0, 0, 0};
+
+/// `numbers`, the number system a scheme computes in: SchemeBase reads it, so every scheme
+/// lists it in its `params`.
+constexpr ParamSpec numbers_param =
+    param::object("numbers", Kind::NumberSystem,
+                  "the numbers the iteration computes in (paper 02 Sec. 4): real, complex or q-system")
+        .def("{type: real}");
+
+/// A scheme's coefficient: a sequence over n of numbers of its number system, with its
+/// default (YAML: "0.5", "0.3+0.5q", "[0.7, 0.9]").
+constexpr ParamSpec seq(const char* name, const char* def, const char* doc) {
+    return param::sequence(name, doc).def(def);
+}
+
+/// A q-system number a + qb as text: "0.5", "0.5+0.3q".
+inline std::string format_number(Vec2 v) {
+    auto f = [](double d) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%g", d);
+        return std::string(buf);
+    };
+    if (v.y == 0) return f(v.x);
+    return f(v.x) + (v.y < 0 ? "-" : "+") + f(std::fabs(v.y)) + "q";
+}
+
+} // namespace fp::scheme
+
+namespace fp {
+
+/// The base of a scheme D written as linear combinations (see the top of this file). D has
+///   static constexpr ParamSpec params[];  // numbers_param, seq(...) per coefficient, others
+///   template <class T> void kernel(Chunk<T>& c, const Coefs& k, std::uint64_t n) const;
+template <class D>
+class SchemeBase : public IterationScheme {
+public:
+    template <class T>
+    using Chunk = scheme::Chunk<T>;
+    template <class T>
+    using Buf = scheme::Buf<T>;
+    static constexpr Mat2 identity = scheme::identity;
+    static constexpr Mat2 zero = scheme::zero;
+
+    /// The matrices of D's sequence parameters at one step, found by name: k["alpha"].
+    class Coefs {
+    public:
+        /// A sequence parameter of D, named by a string literal and looked up when compiling.
+        class Name {
+        public:
+            consteval Name(const char* name) : index_(scheme::detail::sequence_index(D::params, name)) {}
+            /// Coefficients are named, not numbered: k["alpha"], not k[0].
+            template <std::integral I>
+            Name(I) = delete;
+
+        private:
+            friend class Coefs;
+            std::size_t index_;
+        };
+
+        const Mat2& operator[](Name name) const { return m_[name.index_]; }
+
+    private:
+        friend class SchemeBase;
+        std::array<Mat2, scheme::detail::sequence_count(D::params)> m_;
+    };
+
+    /// Reads `numbers` and every sequence parameter of D::params, in their order.
+    explicit SchemeBase(const ParamBag& p) : numbers_(p.object<NumberSystem>("numbers")) {
+        static_assert(scheme::detail::declares_numbers(D::params),
+                      "a scheme's params declare `numbers` (list fp::scheme::numbers_param)");
+        const bool real = numbers_->is_real();
+        for (const ParamSpec& s : D::params) {
+            if (s.type != ParamType::Sequence) continue;
+            seqs_.push_back(p.sequence(s.name).resolve(real));
+            if (real)
+                for (Vec2 v : seqs_.back().values)
+                    if (v.y != 0)
+                        throw ParamError(s.name, scheme::format_number(v) +
+                                                     " is a q-system number, but the scheme computes in the "
+                                                     "real numbers (set numbers: {type: q-system, A: ..., B: "
+                                                     "...})");
+        }
+    }
+
+    void step(const Transform& t, Points<float> p, Mask m, std::uint64_t n) const override {
+        run(t, p, m, n);
+    }
+    void step(const Transform& t, Points<double> p, Mask m, std::uint64_t n) const override {
+        run(t, p, m, n);
+    }
+
+protected:
+    /// The matrices of the sequence parameters at step n.
+    Coefs coefs(std::uint64_t n) const {
+        Coefs k;
+        for (std::size_t i = 0; i < k.m_.size(); ++i) k.m_[i] = numbers_->multiplier(seqs_[i].at(n));
+        return k;
+    }
+    const NumberSystem& numbers() const { return *numbers_; }
+
+private:
+    template <class T>
+    void run(const Transform& t, Points<T> p, Mask mask, std::uint64_t n) const {
+        const Coefs k = coefs(n);
+        const D& self = static_cast<const D&>(*this);
+        for (std::size_t begin = 0; begin < p.n; begin += chunk_size) {
+            scheme::Chunk<T> c(t, std::min(chunk_size, p.n - begin));
+            T* x = p.x + begin;
+            T* y = p.y + begin;
+            std::copy(x, x + c.n, c.p.x);
+            std::copy(y, y + c.n, c.p.y);
+            self.template kernel<T>(c, k, n);
+            scheme::detail::merge(x, y, c.p.x, c.p.y, mask ? mask + begin : nullptr, c.n);
+        }
+    }
+
+    std::shared_ptr<const NumberSystem> numbers_;
+    std::vector<Sequence> seqs_;
+};
+
+} // namespace fp
