@@ -115,6 +115,7 @@
 // xmin < xmax" (or "... with ymin < ymax"); "maps": "the list of maps is empty"; "height":
 // "the image is too large: width * height must be below 4294967295 pixels".
 #include "chaos-game/kernels.hpp"
+#include "chaos-game/sets.hpp"
 #include "chaos-game/state.hpp"
 #include "chaos-game/steady.hpp"
 #include "fit_view.hpp"
@@ -131,6 +132,7 @@
 #include <limits>
 #include <memory>
 #include <new>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -195,11 +197,14 @@ class ChaosGame final : public fp::Renderer {
 public:
     explicit ChaosGame(const fp::ParamBag& p);
 
-    int width() const override { return frame_.width; }
+    int width() const override { return sets_ == Sets::beside ? 2 * frame_.width : frame_.width; }
     int height() const override { return frame_.height; }
     uint64_t memory_bytes(unsigned workers) const override;
     uint64_t work_units() const override;
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
+    bool has_vector_output() const override { return sets_ == Sets::only; }
+    std::string render_vector(fp::RenderContext& ctx, fp::RenderStats& stats, fp::VectorFormat format,
+                              const std::string& recipe) const override;
 
 private:
     template <class T>
@@ -228,6 +233,15 @@ private:
         else
             return *lanes_d_;
     }
+
+    /// The sets of the maps on the background, as a width x height picture.
+    void draw_set_panel(cairo_t* cr) const;
+
+    enum class Sets { none, over, beside, only };
+    Sets sets_ = Sets::none;
+    SetStyle set_style_;
+    std::optional<fp::Box> set_view_; ///< the region of the sets' own picture (beside, only); else the view
+    std::vector<SetDrawing> set_drawings_;
 
     fp::Frame frame_; ///< width, height, view (region), background
     uint64_t points_ = 1000000, seed_ = 1, skip_ = 20, chains_ = 4096;
@@ -310,6 +324,36 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         } catch (const fp::InputError& e) {
             throw fp::ParamError("iteration", e.what());
         }
+    }
+
+    const std::string& sets = p.string("sets");
+    sets_ = sets == "over"     ? Sets::over
+            : sets == "beside" ? Sets::beside
+            : sets == "only"   ? Sets::only
+                               : Sets::none;
+    set_style_ = {p.real("set_line"), p.real("set_fill")};
+    if (p.has("set_view")) {
+        const auto& v = p.reals("set_view");
+        if (!(v[0] < v[1]) || !(v[2] < v[3]))
+            throw fp::ParamError(
+                "set_view", "the view must be [xmin, xmax, ymin, ymax] with xmin < xmax and ymin < ymax");
+        if (sets_ == Sets::over || sets_ == Sets::none)
+            throw fp::ParamError("set_view",
+                                 "the sets' own view needs sets: beside or sets: only (over the fractal, "
+                                 "the sets are drawn in its view)");
+        set_view_ = fp::Box{v[0], v[1], v[2], v[3]};
+    }
+    if (sets_ != Sets::none) {
+        for (size_t j = 0; j < k; ++j)
+            if (maps_[j]->has_region())
+                set_drawings_.push_back(
+                    {maps_[j]->region_outline(1024), maps_[j]->region_centre(), colours_[j]});
+        if (set_drawings_.empty())
+            throw fp::ParamError("sets", "none of the maps has a set to draw (inversions have one)");
+        if (sets_ == Sets::beside && uint64_t(2 * frame_.width) * uint64_t(frame_.height) >= 0xffffffffull)
+            throw fp::ParamError("sets",
+                                 "the image with the sets beside it is too large: 2 * width * height must "
+                                 "be below 4294967295 pixels");
     }
 
     const std::string& rules = p.string("inversion_rules");
@@ -411,6 +455,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
 }
 
 uint64_t ChaosGame::work_units() const {
+    if (sets_ == Sets::only) return 1;
     const uint64_t live = std::min(chains_, points_); // chains with at least one point
     return live * skip_ + points_;
 }
@@ -426,14 +471,47 @@ uint64_t ChaosGame::memory_bytes(unsigned workers) const {
                       (points_ / spill_hits + uint64_t(workers) * 256) * 48
                 : uint64_t(workers) * ((px + 1) * 4 + (2u << 20) + (deposits >= hits_flush ? px * 8 : 0)) +
                       px * sizeof(fp::HistBin);
-    const uint64_t image = px * 3 * sizeof(float);
+    // (The sets beside: a second picture of the same size, and the two side by side.)
+    const uint64_t image = px * 3 * sizeof(float) * (sets_ == Sets::beside ? 3 : 1);
     const uint64_t scratch = uint64_t(workers) * (double_ ? Scratch<double>::bytes(maps_.size())
                                                           : Scratch<float>::bytes(maps_.size()));
     return hist + image + scratch;
 }
 
+void ChaosGame::draw_set_panel(cairo_t* cr) const {
+    cairo_set_source_rgb(cr, frame_.background.r, frame_.background.g, frame_.background.b);
+    cairo_paint(cr);
+    // (The view once fit_view has fitted it.)
+    draw_sets(cr, set_drawings_, set_view_.value_or(frame_.region), frame_.width, frame_.height, set_style_);
+}
+
+std::string ChaosGame::render_vector(fp::RenderContext& ctx, fp::RenderStats& stats, fp::VectorFormat format,
+                                     const std::string& recipe) const {
+    if (sets_ != Sets::only) return fp::Renderer::render_vector(ctx, stats, format, recipe);
+    stats = fp::RenderStats{};
+    stats.samples = set_drawings_.size();
+    stats.unit = "sets";
+    std::string doc = fp_render::cairo_document(frame_.width, frame_.height, format == fp::VectorFormat::Pdf,
+                                                recipe, [&](cairo_t* cr) { draw_set_panel(cr); });
+    if (doc.empty()) throw fp::InternalError("chaos-game: Cairo could not write the sets");
+    ctx.progress(1);
+    return doc;
+}
+
 fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     stats = fp::RenderStats{};
+    if (sets_ == Sets::only) {
+        // The sets alone: no chain runs.
+        stats.samples = set_drawings_.size();
+        stats.unit = "sets";
+        fp::Image img;
+        img.width = frame_.width;
+        img.height = frame_.height;
+        img.pixels =
+            fp_render::cairo_raster(frame_.width, frame_.height, [&](cairo_t* cr) { draw_set_panel(cr); });
+        ctx.progress(1);
+        return img;
+    }
     fp::Histogram total;
     fp::Image img;
     img.width = frame_.width;
@@ -445,6 +523,23 @@ fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) cons
         render_t<float>(ctx, stats, total, img.pixels);
     if (ctx.cancelled()) throw fp::Cancelled();
     colourer_->resolve_parallel(total, frame_.background, img.pixels.data(), ctx);
+    auto draw = [&](cairo_t* cr) {
+        draw_sets(cr, set_drawings_, frame_.region, frame_.width, frame_.height, set_style_);
+    };
+    if (sets_ == Sets::over) fp_render::cairo_over(frame_.width, frame_.height, img.pixels.data(), draw);
+    if (sets_ == Sets::beside) {
+        // The sets on the left, the fractal's own pixels (unchanged) on the right.
+        const std::vector<float> left =
+            fp_render::cairo_raster(frame_.width, frame_.height, [&](cairo_t* cr) { draw_set_panel(cr); });
+        const size_t row = size_t(frame_.width) * 3;
+        std::vector<float> both(2 * row * size_t(frame_.height));
+        for (size_t r = 0; r < size_t(frame_.height); ++r) {
+            std::copy_n(left.data() + r * row, row, both.data() + 2 * r * row);
+            std::copy_n(img.pixels.data() + r * row, row, both.data() + (2 * r + 1) * row);
+        }
+        img.pixels = std::move(both);
+        img.width = 2 * frame_.width;
+    }
     return img;
 }
 
@@ -985,6 +1080,19 @@ constexpr fp::ParamSpec params[] = {
         .def("float")
         .one_of("float|double"),
     fp::param::colour("background", "colour of pixels no point reached").def("[0, 0, 0]"),
+    fp::param::string(
+        "sets", "draw the sets of the maps with their centres (paper 01's left panels): over the fractal, "
+                "beside it (an image twice as wide: the sets left, the fractal right), or only the sets "
+                "(no chaos game; .svg and .pdf as well)")
+        .def("none")
+        .one_of("none|over|beside|only"),
+    fp::param::reals("set_view",
+                     "the region the sets are drawn in, beside the fractal or alone [xmin, xmax, ymin, ymax] "
+                     "(default: the fractal's view)")
+        .len(4)
+        .opt(),
+    fp::param::real("set_line", "width of the sets' outlines in pixels").def("2").above(0).max(100),
+    fp::param::real("set_fill", "opacity of the sets' fill (0: outlines only)").def("0.3").min(0).max(1),
     fp::param::string("kernels",
                       "auto: run maps that describe themselves as known kernels (inversions in circles "
                       "about their centres, Picard step, rules on, float) in one fused vectorised pass; "

@@ -6,15 +6,12 @@
 // antialiasing seam. Cairo draws on one thread, in order: the bytes depend only on the recipe.
 #pragma once
 
+#include "cairo_out.hpp"
 #include "uninitialised.hpp"
 
 #include <fixpoint/errors.hpp>
 #include <fixpoint/render.hpp>
 #include <fixpoint/types.hpp>
-
-#include <cairo-pdf.h>
-#include <cairo-svg.h>
-#include <cairo.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -55,14 +52,6 @@ struct Scene {
     /// Polled while drawing (a scene of 5e7 polygons takes seconds); null: not cancellable.
     const fp::RenderContext* ctx = nullptr;
 };
-
-// Cairo objects destroyed on every way out (a cancel throws from the middle of drawing).
-struct CairoDeleter {
-    void operator()(cairo_t* cr) const { cairo_destroy(cr); }
-    void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
-};
-using CairoContext = std::unique_ptr<cairo_t, CairoDeleter>;
-using CairoSurface = std::unique_ptr<cairo_surface_t, CairoDeleter>;
 
 inline void draw_scene(cairo_t* cr, const Scene& s) {
     const double sx = s.width / (s.view.xmax - s.view.xmin), sy = s.height / (s.view.ymax - s.view.ymin);
@@ -132,67 +121,12 @@ inline void draw_scene(cairo_t* cr, const Scene& s) {
 
 /// The scene as 8-bit sRGB values scaled to floats in [0, 1], RGB, top row first.
 inline std::vector<float> raster(const Scene& s) {
-    const CairoSurface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, s.width, s.height));
-    cairo_surface_t* surf = surface.get();
-    draw_scene(CairoContext(cairo_create(surf)).get(), s);
-    cairo_surface_flush(surf);
-    const unsigned char* data = cairo_image_surface_get_data(surf);
-    const int stride = cairo_image_surface_get_stride(surf);
-    std::vector<float> px(std::size_t(s.width) * std::size_t(s.height) * 3);
-    for (int r = 0; r < s.height; ++r) {
-        const auto* row = reinterpret_cast<const std::uint32_t*>(data + std::size_t(r) * std::size_t(stride));
-        for (int c = 0; c < s.width; ++c) {
-            const std::uint32_t v = row[c];
-            float* o = &px[(std::size_t(r) * std::size_t(s.width) + std::size_t(c)) * 3];
-            o[0] = float((v >> 16) & 0xff) / 255.0f;
-            o[1] = float((v >> 8) & 0xff) / 255.0f;
-            o[2] = float(v & 0xff) / 255.0f;
-        }
-    }
-    return px;
+    return fp_render::cairo_raster(s.width, s.height, [&](cairo_t* cr) { draw_scene(cr, s); });
 }
 
-inline cairo_status_t append_bytes(void* closure, const unsigned char* data, unsigned int length) {
-    static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-    return CAIRO_STATUS_SUCCESS;
-}
-
-/// The scene as an SVG (recipe in a <metadata> element) or PDF (recipe as the Subject, a fixed
-/// creation date so that the same recipe gives the same bytes) document.
+/// The scene as an SVG (recipe in a <metadata> element) or PDF document.
 inline std::string vector_document(const Scene& s, bool pdf, const std::string& recipe) {
-    std::string doc;
-    const CairoSurface surface(
-        pdf ? cairo_pdf_surface_create_for_stream(append_bytes, &doc, s.width, s.height)
-            : cairo_svg_surface_create_for_stream(append_bytes, &doc, s.width, s.height));
-    cairo_surface_t* surf = surface.get();
-    if (pdf) {
-        cairo_pdf_surface_set_metadata(surf, CAIRO_PDF_METADATA_SUBJECT, recipe.c_str());
-        cairo_pdf_surface_set_metadata(surf, CAIRO_PDF_METADATA_CREATOR, "fixpoint");
-        cairo_pdf_surface_set_metadata(surf, CAIRO_PDF_METADATA_CREATE_DATE, "2000-01-01T00:00:00Z");
-    }
-    draw_scene(CairoContext(cairo_create(surf)).get(), s);
-    cairo_surface_finish(surf);
-    const cairo_status_t st = cairo_surface_status(surf);
-    if (st != CAIRO_STATUS_SUCCESS) return {};
-    if (!pdf) {
-        // After the <svg ...> start tag: the recipe as character data (']]>' split so that
-        // the CDATA section cannot end early).
-        const auto open = doc.find("<svg");
-        const auto end = open == std::string::npos ? open : doc.find('>', open);
-        if (end != std::string::npos) {
-            std::string safe;
-            for (std::size_t i = 0; i < recipe.size(); ++i) {
-                if (recipe.compare(i, 3, "]]>") == 0) {
-                    safe += "]]]]><![CDATA[>";
-                    i += 2;
-                } else {
-                    safe += recipe[i];
-                }
-            }
-            doc.insert(end + 1, "\n<metadata id=\"fixpoint-recipe\"><![CDATA[\n" + safe + "]]></metadata>");
-        }
-    }
-    return doc;
+    return fp_render::cairo_document(s.width, s.height, pdf, recipe, [&](cairo_t* cr) { draw_scene(cr, s); });
 }
 
 } // namespace fp_mfs

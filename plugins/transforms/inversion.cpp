@@ -149,6 +149,7 @@ public:
     std::vector<fp::Vec2> region_outline(std::size_t samples) const override {
         return shape_->outline(samples);
     }
+    std::optional<fp::Vec2> region_centre() const override { return o_; }
     bool is_involution() const override { return true; }
 
     fp::KnownKernel kernel() const override {

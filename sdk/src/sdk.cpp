@@ -49,6 +49,7 @@ void Transform::contains(Points<const double> p, unsigned char* out) const {
     for (std::size_t i = 0; i < p.n; ++i) out[i] = 0;
 }
 std::vector<Vec2> Transform::region_outline(std::size_t) const { return {}; }
+std::optional<Vec2> Transform::region_centre() const { return std::nullopt; }
 bool Transform::is_involution() const { return false; }
 Box Transform::sample_domain() const { return {-2, 2, -2, 2}; }
 KnownKernel Transform::kernel() const { return {}; }

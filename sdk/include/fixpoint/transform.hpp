@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,9 @@ public:
     virtual void contains(Points<const double> p, unsigned char* out) const;
     /// The set's boundary, for drawing (empty without a region).
     virtual std::vector<Vec2> region_outline(std::size_t samples) const;
+    /// The point drawn with the set (an inversion's centre of inversion, paper 01's figures);
+    /// none by default.
+    virtual std::optional<Vec2> region_centre() const;
 
     /// T(T(p)) = p: the conformance suite checks it; renderers may use it.
     virtual bool is_involution() const;
