@@ -10,6 +10,7 @@
 #include <fixpoint/host/progress.hpp>
 #include <fixpoint/host/registry.hpp>
 #include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/where.hpp>
 #include <fixpoint/simd.hpp>
 #include <fixpoint/version.hpp>
 
@@ -49,7 +50,7 @@ void install_sigint() {
 struct Options {
     std::vector<std::string> plugin_dirs;
     std::string config, out, image, name, transform, scheme = "{type: picard}", kind;
-    std::vector<std::string> sets, files;
+    std::vector<std::string> sets, files, where;
     std::string vary, example;
     int columns = 0;
     unsigned threads = 0;
@@ -162,6 +163,7 @@ std::string render_vector_checked(const Pipeline& p, unsigned threads, Format f,
 
 // Paper 05's Algorithm 1: the addresses of a renderer's polygons at a level, one per line.
 int cmd_addresses(const Options& o) {
+    for (const auto& w : o.where) parse_where(w); // bad conditions before the work
     const Registry reg = make_registry(o);
     const Pipeline p = told(load_pipeline(reg, o.config, o.sets));
     std::vector<std::string> lines;
@@ -172,7 +174,14 @@ int cmd_addresses(const Options& o) {
     } catch (const Error& e) {
         throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
     }
-    for (const auto& l : lines) std::printf("%s\n", l.c_str());
+    // --where: only the polygons that pass every condition (checked before anything is listed).
+    std::vector<PolygonTest> tests;
+    for (const auto& w : o.where) tests.push_back(parse_where(w));
+    for (const auto& l : lines) {
+        const auto vs = address_line_vertices(l);
+        if (std::all_of(tests.begin(), tests.end(), [&](const PolygonTest& t) { return t(vs); }))
+            std::printf("%s\n", l.c_str());
+    }
     return 0;
 }
 
@@ -601,6 +610,10 @@ int main(int argc, char** argv) {
     addresses->add_option("--level", o.level, "Level to list (default: the last)")
         ->check(CLI::Range(0LL, 1000LL));
     addresses->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
+    addresses->add_option(
+        "--where", o.where,
+        "Only polygons that pass: 'centre in [x0, x1, y0, y1]', 'inside [...]' or 'meets [...]' "
+        "(repeatable: all must pass)");
 
     auto* conformance = app.add_subcommand("conformance", "Run the plugin conformance suite");
     conformance->add_option("files", o.files, "Plugin files or names (default: every plugin found)");
