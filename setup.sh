@@ -109,11 +109,12 @@ CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DFIXPOIN
 cmake --build build-asan -j"$jobs"
 stage "sanitizer build (build-asan)"
 
-# Every test but the style check and the out-of-tree plugin (nothing sanitizer-specific in them).
+# Every test but the style check, the out-of-tree plugins and the guide's code blocks (nothing
+# sanitizer-specific in them).
 # (No Python in this build: an interpreter not built with ASan under an ASan executable
 # reports its own allocator's habits; the Release build runs the Python tests.)
 started=$SECONDS
-ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -E '^(clang_format|external_plugin)$'
+ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -E '^(clang_format|external_plugin|external_scheme|doc_code_blocks)$'
 stage "tests (build-asan)"
 started=$SECONDS
 tests/fuzz/run.sh build-asan 60
