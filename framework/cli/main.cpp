@@ -5,6 +5,7 @@
 #include <fixpoint/fixpoint.hpp>
 #include <fixpoint/host/build.hpp>
 #include <fixpoint/host/conformance.hpp>
+#include <fixpoint/host/converse.hpp>
 #include <fixpoint/host/image_io.hpp>
 #include <fixpoint/host/pipeline.hpp>
 #include <fixpoint/host/progress.hpp>
@@ -18,11 +19,14 @@
 #include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <array>
 #include <atomic>
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -50,8 +54,8 @@ void install_sigint() {
 struct Options {
     std::vector<std::string> plugin_dirs;
     std::string config, out, image, name, transform, scheme = "{type: picard}", kind;
-    std::vector<std::string> sets, files, where;
-    std::string vary, example;
+    std::vector<std::string> sets, files, where, maps;
+    std::string vary, example, points;
     int columns = 0;
     unsigned threads = 0;
     bool quiet = false, force = false, check = false, verbose = false;
@@ -487,6 +491,38 @@ int cmd_eval(const Options& o) {
     return 0;
 }
 
+// Paper 05's converse construction: affine maps to subdivision maps on a triangle, printed as
+// the YAML items an mfs config's IFS takes.
+int cmd_to_subdivision(const Options& o) {
+    const CNode pts = parse_yaml(o.points, "--points");
+    std::array<Vec2, 3> p;
+    bool ok = pts.is_seq() && pts.items.size() == 3;
+    for (std::size_t j = 0; ok && j < 3; ++j) {
+        const CNode& q = pts.items[j];
+        ok = q.is_seq() && q.items.size() == 2 && q.items[0].is_scalar() && q.items[1].is_scalar();
+        char* e0 = nullptr;
+        char* e1 = nullptr;
+        if (ok) {
+            p[j] = {std::strtod(q.items[0].scalar.c_str(), &e0), std::strtod(q.items[1].scalar.c_str(), &e1)};
+            ok = !*e0 && !*e1 && !q.items[0].scalar.empty() && !q.items[1].scalar.empty() &&
+                 std::isfinite(p[j].x) && std::isfinite(p[j].y);
+        }
+    }
+    if (!ok) throw InputError("--points: expected three points [[x1, y1], [x2, y2], [x3, y3]] (a triangle)");
+    const Registry reg = make_registry(o);
+    const auto mats = subdivision_matrices(reg, p, o.maps);
+    std::string pts_text = "[";
+    for (std::size_t j = 0; j < 3; ++j)
+        pts_text += std::string(j ? ", " : "") + "[" + number_text(p[j].x) + ", " + number_text(p[j].y) + "]";
+    pts_text += "]";
+    for (const auto& s : mats) {
+        std::string m;
+        for (std::size_t k = 0; k < 9; ++k) m += std::string(k ? ", " : "") + number_text(s[k]);
+        std::printf("- {type: subdivision, points: %s, S: [%s]}\n", pts_text.c_str(), m.c_str());
+    }
+    return 0;
+}
+
 int cmd_recipe(const Options& o) {
     std::fputs(read_recipe(o.image).c_str(), stdout);
     return 0;
@@ -601,6 +637,14 @@ int main(int argc, char** argv) {
     eval->add_option("--steps", o.steps,
                      "Steps per point (default 1, at most 10^12); step index n counts from 0");
 
+    auto* to_sub = app.add_subcommand(
+        "to-subdivision", "Paper 05's converse construction: affine maps as subdivision maps on a triangle");
+    to_sub
+        ->add_option("maps", o.maps,
+                     "Affine maps as YAML flow mappings, e.g. '{type: affine, coefficients: [...]}'")
+        ->required();
+    to_sub->add_option("--points", o.points, "The control points [[x1, y1], [x2, y2], [x3, y3]]")->required();
+
     auto* recipe = app.add_subcommand("recipe", "Print the recipe embedded in an image");
     recipe->add_option("image", o.image, "Image written by fixpoint")->required();
 
@@ -652,6 +696,7 @@ int main(int argc, char** argv) {
         if (*recipe) return cmd_recipe(o);
         if (*conformance) return cmd_conformance(o);
         if (*addresses) return cmd_addresses(o);
+        if (*to_sub) return cmd_to_subdivision(o);
     } catch (const Cancelled&) {
         std::fprintf(stderr, "fixpoint: interrupted; no image written\n");
         return 130;
