@@ -219,10 +219,10 @@ py::array_t<double> eval(const std::string& transform, const std::string& scheme
                          const py::array_t<double, py::array::c_style | py::array::forcecast>& points,
                          long long steps) {
     Registry& reg = registry();
-    auto tt = validate(reg, Kind::Transform, parse_yaml(transform, "<transform>"), "transform");
-    auto st = validate(reg, Kind::IterationScheme, parse_yaml(scheme, "<scheme>"), "scheme");
-    auto t = std::dynamic_pointer_cast<const Transform>(build(reg, *tt));
-    auto s = std::dynamic_pointer_cast<const IterationScheme>(build(reg, *st));
+    auto t = std::dynamic_pointer_cast<const Transform>(
+        build_from_text(reg, Kind::Transform, transform, "<transform>", "transform"));
+    auto s = std::dynamic_pointer_cast<const IterationScheme>(
+        build_from_text(reg, Kind::IterationScheme, scheme, "<scheme>", "scheme"));
     if (points.ndim() != 2 || points.shape(1) != 2)
         throw InputError("eval: points must be an array of shape (n, 2), got " +
                          std::to_string(points.ndim()) + " dimension(s)");

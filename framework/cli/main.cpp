@@ -451,10 +451,10 @@ int cmd_describe(const Options& o) {
 
 int cmd_eval(const Options& o) {
     const Registry reg = make_registry(o);
-    auto tt = validate(reg, Kind::Transform, parse_yaml(o.transform, "<transform>"), "transform");
-    auto st = validate(reg, Kind::IterationScheme, parse_yaml(o.scheme, "<scheme>"), "scheme");
-    auto t = std::dynamic_pointer_cast<const Transform>(build(reg, *tt));
-    auto s = std::dynamic_pointer_cast<const IterationScheme>(build(reg, *st));
+    auto t = std::dynamic_pointer_cast<const Transform>(
+        build_from_text(reg, Kind::Transform, o.transform, "<transform>", "transform"));
+    auto s = std::dynamic_pointer_cast<const IterationScheme>(
+        build_from_text(reg, Kind::IterationScheme, o.scheme, "<scheme>", "scheme"));
     // Parsed here rather than by CLI11, which clamped an out-of-range count to the largest one.
     long long steps = 0;
     const auto [end, ec] = std::from_chars(o.steps.data(), o.steps.data() + o.steps.size(), steps);
@@ -531,15 +531,19 @@ int cmd_recipe(const Options& o) {
 int cmd_conformance(const Options& o) {
     Registry reg = make_registry(o);
     std::vector<const PluginEntry*> targets;
-    // A plugin file, or the name of a plugin found in the plugin folders.
-    for (const auto& f : o.files) {
-        const PluginEntry* named =
-            f.find('/') == std::string::npos && !f.ends_with(".so") ? reg.find(f) : nullptr;
-        targets.push_back(named ? named : &reg.load_file(f));
-    }
+    // A plugin file (a path, or a name ending in .so), or the name of a plugin found in the
+    // plugin folders (an unknown one gets the "did you mean" of describe).
+    for (const auto& f : o.files)
+        targets.push_back(f.find('/') == std::string::npos && !f.ends_with(".so") ? &reg.get(f)
+                                                                                  : &reg.load_file(f));
     if (o.files.empty()) targets = reg.all();
-    if (!o.example.empty() && targets.size() != 1)
-        throw InputError("--example: name the one plugin it is an example of");
+    if (!o.example.empty()) {
+        // Bad input, refused as such (exit 2) before any check runs, not reported as a failed check.
+        if (targets.size() != 1) throw InputError("--example: name the one plugin it is an example of");
+        const CNode ex = parse_yaml(o.example, "--example");
+        if (!ex.is_map() && ex.type != CNode::Type::Null)
+            throw InputError(ex.mark.str() + ": expected a mapping of parameters, got " + ex.describe());
+    }
     int failed = 0, passed = 0;
     for (const auto* e : targets) {
         const auto report = conformance_report(reg, *e, o.example.empty() ? nullptr : &o.example);

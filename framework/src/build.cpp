@@ -424,6 +424,11 @@ const TParam* param_named(const std::vector<TParam>& ps, const std::string& name
 
 } // namespace
 
+std::shared_ptr<const Object> build_from_text(const Registry& reg, Kind kind, const std::string& text,
+                                              const std::string& source, const std::string& path) {
+    return build(reg, *validate(reg, kind, parse_yaml(text, source), path));
+}
+
 std::shared_ptr<const Object> build(const Registry& reg, const TObject& t) {
     const PluginDescriptor& d = *t.plugin->desc;
     ParamBag bag = bag_of(reg, d.params, d.n_params, d.name, t.params);

@@ -632,8 +632,6 @@ bool snake_or_paper(const char* s) {
 CNode example_node(const PluginDescriptor& d, const std::string* given) {
     CNode n = given ? parse_yaml(*given, "--example")
                     : parse_yaml(d.example ? d.example : "{}", std::string("<example of ") + d.name + ">");
-    if (given && n.type != CNode::Type::Null && !n.is_map())
-        throw InputError(n.mark.str() + ": expected a mapping of parameters, got " + n.describe());
     if (n.type == CNode::Type::Null) n = map_node();
     n.keys.insert(n.keys.begin(), {"type", scalar_node(d.name)});
     n.key_marks.insert(n.key_marks.begin(), n.mark);

@@ -34,13 +34,14 @@ std::vector<Subdivision3> subdivision_matrices(const Registry& reg, const std::a
     for (std::size_t i = 0; i < maps.size(); ++i) {
         const std::string name = "map " + std::to_string(i + 1);
         const auto t = std::dynamic_pointer_cast<const Transform>(
-            build(reg, *validate(reg, Kind::Transform, parse_yaml(maps[i], "<" + name + ">"), "transform")));
+            build_from_text(reg, Kind::Transform, maps[i], "<" + name + ">", "transform"));
         // The control points, and a fourth point inside the triangle that is none of them.
         const std::array<double, 3> w4 = {0.2, 0.3, 0.5};
         double x[4], y[4];
         for (int j = 0; j < 3; ++j) x[j] = p[j].x, y[j] = p[j].y;
-        x[3] = w4[0] * p[0].x + w4[1] * p[1].x + w4[2] * p[2].x;
-        y[3] = w4[0] * p[0].y + w4[1] * p[1].y + w4[2] * p[2].y;
+        const Vec2 q = {w4[0] * p[0].x + w4[1] * p[1].x + w4[2] * p[2].x,
+                        w4[0] * p[0].y + w4[1] * p[1].y + w4[2] * p[2].y};
+        x[3] = q.x, y[3] = q.y;
         t->apply(Points<double>{x, y, 4}, nullptr);
         Subdivision3 s;
         for (int j = 0; j < 3; ++j) {
@@ -55,11 +56,10 @@ std::vector<Subdivision3> subdivision_matrices(const Registry& reg, const std::a
                      ey = w4[0] * y[0] + w4[1] * y[1] + w4[2] * y[2];
         const double scale = std::max({1.0, std::fabs(ex), std::fabs(ey), size});
         if (!(std::fabs(x[3] - ex) <= 1e-9 * scale && std::fabs(y[3] - ey) <= 1e-9 * scale))
-            throw InputError(name + ": not an affine map: it sends (" +
-                             number_text(0.2 * p[0].x + 0.3 * p[1].x + 0.5 * p[2].x) + ", " +
-                             number_text(0.2 * p[0].y + 0.3 * p[1].y + 0.5 * p[2].y) + ") to (" +
-                             number_text(x[3]) + ", " + number_text(y[3]) + "), not to (" + number_text(ex) +
-                             ", " + number_text(ey) + "): subdivision matrices represent affine maps only");
+            throw InputError(name + ": not an affine map: it sends (" + number_text(q.x) + ", " +
+                             number_text(q.y) + ") to (" + number_text(x[3]) + ", " + number_text(y[3]) +
+                             "), not to (" + number_text(ex) + ", " + number_text(ey) +
+                             "): subdivision matrices represent affine maps only");
         out.push_back(s);
     }
     return out;

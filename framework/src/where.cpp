@@ -1,5 +1,6 @@
 // --where conditions of `fixpoint addresses` (host/where.hpp).
 #include <fixpoint/errors.hpp>
+#include <fixpoint/host/config.hpp>
 #include <fixpoint/host/where.hpp>
 #include <fixpoint/text.hpp>
 
@@ -13,26 +14,22 @@ namespace {
 
 bool in_box(Vec2 p, const Box& b) { return p.x >= b.xmin && p.x <= b.xmax && p.y >= b.ymin && p.y <= b.ymax; }
 
-/// "[x0, x1, y0, y1]" (spaces free) as a box with x0 <= x1, y0 <= y1; false when it is not one.
-bool parse_box(std::string_view s, Box& b) {
-    while (!s.empty() && s.front() == ' ') s.remove_prefix(1);
-    while (!s.empty() && s.back() == ' ') s.remove_suffix(1);
-    if (s.size() < 2 || s.front() != '[' || s.back() != ']') return false;
-    const std::string inner(s.substr(1, s.size() - 2));
-    double v[4];
-    const char* p = inner.c_str();
-    for (int i = 0; i < 4; ++i) {
-        char* end = nullptr;
-        v[i] = std::strtod(p, &end);
-        if (end == p || !std::isfinite(v[i])) return false;
-        p = end;
-        while (*p == ' ') ++p;
-        if (i < 3) {
-            if (*p != ',') return false;
-            ++p;
-        }
+/// "[x0, x1, y0, y1]" (YAML) as a box with x0 <= x1, y0 <= y1; false when it is not one.
+bool parse_box(std::string_view text, Box& b) {
+    CNode n;
+    try {
+        n = parse_yaml(std::string(text), "--where");
+    } catch (const InputError&) {
+        return false;
     }
-    if (*p) return false;
+    if (!n.is_seq() || n.items.size() != 4) return false;
+    double v[4];
+    for (std::size_t i = 0; i < 4; ++i) {
+        const CNode& c = n.items[i];
+        char* end = nullptr;
+        v[i] = c.is_scalar() && !c.scalar.empty() ? std::strtod(c.scalar.c_str(), &end) : NAN;
+        if (!end || *end || !std::isfinite(v[i])) return false;
+    }
     b = {v[0], v[1], v[2], v[3]};
     return b.xmin <= b.xmax && b.ymin <= b.ymax;
 }

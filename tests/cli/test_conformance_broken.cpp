@@ -96,3 +96,24 @@ TEST(ConformanceBroken, VerboseListsEveryCheck) {
 }
 
 } // namespace
+
+// Plugins named rather than given as files, and --example: mistakes in the command itself are
+// bad input (exit 2, one line), not failed checks.
+TEST(ConformanceBroken, NamesAndExamplesOnTheCommandLine) {
+    const auto named = run_cli({"conformance", "mann", "--example", "{alpha: 0.25}"});
+    EXPECT_EQ(named.rc, 0) << named.out << named.err;
+    EXPECT_EQ(named.out.rfind("PASS mann (", 0), 0u) << named.out;
+    const auto unknown = run_cli({"conformance", "man"});
+    EXPECT_EQ(unknown.rc, 2);
+    EXPECT_EQ(unknown.err, "unknown plugin 'man' (did you mean 'mann'?)\n");
+    const auto list = run_cli({"conformance", "mann", "--example", "[1, 2]"});
+    EXPECT_EQ(list.rc, 2);
+    EXPECT_EQ(list.err, "--example:1:1: expected a mapping of parameters, got a list\n");
+    const auto two = run_cli({"conformance", "mann", "picard", "--example", "{}"});
+    EXPECT_EQ(two.rc, 2);
+    EXPECT_EQ(two.err, "--example: name the one plugin it is an example of\n");
+    // A value the plugin refuses is a finding about the example, as with the plugin's own.
+    const auto bad = run_cli({"conformance", "mann", "--example", "{alpha: x}"});
+    EXPECT_EQ(bad.rc, 1);
+    EXPECT_EQ(bad.out.rfind("FAIL mann (", 0), 0u) << bad.out;
+}

@@ -46,6 +46,12 @@ std::unique_ptr<TObject> validate(const Registry& reg, Kind kind, const CNode& n
 /// parameter they name.
 std::shared_ptr<const Object> build(const Registry& reg, const TObject& t);
 
+/// An instance of `kind` from YAML text given outside a config (a command-line argument, a
+/// Python string): parsed as `source` (its name in error positions, "<transform>"), validated
+/// at `path` and built. Throws fp::InputError.
+std::shared_ptr<const Object> build_from_text(const Registry& reg, Kind kind, const std::string& text,
+                                              const std::string& source, const std::string& path);
+
 /// The tree with every default filled in, as YAML nodes (canonical numbers: shortest text
 /// that reads back to the same double).
 CNode resolved(const TObject& t);
