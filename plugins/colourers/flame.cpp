@@ -1,16 +1,26 @@
 // flame — the running-average colouring of paper 02, Sec. 5 (Algorithm 2, eq. (28)), a
-// simplified fractal-flame colouring.
+// simplified fractal-flame colouring, and paper 01's colouring by set.
 //
 // update: each chain carries a colour c; after a step by map j, c = (c + c_j) / 2, so the
 // colour remembers the recent maps with weights 1/2, 1/4, ... and varies continuously
 // across the fractal (unlike map-colour).
-// resolve: pixel = brightness * mean colour of the bin * (log2(1 + H) / log2(1 + max H))^(1/gamma),
+// resolve: pixel = brightness * colour of the bin * (log2(1 + H) / log2(1 + max H))^(1/gamma),
 // clamped to [0, 1]; empty bins take the background.
 //
-// Departure from the paper: Algorithm 2 sets the pixel to the last colour written to it. We
-// use the mean colour of all the hits of the bin instead (the histogram holds colour sums),
-// so the image does not depend on the order in which chains and workers are merged, and the
-// same recipe gives the same bytes on any number of threads.
+// `mode` says which colour of the bin:
+//   mean        the mean colour of all the bin's hits (the histogram's colour sums), the
+//               default: it does not depend on which chain came last, and the running colour
+//               is carried from the chain's first step (chains start from the mean map colour);
+//   last        Algorithm 2 as written: the pixel keeps the colour written last (line 17,
+//               I(x, y) = c), each chain's colour starts random (line 4) and is updated only
+//               with the points it plots (line 16 sits under "if i > 20"). With many chains,
+//               "last" is the largest (step, chain): the paper's single orbit writes in that
+//               order, and no thread count changes it (fp::PixelRule::last);
+//   set-colour  paper 01, Sec. 4: "the points of the fractal are coloured with the colour of
+//               the set that was used to obtain the point": c = c_j, the pixel the colour of
+//               the set that produced its last point, shaded like the others.
+// `last` and `set-colour` need a renderer that keeps the last colours (chaos-game; the
+// superfractal renderer refuses them) and run chaos-game's generic path.
 #include "tone_map.hpp"
 
 // update() once per instruction set (update-inl.hpp), dispatched at run time.
@@ -22,6 +32,7 @@
 
 namespace fp_colourers {
 HWY_EXPORT(update_average);
+HWY_EXPORT(update_map);
 } // namespace fp_colourers
 
 namespace {
@@ -34,26 +45,45 @@ constexpr fp::ParamSpec params[] = {
     fp::param::real("brightness", "factor on the final colour (clamped to [0, 1] afterwards)")
         .def("1")
         .above(0),
+    fp::param::string("mode", "which colour a pixel shows: mean (of its hits), last (written, eq. (28) as "
+                              "written: random start colour) or set-colour (paper 01: the colour of the set "
+                              "that produced its last point)")
+        .def("mean")
+        .one_of("mean|last|set-colour"),
 };
 
 class Flame final : public fp_colourers::Resolving<Flame> {
 public:
-    explicit Flame(const fp::ParamBag& p) : gamma_(p.real("gamma")), brightness_(p.real("brightness")) {}
+    explicit Flame(const fp::ParamBag& p)
+        : gamma_(p.real("gamma")), brightness_(p.real("brightness")),
+          mode_(p.string("mode") == "last"         ? Mode::last
+                : p.string("mode") == "set-colour" ? Mode::set_colour
+                                                   : Mode::mean) {}
 
     void update(const std::uint32_t* map, fp::ColourState s, const fp::Rgb* map_colours,
                 const unsigned char* mask) const override {
-        HWY_DYNAMIC_DISPATCH(update_average)(map, s, map_colours, mask);
+        if (mode_ == Mode::set_colour)
+            HWY_DYNAMIC_DISPATCH(update_map)(map, s, map_colours, mask);
+        else
+            HWY_DYNAMIC_DISPATCH(update_average)(map, s, map_colours, mask);
     }
 
-    fp::ColourRule colour_rule() const override { return fp::ColourRule::average; }
+    fp::ColourRule colour_rule() const override {
+        return mode_ == Mode::set_colour ? fp::ColourRule::map : fp::ColourRule::average;
+    }
+    fp::PixelRule pixel_rule() const override {
+        return mode_ == Mode::mean ? fp::PixelRule::mean : fp::PixelRule::last;
+    }
 
     /// The work of resolve() and resolve_parallel() (tone_map.hpp's Resolving); ctx null: serial.
     void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
-        fp_colourers::tone_map(h, background, rgb, true, gamma_, brightness_, ctx);
+        fp_colourers::tone_map(h, background, rgb, true, gamma_, brightness_, mode_ != Mode::mean, ctx);
     }
 
 private:
+    enum class Mode { mean, last, set_colour };
     double gamma_, brightness_;
+    Mode mode_;
 };
 
 } // namespace

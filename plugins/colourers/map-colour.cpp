@@ -46,7 +46,7 @@ public:
 
     /// The work of resolve() and resolve_parallel() (tone_map.hpp's Resolving); ctx null: serial.
     void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
-        fp_colourers::tone_map(h, background, rgb, log_, gamma_, 1.0, ctx);
+        fp_colourers::tone_map(h, background, rgb, log_, gamma_, 1.0, false, ctx);
     }
 
 private:

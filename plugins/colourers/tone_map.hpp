@@ -153,16 +153,25 @@ private:
     std::vector<double> table_;
 };
 
-/// pixel = clamp(mean colour of the bin * density^(1/gamma) * brightness, 0, 1), where the
-/// mean colour is the bin's colour sum / hits / colour_scale and, with `log_density`,
-/// density = log2(1 + hits) / log2(1 + max hits) (paper 02, eq. (28)); otherwise density
-/// = 1. Empty bins take `background`. Fixed order, no state: the same histogram gives the
-/// same bytes.
+/// pixel = clamp(colour of the bin * density^(1/gamma) * brightness, 0, 1), where the colour
+/// is the mean of its hits (colour sum / hits / colour_scale), or with `last` the colour
+/// written last (Histogram::last / colour_scale, fp::PixelRule::last), and, with
+/// `log_density`, density = log2(1 + hits) / log2(1 + max hits) (paper 02, eq. (28));
+/// otherwise density = 1. Empty bins take `background`. Fixed order, no state: the same
+/// histogram gives the same bytes.
 /// With ctx, on its workers (rows in parallel; the same bytes).
 inline void tone_map(const fp::Histogram& h, fp::Rgb background, float* rgb, bool log_density, double gamma,
-                     double brightness, fp::RenderContext* ctx = nullptr) {
+                     double brightness, bool last, fp::RenderContext* ctx = nullptr) {
+    if (last && h.last.size() != h.bins.size())
+        throw fp::InternalError("the renderer gave no last colours for a colourer whose pixel rule is last");
     const LogDensity density(log_density ? max_hits(h, ctx) : 0, gamma, ctx);
     shade_bins(ctx, h, background, rgb, [&](std::size_t i, std::uint64_t hits) {
+        if (last) {
+            const fp::LastColour& c = h.last[i];
+            double k = brightness / double(fp::colour_scale);
+            if (log_density) k *= density(hits);
+            return std::array<double, 3>{double(c.r) * k, double(c.g) * k, double(c.b) * k};
+        }
         const fp::HistBin& b = h.bins[i];
         double k = brightness / (double(hits) * double(fp::colour_scale));
         if (log_density) k *= density(hits);

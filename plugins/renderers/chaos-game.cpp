@@ -111,6 +111,14 @@
 // trunc(c * 65535 + 0.5) in float). RenderStats::samples counts the points plotted after
 // `skip`, inside the view or not; chains start with the mean colour of the maps.
 //
+// Last colours (a colourer whose fp::PixelRule is last: flame's `last` and `set-colour`):
+// paper 02's Algorithm 2 as written. A chain starts with a random colour (from the stream
+// fp::chain_stream(seed + colour_stream_salt, chain), which its draws never touch), update()
+// changes it only at the steps where it plots, and each worker keeps per bin the colour of
+// its point with the largest (step, chain); the workers' entries merge by the same order, so
+// the winner, and the image, are the same on any number of threads. These renders take the
+// generic path (the fused step keeps no last colours).
+//
 // Errors (ParamError, by parameter): "view": "the view must be [xmin, xmax, ymin, ymax] with
 // xmin < xmax" (or "... with ymin < ymax"); "maps": "the list of maps is empty"; "height":
 // "the image is too large: width * height must be below 4294967295 pixels".
@@ -234,6 +242,11 @@ private:
             return *lanes_d_;
     }
 
+    /// Algorithm 2's "I(x, y) = c" for a block step: each plotted point's colour into its bin
+    /// unless the bin holds a later (step, chain).
+    static void write_last(WorkerHist& hist, const uint32_t* idx, const uint64_t* dep, size_t nb, uint64_t n,
+                           uint64_t c0, uint32_t dummy);
+
     /// The sets of the maps on the background, as a width x height picture.
     void draw_set_panel(cairo_t* cr) const;
 
@@ -249,6 +262,7 @@ private:
     fp::Vec2 start_;
     fp::Box start_box_; ///< where random start points are drawn (the view unless start_box)
     bool rules_ = true, double_ = false, colour_ = true;
+    bool last_ = false;  ///< the colourer's pixel rule is last (paper 02's Algorithm 2 as written)
     bool fused_ = false; ///< the fused step (kernels-inl.hpp's fused_t) runs every block step
     std::shared_ptr<LaneTables<float>> lanes_f_;
     std::shared_ptr<LaneTables<double>> lanes_d_;
@@ -284,6 +298,8 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     iteration_ = p.object<fp::IterationScheme>("iteration");
     colourer_ = p.object<fp::Colourer>("colourer");
     colour_ = colourer_->needs_colour();
+    last_ = colourer_->pixel_rule() == fp::PixelRule::last;
+    if (last_) colour_ = true;
 
     const auto& items = p.objects("maps");
     if (items.empty()) throw fp::ParamError("maps", "the list of maps is empty");
@@ -413,8 +429,10 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     // table_size maps, and a colourer that needs no colour or whose update is a ColourRule;
     // `kernels: generic` turns it off (it gives the same bytes: tests/unit/test_chaos_kernel.cpp).
     const fp::ColourRule crule = colourer_->colour_rule();
+    // (Last colours are kept by the generic path only: a mode for the papers' figures, not for
+    // speed.)
     if (p.string("kernels") == "auto" && iteration_->is_picard() && k <= fp_chaos::table_size &&
-        (!colour_ || crule != fp::ColourRule::none)) {
+        (!colour_ || crule != fp::ColourRule::none) && !last_) {
         std::vector<fp::KnownKernel> kk;
         for (const auto& m : maps_) kk.push_back(m->kernel());
         const auto kind = kk[0].kind;
@@ -471,11 +489,15 @@ uint64_t ChaosGame::memory_bytes(unsigned workers) const {
                       (points_ / spill_hits + uint64_t(workers) * 256) * 48
                 : uint64_t(workers) * ((px + 1) * 4 + (2u << 20) + (deposits >= hits_flush ? px * 8 : 0)) +
                       px * sizeof(fp::HistBin);
+    // Last colours: the workers' last writes and the total's colours.
+    const uint64_t last =
+        last_ ? uint64_t(workers) * ((px + 1) * sizeof(LastWrite) + (2u << 20)) + px * sizeof(fp::LastColour)
+              : 0;
     // (The sets beside: a second picture of the same size, and the two side by side.)
     const uint64_t image = px * 3 * sizeof(float) * (sets_ == Sets::beside ? 3 : 1);
     const uint64_t scratch = uint64_t(workers) * (double_ ? Scratch<double>::bytes(maps_.size())
                                                           : Scratch<float>::bytes(maps_.size()));
-    return hist + image + scratch;
+    return hist + last + image + scratch;
 }
 
 void ChaosGame::draw_set_panel(cairo_t* cr) const {
@@ -573,6 +595,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                 total.width = frame_.width;
                 total.height = frame_.height;
                 assign_huge(total.bins, px, fp::HistBin{}, poll);
+                if (last_) assign_huge(total.last, px, fp::LastColour{}, poll);
                 continue;
             }
             if (it == 1) {
@@ -583,7 +606,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
             const uint64_t c0 = spans[b].c0;
             const size_t nb = spans[b].nb;
             if (!scratch[w]) scratch[w] = std::make_unique<Scratch<T>>(maps_.size());
-            if (!hists[w].bins.get() && !hists[w].hits.get()) hists[w].alloc(px, colour_, poll);
+            if (!hists[w].bins.get() && !hists[w].hits.get()) hists[w].alloc(px, colour_, last_, poll);
             if (rules_ && colour_)
                 run_block<T, true, true>(c0, nb, *scratch[w], hists[w], results[b], ctx);
             else if (rules_)
@@ -628,6 +651,19 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                 out[i].r += in[i][1];
                 out[i].g += in[i][2];
                 out[i].b += in[i][3];
+            }
+        }
+        if (last_) {
+            // Each bin's last colour: the workers' entry with the largest (step, chain).
+            for (size_t i = b0; i < b1; ++i) {
+                LastWrite best{0, 0, 0, 0, 0, 0};
+                for (const auto& h : hists) {
+                    const LastWrite* lw = h.last.get();
+                    if (!lw) continue;
+                    const LastWrite& e = lw[i];
+                    if (e.step > best.step || (e.step == best.step && e.chain > best.chain)) best = e;
+                }
+                total.last[i] = fp::LastColour{best.r, best.g, best.b};
             }
         }
         uint64_t d = 0;
@@ -796,6 +832,25 @@ FusedArgs<T> ChaosGame::fused_args(Scratch<T>& s, const BookArgs<T>& bv, uint32_
     return f;
 }
 
+// ---------------------------------------------------------------- last colours
+void ChaosGame::write_last(WorkerHist& hist, const uint32_t* idx, const uint64_t* dep, size_t nb, uint64_t n,
+                           uint64_t c0, uint32_t dummy) {
+    LastWrite* lw = hist.last.get();
+    // A worker's blocks do not come in chain order, and a bin may hold an entry of an earlier
+    // block at a later step: compare. Within the step, chains come in increasing order.
+    const uint64_t step = n + 1;
+    for (size_t i = 0; i < nb; ++i) {
+        const uint32_t b = idx[i];
+        if (b == dummy) continue;
+        LastWrite& e = lw[b];
+        const auto chain = uint32_t(c0 + i);
+        if (step > e.step || (step == e.step && chain > e.chain)) {
+            const uint64_t v = dep[i]; // {1, r, g, b} in 16 bits each
+            e = LastWrite{step, chain, uint16_t(v >> 16), uint16_t(v >> 32), uint16_t(v >> 48), 0};
+        }
+    }
+}
+
 // ---------------------------------------------------------------- one block of chains
 template <class T, bool Rules, bool Colour>
 void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
@@ -817,9 +872,18 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
         s.prev.get()[i] = none;
         s.age.get()[i] = 0;
         s.idle.get()[i] = 0;
-        s.cr.get()[i] = initial_colour_.r;
-        s.cg.get()[i] = initial_colour_.g;
-        s.cb.get()[i] = initial_colour_.b;
+        if (last_) {
+            // Algorithm 2, line 4: "c = random colour", from a stream of the chain's own that
+            // its draws do not use.
+            fp::Rng r = fp::chain_stream(seed_ + colour_stream_salt, chain);
+            s.cr.get()[i] = fp::uniform_float(r);
+            s.cg.get()[i] = fp::uniform_float(r);
+            s.cb.get()[i] = fp::uniform_float(r);
+        } else {
+            s.cr.get()[i] = initial_colour_.r;
+            s.cg.get()[i] = initial_colour_.g;
+            s.cb.get()[i] = initial_colour_.b;
+        }
         s.x.get()[i] = T(0);
         s.y.get()[i] = T(0);
         if (left > 0) {
@@ -948,11 +1012,19 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
                 choose_alias(s, nb);
             move_chains(s, nb, n);
             if constexpr (Colour) {
-                FP_IVDEP
-                for (size_t i = 0; i < nb; ++i) moved[i] = chosen[i] < none ? 1 : 0;
+                if (last_) {
+                    // Algorithm 2: the colour changes with the points plotted only (line 16
+                    // under "if i > 20"): the chains that move and are past their skip.
+                    FP_IVDEP
+                    for (size_t i = 0; i < nb; ++i) moved[i] = chosen[i] < none && age[i] >= bv.skip ? 1 : 0;
+                } else {
+                    FP_IVDEP
+                    for (size_t i = 0; i < nb; ++i) moved[i] = chosen[i] < none ? 1 : 0;
+                }
                 colourer_->update(chosen, fp::ColourState{cr, cg, cb, nb}, colours_.data(), moved);
             }
             sc = fp_chaos::bookkeep(bv, Colour);
+            if (Colour && last_) write_last(hist, idx, dep, nb, n, c0, bv.dummy);
         }
 
         // 6. Deposit: one 4 x 32-bit add per chain, or one 32-bit increment when counting

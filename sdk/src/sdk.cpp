@@ -70,6 +70,7 @@ std::vector<std::string> Renderer::polygon_addresses(std::int64_t) const {
 
 bool Colourer::needs_colour() const { return true; }
 ColourRule Colourer::colour_rule() const { return ColourRule::none; }
+PixelRule Colourer::pixel_rule() const { return PixelRule::mean; }
 bool Colourer::colours_trap_hits() const { return false; }
 void Colourer::colour_hits(const std::int32_t*, const float*, const std::uint32_t*, std::size_t, const Rgb*,
                            float*) const {

@@ -23,7 +23,7 @@ TEST(Frame, EveryRendererChecksItsRegionAlike) {
     EXPECT_EQ(run_bad_input("frame_chaos",
                             replace_once(config("inversion/fig6a.yaml"), "view: [-1.25, 1.25, -1.25, 1.25]",
                                          "view: [1.25, -1.25, -1.25, 1.25]")),
-              "bad.yaml:17:9: renderer.view: the view must be [xmin, xmax, ymin, ymax] with xmin < xmax");
+              "bad.yaml:20:9: renderer.view: the view must be [xmin, xmax, ymin, ymax] with xmin < xmax");
     EXPECT_EQ(run_bad_input("frame_superfractal",
                             replace_once(config("gumowski-mira/fig2-F.yaml"), "view: [0.1, 0.9, 0.1, 0.9]",
                                          "view: [0.1, 0.9, 0.9, 0.9]")),

@@ -49,6 +49,9 @@ constexpr size_t lean_chains = lean_max;
 constexpr unsigned start_tries = 32;
 /// Restarts in a row without a plotted point after which a chain is retired.
 constexpr uint32_t max_idle_restarts = 100;
+/// Added to the seed for the chains' random start colours (fp::PixelRule::last): the stream
+/// fp::chain_stream(seed + salt, chain), not the one the chain draws its maps from.
+constexpr uint64_t colour_stream_salt = 0x636f6c6f7572ull; // ASCII "colour"
 
 // ---------------------------------------------------------------- pcg32, structure of arrays
 // fp::Rng is pcg32 (setseq XSH-RR 64/32, output of the previous state). The same generator on
@@ -187,8 +190,18 @@ constexpr uint64_t hits_flush = uint64_t(1) << 31;
 /// counters alone (4 bytes a bin, as the reference kernels: four times as many bins per
 /// cache line), flushed whole into 64-bit counters every hits_flush deposits. Made by the
 /// worker on its first task.
+/// The last point a worker wrote to a bin (fp::PixelRule::last): its (step + 1, chain), 0 for
+/// none, and its colour packed like the deposit's. The workers' entries of a bin are merged
+/// by the largest (step, chain): the same winner for any thread count.
+struct LastWrite {
+    uint64_t step;
+    uint32_t chain;
+    uint16_t r, g, b, pad;
+};
+
 struct WorkerHist {
     HugeBuf<Cnt4> bins;
+    HugeBuf<LastWrite> last; ///< pixel rule last only
     std::vector<std::pair<uint32_t, Bin4>> spills;
     HugeBuf<uint32_t> hits;
     std::vector<uint64_t> wide; ///< hits flushed out of `hits` (empty until the first flush)
@@ -196,7 +209,8 @@ struct WorkerHist {
     uint32_t dummy = 0;
 
     template <class Poll>
-    void alloc(size_t px, bool colour, Poll poll) {
+    void alloc(size_t px, bool colour, bool last_colour, Poll poll) {
+        if (last_colour) last.alloc(px + 1, poll);
         if (colour) {
             bins.alloc(px + 1, poll);
             spills.reserve(256);

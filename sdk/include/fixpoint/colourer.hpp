@@ -31,6 +31,19 @@ struct ColourState {
 ///   average: c' = (c + c_j) * 0.5f    (the running colour of paper 02 Sec. 5).
 enum class ColourRule : std::uint32_t { none, map, average };
 
+/// What a pixel shows of the colours its points carried.
+///   mean: the mean colour of its hits (Histogram::bins' colour sums): independent of the
+///         order of the points, the default;
+///   last: the colour written last (Histogram::last), paper 02's Algorithm 2 as written
+///         ("I(x, y) = c"). Points have no time order across chains, so "last" is the largest
+///         (step, chain) of the points in the bin: the order one chain (the paper's single
+///         orbit) writes in, and one that no thread count changes. A renderer that honours it
+///         also runs the algorithm's colour as written: each chain starts with a random colour
+///         and update() changes it only with the points the chain plots (line 16 of the
+///         algorithm sits under "if i > 20"). A renderer that cannot fill Histogram::last
+///         refuses such a colourer when it is built.
+enum class PixelRule : std::uint32_t { mean, last };
+
 class Colourer : public Object {
 public:
     ~Colourer() override;
@@ -58,6 +71,9 @@ public:
     /// update() as a ColourRule, when it is one (the conformance suite checks the promise bit
     /// for bit); the default is none.
     virtual ColourRule colour_rule() const;
+    /// Whether resolve() reads the mean colours or the last ones (PixelRule); the default is
+    /// mean.
+    virtual PixelRule pixel_rule() const;
 
     /// True when the colourer can colour orbit-trap hits (colour_hits); the default is false,
     /// and an orbit-trap renderer refuses such a colourer when it is built.
