@@ -19,6 +19,12 @@
 // mod into [0, 2 pi) makes the traps at negative coordinates unreachable and breaks the
 // symmetry. For Picard the step's own reduction already did it, and fmod / centred are
 // idempotent (exactly: orbit-trap/reduce.hpp). `none` for maps that are not periodic.
+// `hexagonal` (x and y together, into the hexagon about 0 modulo the hexagonal lattice of periods
+// of p3 ... p6m; the wallpaper transform's `reduction: hexagonal`, the same function) keeps the
+// 3- and 6-fold rotations of those maps exact (orbit-trap/reduce.hpp); with Picard give it to the
+// mapping (which then leaves nothing to do here), with another scheme to both. The renderer
+// does not know the mapping's lattice: it is the recipe's choice (a square-lattice map reduced
+// on the hexagonal lattice is simply another map).
 //
 // Pixel coordinates
 // -----------------
@@ -235,10 +241,11 @@ OrbitTrap::OrbitTrap(const fp::ParamBag& p) {
     if (!colourer_->colours_trap_hits())
         throw fp::ParamError("colourer", "this colourer cannot colour orbit-trap hits (use colour-map)");
     const std::string& r = p.string("reduction");
-    reduction_ = r == "fmod"      ? Reduction::fmod
-                 : r == "centred" ? Reduction::centred
-                 : r == "floor"   ? Reduction::floor
-                                  : Reduction::none;
+    reduction_ = r == "fmod"        ? Reduction::fmod
+                 : r == "centred"   ? Reduction::centred
+                 : r == "floor"     ? Reduction::floor
+                 : r == "hexagonal" ? Reduction::hexagonal
+                                    : Reduction::none;
     double_ = p.string("precision") == "double";
     iteration_->check_steps(*mapping_, max_iterations_);
 }
@@ -283,9 +290,7 @@ TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, const fp::Rende
         iteration_->step(*mapping_, fp::Points<T>{s.x.data(), s.y.data(), live}, nullptr, step);
         if (known_trap_) {
             if (batch_reduce) {
-                const bool ox = fp_orbit_trap::reduce(s.x.data(), live, reduction_);
-                const bool oy = fp_orbit_trap::reduce(s.y.data(), live, reduction_);
-                batch_reduce = ox || oy;
+                batch_reduce = fp_orbit_trap::reduce_xy(s.x.data(), s.y.data(), live, reduction_);
             }
             const bool check = !batch_reduce && reduction_ != Reduction::none;
             bool outside = false;
@@ -293,8 +298,7 @@ TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, const fp::Rende
             batch_reduce = batch_reduce || outside;
             continue;
         }
-        fp_orbit_trap::reduce(s.x.data(), live, reduction_);
-        fp_orbit_trap::reduce(s.y.data(), live, reduction_);
+        fp_orbit_trap::reduce_xy(s.x.data(), s.y.data(), live, reduction_);
         traps_->test(fp::Points<const T>{s.x.data(), s.y.data(), live}, s.caught.data(), s.ratio.data());
         live = retire(s, live, step + 1);
     }
@@ -370,9 +374,10 @@ constexpr fp::ParamSpec params[] = {
                       "the last colour of its table)")
         .opt(),
     fp::param::string("reduction", "mod 2 pi after every step (eq. (13)): fmod (C's, symmetric about 0), "
-                                   "centred ([-pi, pi)), floor ([0, 2 pi)) or none")
+                                   "centred ([-pi, pi)), floor ([0, 2 pi)), none, or hexagonal (modulo the "
+                                   "hexagonal lattice of p3 ... p6m into its hexagon about 0)")
         .def("fmod")
-        .one_of("fmod|centred|floor|none"),
+        .one_of("fmod|centred|floor|none|hexagonal"),
     fp::param::string("precision", "arithmetic of the orbits: float (twice the SIMD width) or double")
         .def("float")
         .one_of("float|double"),

@@ -33,9 +33,19 @@
 //   floor    into [0, 2 pi): GLSL's mod (breaks the symmetries through 0: traps at negative
 //            coordinates are never reached)
 //   none     no reduction
+//   hexagonal (p3, p3m1, p31m, p6, p6m only) modulo the hexagonal lattice of periods L =
+//            2 pi Z (1, 0) + 2 pi Z (1/2, sqrt 3 / 2) into its Voronoi cell of 0, a hexagon
+//            (inradius pi, circumradius 2 pi / sqrt 3 = 3.63): p minus the nearest point of L
+//            (wallpaper_hexagonal.hpp derives it). Not the paper's; designed here.
 // The square lattice's reduction commutes with the square groups' point groups; for the
 // hexagonal groups it does not commute with the rotations by 60 / 120 degrees (the paper
-// reduces on the square lattice all the same; use `none` to see eq. (7) itself).
+// reduces on the square lattice all the same; use `none` to see eq. (7) itself). `hexagonal`
+// does: the cell is invariant under R6 and both mirrors and f is L-periodic, so the reduced
+// orbit of R p is R times the reduced orbit of p (up to rounding, and except where a point of the
+// orbit falls on a cell's boundary). The square groups' f is not L-periodic: `hexagonal` is
+// refused for them ("reduction: hexagonal is for the hexagonal groups (p3, p3m1, p31m, p6, p6m),
+// whose lattice of periods is hexagonal; p4m's is the square lattice 2 pi Z^2 (use fmod,
+// centred, floor or none)").
 //
 // Speed: wallpaper_kernel.hpp (vectorised float and double loops, own sin / cos, zero terms of
 // sparse groups skipped by a form chosen once here). Per point no call, branch or allocation.
@@ -93,7 +103,20 @@ wp::Reduction reduction_of(const std::string& s) {
     if (s == "centred") return wp::Reduction::centred;
     if (s == "floor") return wp::Reduction::floor;
     if (s == "none") return wp::Reduction::none;
+    if (s == "hexagonal") return wp::Reduction::hexagonal;
     return wp::Reduction::fmod;
+}
+
+wp::Reduction reduction_of(const fp::ParamBag& p) {
+    const std::string& group = p.string("group");
+    const wp::Reduction r = reduction_of(p.string("reduction"));
+    if (r == wp::Reduction::hexagonal && !wp::is_hexagonal(group))
+        throw fp::ParamError("reduction", "reduction: hexagonal is for the hexagonal groups (p3, p3m1, p31m, "
+                                          "p6, p6m), whose lattice of periods is hexagonal; " +
+                                              group +
+                                              "'s is the square lattice 2 pi Z^2 (use fmod, centred, floor "
+                                              "or none)");
+    return r;
 }
 
 /// The coefficient matrix Q (P, or eqs. (7) / (8) expanded) from the parameters.
@@ -182,8 +205,7 @@ wp::Matrix coefficients(const fp::ParamBag& p, const std::string& group) {
 class Wallpaper final : public fp::Transform {
 public:
     explicit Wallpaper(const fp::ParamBag& p)
-        : map_(coefficients(p, p.string("group")), wp::is_hexagonal(p.string("group")),
-               reduction_of(p.string("reduction"))) {
+        : map_(coefficients(p, p.string("group")), wp::is_hexagonal(p.string("group")), reduction_of(p)) {
         map_.set_runners(&fp_wallpaper::dispatch_f, &fp_wallpaper::dispatch_d);
     }
 
@@ -254,8 +276,9 @@ constexpr fp::ParamSpec params[] = {
     fp::param::string("reduction",
                       "'mod 2 pi' of the output: fmod (C's fmod, in (-2 pi, 2 pi), odd: keeps the symmetries "
                       "through 0), centred ([-pi, pi)), floor ([0, 2 pi), GLSL's mod: breaks the symmetries "
-                      "through 0) or none")
-        .one_of("fmod|centred|floor|none")
+                      "through 0), none, or hexagonal (p3 ... p6m only: modulo their hexagonal lattice of "
+                      "periods into the hexagon about 0, which keeps the 3- and 6-fold rotations exact)")
+        .one_of("fmod|centred|floor|none|hexagonal")
         .def("fmod"),
 };
 

@@ -49,7 +49,8 @@
 // 2 pi Z (1, 0) + 2 pi Z (1/2, sqrt(3)/2) (the dual basis of v0, v1). Note that eq. (7)'s
 // "mod [2 pi, 2 pi]" reduces on the square lattice, which R3 does not preserve: with a
 // reduction the hexagonal maps commute with their rotations only modulo 2 pi Z^2 before the
-// reduction, not after (the mirrors (x, -y) and (-x, y) are fine).
+// reduction, not after (the mirrors (x, -y) and (-x, y) are fine). `reduction: hexagonal`
+// reduces modulo L itself, into the hexagon about 0, and keeps them (wallpaper_hexagonal.hpp).
 #pragma once
 
 #include <fixpoint/errors.hpp>

@@ -21,6 +21,7 @@
 
 #include "wallpaper_fastmath.hpp"
 #include "wallpaper_groups.hpp"
+#include "wallpaper_hexagonal.hpp"
 
 #include <fixpoint/batch.hpp>
 
@@ -37,7 +38,7 @@
 
 namespace fp_wallpaper {
 
-enum class Reduction { fmod, centred, floor, none };
+enum class Reduction { fmod, centred, floor, none, hexagonal };
 
 // ------------------------------------------------------------------ coefficient masks
 
@@ -167,9 +168,32 @@ template <class T, class R>
     }
 }
 
+/// The hexagonal reduction (wallpaper_hexagonal.hpp) needs x and y together.
+template <class T>
+[[gnu::always_inline]] inline void store_hexagonal(T* x, T* y, const T* fx, const T* fy, fp::Mask m,
+                                                   std::size_t n) {
+    if (!m) {
+        FP_WALLPAPER_IVDEP
+        for (std::size_t i = 0; i < n; ++i) {
+            T a = fx[i], b = fy[i];
+            reduce_hexagonal(a, b);
+            x[i] = a, y[i] = b;
+        }
+        return;
+    }
+    FP_WALLPAPER_IVDEP
+    for (std::size_t i = 0; i < n; ++i) {
+        T a = fx[i], b = fy[i];
+        reduce_hexagonal(a, b);
+        x[i] = m[i] ? a : x[i];
+        y[i] = m[i] ? b : y[i];
+    }
+}
+
 // ------------------------------------------------------------------ the map
 
-/// f(p) = u(X)^T Q v(Y) mod 2 pi, for any Q (hex: (X, Y) = (v0 . p, v1 . p)).
+/// f(p) = u(X)^T Q v(Y) mod 2 pi, for any Q (hex: (X, Y) = (v0 . p, v1 . p)); mod the hexagonal
+/// lattice with Reduction::hexagonal.
 class Map {
 public:
     Map(const Matrix& Q, bool hex, Reduction reduction) : hex_(hex), reduction_(reduction) {
@@ -266,6 +290,7 @@ public:
             store(
                 x, y, fx, fy, m, n, [](T v) __attribute__((always_inline)) { return v; });
             break;
+        case Reduction::hexagonal: store_hexagonal(x, y, fx, fy, m, n); break;
         }
     }
 

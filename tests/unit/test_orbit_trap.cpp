@@ -272,7 +272,9 @@ std::vector<float> algorithm3(const std::string& mapping, const std::string& ite
     const auto scheme = host().make<fp::IterationScheme>(iteration);
     const auto trap = host().make<fp::Trap>(traps);
     const auto colourer = host().make<fp::Colourer>("{type: colour-map, preset: fig-4a}");
-    const Reduction red = reduction == "fmod" ? Reduction::fmod : Reduction::centred;
+    const Reduction red = reduction == "fmod"        ? Reduction::fmod
+                          : reduction == "hexagonal" ? Reduction::hexagonal
+                                                     : Reduction::centred;
     // The renderer's sample offsets (in pixels): 1 sample, or the eight rooks.
     std::vector<std::pair<double, double>> off = {{0, 0}};
     if (samples == 8)
@@ -291,8 +293,7 @@ std::vector<float> algorithm3(const std::string& mapping, const std::string& ite
             const std::size_t k = pix * ns + q;
             for (int step = 0; step < max_iterations; ++step) {
                 scheme->step(*map, fp::Points<T>{&x, &y, 1}, nullptr, std::uint64_t(step));
-                fp_orbit_trap::reduce(&x, 1, red);
-                fp_orbit_trap::reduce(&y, 1, red);
+                fp_orbit_trap::reduce_xy(&x, &y, 1, red);
                 std::int32_t t = -1;
                 T r = 0;
                 trap->test(fp::Points<const T>{&x, &y, 1}, &t, &r);
@@ -330,6 +331,10 @@ TEST(OrbitTrap, FusedAndGeneralPassesAreAlgorithm3) {
     // p <- 2 p (no reduction of its own): the first steps stay in range, so the renderer checks
     // the range inline, until blocks leave it and are reduced there (then the whole batch again).
     const std::string doubling = "{type: affine, coefficients: [2, 0, 0, 2, 0, 0]}";
+    const std::string hex5 = "{type: wallpaper, group: p3m1, reduction: hexagonal, G: [[0.343244, 0.711418], "
+                             "[-0.671499, -0.289951], [-0.959405, -0.868905]], H: [[-0.224996, 0.0844803], "
+                             "[-0.0571376, 0.0250126], [0.0250892, 0.553883]]}";
+    const std::string s11 = "{type: s-iteration, alpha: 1.1, beta: 0.5}";
     // 17 circles: more than one vector's worth of radii (the renderer's scalar record path).
     std::string many = "{type: circles, radii: [0.9], centres: [";
     for (int i = 0; i < 17; ++i)
@@ -354,6 +359,15 @@ TEST(OrbitTrap, FusedAndGeneralPassesAreAlgorithm3) {
         {picard, "{type: circles, preset: fig-3b, metric: {type: chebyshev}}", "fmod",
          "float"}, // general pass
         {picard, "{type: circles, preset: fig-3b, metric: {type: lp, p: 1.5}}", "fmod", "double"},
+        // The hexagonal reduction (x and y together; the range a hexagon): Fig. 5's p3m1 map reducing
+        // itself (Picard: nothing left to reduce), the S-iteration (the renderer reduces), fused and
+        // general passes, float and double, and the doubling map's blocks leaving the hexagon.
+        {picard, "{type: circles, preset: fig-1b}", "hexagonal", "float", 1, hex5},
+        {s11, "{type: circles, preset: fig-1d}", "hexagonal", "float", 8, hex5},
+        {s11, "{type: circles, preset: fig-1b, metric: {type: chebyshev}}", "hexagonal", "float", 1, hex5},
+        {s11, "{type: circles, preset: fig-1b}", "hexagonal", "double", 1, hex5},
+        {picard, "{type: circles, centres: [[2, -1.5], [-1, 2.5]], radii: [0.3, 0.4]}", "hexagonal", "float",
+         1, doubling, 0.03},
     };
     for (const Case& c : cases) {
         char area[128];

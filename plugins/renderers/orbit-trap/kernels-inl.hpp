@@ -14,8 +14,9 @@
 // through the plugins' interfaces.
 //
 // With `check`, each vector is first checked against the reduction's target range (values in it
-// stay as they are under the reduction, exactly); a vector with a value outside is reduced in
-// place before its test (the same exact reduction as the whole batch's) and `outside` is set.
+// stay as they are under the reduction, exactly; for `hexagonal` the hexagon, in_cell's
+// operations lane-wise); a vector with a value outside is reduced in place before its test (the
+// same reduction as the whole batch's) and `outside` is set.
 // NC: the number of circles when it is one of the presets' (the loop over the circles unrolled,
 // their constants kept in registers), 0 for any other.
 
@@ -98,17 +99,25 @@ HWY_INLINE size_t test_retire_t(const KnownCircles<T>& c, Scratch<T>& s, size_t 
     alignas(HWY_MAX_BYTES) I tr[HWY_MAX_BYTES / sizeof(T)];
     alignas(HWY_MAX_BYTES) T kk[HWY_MAX_BYTES / sizeof(T)];
     const auto lo = hn::Set(d, range.lo), hi = hn::Set(d, range.hi);
+    // The hexagonal reduction's range: fp_wallpaper::in_cell, the same operations lane-wise.
+    const bool hexagonal = red == Reduction::hexagonal;
+    using HK = fp_wallpaper::HexConst<T>;
+    const auto half = hn::Set(d, T(0.5)), hh = hn::Set(d, HK::h), pi = hn::Set(d, HK::pi);
     size_t keep = 0;
     for (size_t i = 0; i < live; i += N) {
         const size_t m = std::min(N, live - i);
         const auto valid = hn::FirstN(d, m);
         auto vx = hn::LoadU(d, x + i), vy = hn::LoadU(d, y + i);
         if (check) {
-            const auto in = hn::And(hn::And(hn::Not(hn::Lt(vx, lo)), hn::Lt(vx, hi)),
-                                    hn::And(hn::Not(hn::Lt(vy, lo)), hn::Lt(vy, hi)));
+            auto in = hn::And(hn::And(hn::Not(hn::Lt(vx, lo)), hn::Lt(vx, hi)),
+                              hn::And(hn::Not(hn::Lt(vy, lo)), hn::Lt(vy, hi)));
+            if (hexagonal) {
+                const auto hx = hn::Mul(vx, half), hy = hn::Mul(vy, hh);
+                in = hn::And(hn::Lt(hn::Abs(vx), pi), hn::And(hn::Lt(hn::Abs(hn::Add(hx, hy)), pi),
+                                                              hn::Lt(hn::Abs(hn::Sub(hx, hy)), pi)));
+            }
             if (!hn::AllTrue(d, hn::Or(in, hn::Not(valid)))) {
-                fp_orbit_trap::reduce(x + i, m, red);
-                fp_orbit_trap::reduce(y + i, m, red);
+                fp_orbit_trap::reduce_xy(x + i, y + i, m, red);
                 outside = true;
                 vx = hn::LoadU(d, x + i), vy = hn::LoadU(d, y + i);
             }

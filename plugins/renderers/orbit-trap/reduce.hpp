@@ -8,6 +8,13 @@
 //   floor    into [0, 2 pi): x - 2 pi floor(x / 2 pi) (the textbook "mod"; it makes traps at
 //            negative coordinates unreachable, kept for comparison)
 //   none     no reduction (maps that are not periodic)
+//   hexagonal x and y together, modulo the hexagonal lattice 2 pi Z (1, 0) + 2 pi Z (1/2, sqrt 3 / 2)
+//            of the hexagonal wallpaper groups into its hexagon about 0 (the wallpaper transform's
+//            own `reduction: hexagonal`, the same function: ../../transforms/wallpaper_hexagonal.hpp,
+//            which derives it). Its range is the hexagon (in_cell), not a box: reduce_xy and the
+//            fused pass's check test it; points in it stay as they are, bit for bit. Not exact
+//            like the others (the lattice is irrational), but one function of the point, the
+//            same on every instruction set and in both passes.
 //
 // The period is 2 pi rounded to T. Float lanes are reduced exactly (the result is the exact
 // value of the formula, as std::fmod gives): x and n * a are computed in double, where
@@ -19,6 +26,8 @@
 // anyway).
 #pragma once
 
+#include "../../transforms/wallpaper_hexagonal.hpp"
+
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -26,7 +35,7 @@
 
 namespace fp_orbit_trap {
 
-enum class Reduction { fmod, centred, floor, none };
+enum class Reduction { fmod, centred, floor, none, hexagonal };
 
 template <class T>
 constexpr T period = T(2 * std::numbers::pi);
@@ -46,7 +55,8 @@ inline float reduce_scalar(float v, Reduction r) {
         const float y = x < 0 ? x + a : x; // a - tiny may round up to a, which is 0 mod a
         return y >= a ? 0.0f : y;
     }
-    case Reduction::none: return v;
+    case Reduction::none:
+    case Reduction::hexagonal: return v; // (reduce_xy: x and y together)
     }
     return v;
 }
@@ -64,7 +74,8 @@ inline double reduce_scalar(double v, Reduction r) {
         const double y = x < 0 ? x + a : x;
         return y >= a ? 0.0 : y;
     }
-    case Reduction::none: return v;
+    case Reduction::none:
+    case Reduction::hexagonal: return v; // (reduce_xy: x and y together)
     }
     return v;
 }
@@ -101,7 +112,8 @@ inline void reduce_fast(float* __restrict x, std::size_t n) {
 } // namespace detail
 
 /// The target range of a reduction as lo <= v < hi, in T (fmod's open lower end -a as the next
-/// value above it); values in it stay as they are (exactly: see above). none: everything.
+/// value above it); values in it stay as they are (exactly: see above). none: everything;
+/// hexagonal: not a box (in_cell), everything here.
 template <class T>
 struct Range {
     T lo, hi;
@@ -111,14 +123,16 @@ struct Range {
              : r == Reduction::centred ? -a / 2
              : r == Reduction::floor   ? T(0)
                                        : -std::numeric_limits<T>::infinity();
-        hi = r == Reduction::centred ? a / 2 : r == Reduction::none ? std::numeric_limits<T>::infinity() : a;
+        hi = r == Reduction::centred                             ? a / 2
+             : r == Reduction::none || r == Reduction::hexagonal ? std::numeric_limits<T>::infinity()
+                                                                 : a;
     }
 };
 
 /// x[i] <- x[i] reduced, for i < n. Returns whether some value was outside the target range
 /// (false: nothing changed; the renderer then checks the range inline for the next step).
 inline bool reduce(float* x, std::size_t n, Reduction r) {
-    if (r == Reduction::none) return false;
+    if (r == Reduction::none || r == Reduction::hexagonal) return false;
     constexpr float bound = float(1 << 28) * period<float>;
     // One scan (integer sums, so that it vectorises): values already in the target range stay as
     // they are under every reduction (exactly: see above), which is the common case after a map
@@ -140,15 +154,39 @@ inline bool reduce(float* x, std::size_t n, Reduction r) {
     case Reduction::fmod: detail::reduce_fast<Reduction::fmod>(x, n); break;
     case Reduction::centred: detail::reduce_fast<Reduction::centred>(x, n); break;
     case Reduction::floor: detail::reduce_fast<Reduction::floor>(x, n); break;
-    case Reduction::none: break;
+    case Reduction::none:
+    case Reduction::hexagonal: break;
     }
     return true;
 }
 
 inline bool reduce(double* x, std::size_t n, Reduction r) {
-    if (r == Reduction::none) return false;
+    if (r == Reduction::none || r == Reduction::hexagonal) return false;
     for (std::size_t i = 0; i < n; ++i) x[i] = detail::reduce_scalar(x[i], r);
     return true; // not scanned: double lanes are never checked inline
+}
+
+/// Points (x[i], y[i]) reduced, i < n: hexagonal reduces each point as a whole, the others each
+/// coordinate. Returns whether some point was outside the target range (false: nothing changed).
+/// Hexagonal scans first, as reduce(float*) does (one vectorised pass counting points outside
+/// the hexagon), then reduces every point (those inside are selected unchanged), in float and
+/// double alike.
+template <class T>
+inline bool reduce_xy(T* __restrict x, T* __restrict y, std::size_t n, Reduction r) {
+    if (r != Reduction::hexagonal) {
+        const bool ox = reduce(x, n, r);
+        const bool oy = reduce(y, n, r);
+        return ox || oy;
+    }
+    unsigned outside = 0;
+    for (std::size_t i = 0; i < n; ++i) outside += unsigned(!fp_wallpaper::in_cell(x[i], y[i]));
+    if (outside == 0) return false;
+    for (std::size_t i = 0; i < n; ++i) {
+        T a = x[i], b = y[i];
+        fp_wallpaper::reduce_hexagonal(a, b);
+        x[i] = a, y[i] = b;
+    }
+    return true;
 }
 
 } // namespace fp_orbit_trap
