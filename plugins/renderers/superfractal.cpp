@@ -55,7 +55,55 @@
 // Every point carries a colour; after each map the colourer's update() sees the map's index
 // (in `maps`) and its `colour` (default: the built-in palette by index), so with map-colour a
 // point shows the colour of the last map applied and with flame the running mean along its
-// history. Points start with the mean colour of the maps.
+// history. Points start with the mean colour of the maps. A child's point takes its parent
+// point's colour into the update, so with flame colours pass from parents to children.
+//
+// Colour stealing (Barnsley, "Superfractals", 2006; "Ergodic theory, fractal tops and colour
+// stealing", 2003; paper 03, Sec. V, proposes it for GM superfractals but gives no details)
+// ------------------------------------------------------------------------------------------
+// With `picture`, a second IFS, the colour IFS, runs in lockstep with the fractal: each map
+// f_j has a colour map g_j on the picture square [0, 1]^2 (its `colour_map`, affine
+// [a, b, c, d, e, f]: u' = a u + b v + e, v' = c u + d v + f), and each buffer point carries
+// a colour point (u, v) beside (x, y). When a share of a new buffer is f_j of source points,
+// its colour points are g_j of the same source points' colour points: the same IFS, map and
+// source buffer choices, the same source point. A child's point thus inherits its colour
+// point from the parent point it came from, and after the steps (u, v) is the colour IFS's
+// point with the fractal point's address. The child is deposited with the colour of the
+// picture at (u, v) (nearest pixel; the square clamped to the picture), and the colourer only
+// resolves the histogram: each pixel shows the mean colour of its points, shaded as the
+// colourer says; its update() is not called. Colour points start at (1/2, 1/2) (a contraction
+// forgets it; a colour map that keeps v, as the default, reads the picture's middle row).
+// The default colour map of map t (from 0) of an IFS of m maps is ((u + t) / m, v): u is the
+// point's address as a base-m fraction, Barnsley's "fractal homeomorphism" onto an interval;
+// for curves made of just-touching pieces (F and G of paper 03, eq. (2)) the colour then runs
+// continuously along every child. `picture` is `hues` (built in, 512 x 512: the hue wheel along
+// u, deep to light along v) or a PNG file, relative to the working folder and read with Cairo
+// (the image's recipe names the file, not its pixels). The colour IFS draws nothing from the
+// random streams: a render with a picture has the geometry of the render without, pixel for
+// pixel, and colour points are copied with their points when bad values are repaired.
+// Barnsley's colour-stealing pictures colour each pixel by the point of the highest address
+// through it (the "fractal top"); the histogram gives the mean of the colours of the points
+// that fall in the pixel instead, which differs only where pieces overlap.
+//
+// Buffers: point samples, not sets
+// --------------------------------
+// The paper's buffers hold sets ("in superfractal algorithm rather sets, not single points are
+// transformed"): L' = f_1(L or R) union f_2(L or R), each image of the whole source set. Here a
+// buffer is N points, and share j of the new buffer is f_j of the source points j, j + m, ...:
+// every point of a new buffer is the image of exactly one point, and the N points are a sample
+// of the set, not the set. What this changes: (a) the drawing is the set only when N is large
+// enough to hit each of its pixels (a thin buffer shows a dotted curve, where a set cannot be
+// thin); (b) density: each point has one address, so the histogram counts show the child's
+// V-variable measure (each map weighing 1/m), which log shading shows, where a set has no
+// density; (c) colour: one colour per point and the mean per pixel, where a set of pixels must
+// choose one colour per pixel (the top). The set form, done literally on pixel bitmaps with the
+// same choices (a study script, F and G at 128 x 128 and 256 x 256, 30 steps, 100 000 and
+// 300 000 points), gives the same lit pixels within one pixel everywhere (no lit pixel of
+// either form is more than one pixel from a lit pixel of the other; 4-11% of the pixels differ
+// by that one pixel, as the bitmap rounds every image to pixel centres at every step); with 5 000
+// points at 256 x 256 the samples miss 20% of the set's pixels. So with points_per_buffer well
+// above the child's pixel count (the configs use 2-3 million for a megapixel) the set form
+// shows no visible difference, and it is not offered.
 //
 // Determinism
 // -----------
@@ -90,11 +138,18 @@
 //   "ifs_probabilities": "expected 2 probabilities (one per IFS), got 3"; "the probabilities
 //     sum to 0.9, not 1: give probabilities that sum to 1 (they are not normalised)";
 //   "buffer_probabilities": the same with "(one per buffer)";
-//   "child": "child 2 does not exist: there are 2 buffers, numbered from 0".
+//   "child": "child 2 does not exist: there are 2 buffers, numbered from 0";
+//   "picture": "cannot read the picture \"p.png\": no such file (give a PNG file, relative to
+//     the working folder, or hues)" (or "it cannot be opened", "it is not a PNG file", "Cairo
+//     cannot decode it (...)"); "colour stealing needs a colourer that shows the points'
+//     colours (map-colour or flame); this one shows only where they fall";
+//   "maps": "maps[1]: a colour_map is used only by colour stealing: give the renderer a
+//     picture (hues, or a PNG file)".
 // The schema refuses the rest before the plugin sees it, with the element's position: an
 // empty list of maps ("the list of transforms is empty"), a negative probability
 // ("ifs_probabilities[1]: must be >= 0, got -0.5"), zero buffers ("buffers: must be in
-// [1, 65536], got 0").
+// [1, 65536], got 0"), a colour map of the wrong length ("maps[0].colour_map: expected 6
+// numbers, got 5").
 #include "cairo_out.hpp"
 #include "palette.hpp"
 #include "uninitialised.hpp"
