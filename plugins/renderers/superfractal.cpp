@@ -717,7 +717,8 @@ constexpr fp::ParamSpec map_item_params[] = {
         .min(0)
         .max(65535),
     fp::param::colour("colour",
-                      "colour of the points the map produces (default: a built-in palette by index)")
+                      "colour of the points the map produces (default: a built-in palette by index; "
+                      "not used with a picture)")
         .opt(),
     fp::param::reals("colour_map",
                      "colour stealing: the map of the colour IFS on the picture square "
