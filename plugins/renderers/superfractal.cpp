@@ -55,7 +55,55 @@
 // Every point carries a colour; after each map the colourer's update() sees the map's index
 // (in `maps`) and its `colour` (default: the built-in palette by index), so with map-colour a
 // point shows the colour of the last map applied and with flame the running mean along its
-// history. Points start with the mean colour of the maps.
+// history. Points start with the mean colour of the maps. A child's point takes its parent
+// point's colour into the update, so with flame colours pass from parents to children.
+//
+// Colour stealing (Barnsley, "Superfractals", 2006; "Ergodic theory, fractal tops and colour
+// stealing", 2003; paper 03, Sec. V, proposes it for GM superfractals but gives no details)
+// ------------------------------------------------------------------------------------------
+// With `picture`, a second IFS, the colour IFS, runs in lockstep with the fractal: each map
+// f_j has a colour map g_j on the picture square [0, 1]^2 (its `colour_map`, affine
+// [a, b, c, d, e, f]: u' = a u + b v + e, v' = c u + d v + f), and each buffer point carries
+// a colour point (u, v) beside (x, y). When a share of a new buffer is f_j of source points,
+// its colour points are g_j of the same source points' colour points: the same IFS, map and
+// source buffer choices, the same source point. A child's point thus inherits its colour
+// point from the parent point it came from, and after the steps (u, v) is the colour IFS's
+// point with the fractal point's address. The child is deposited with the colour of the
+// picture at (u, v) (nearest pixel; the square clamped to the picture), and the colourer only
+// resolves the histogram: each pixel shows the mean colour of its points, shaded as the
+// colourer says; its update() is not called. Colour points start at (1/2, 1/2) (a contraction
+// forgets it; a colour map that keeps v, as the default, reads the picture's middle row).
+// The default colour map of map t (from 0) of an IFS of m maps is ((u + t) / m, v): u is the
+// point's address as a base-m fraction, Barnsley's "fractal homeomorphism" onto an interval;
+// for curves made of just-touching pieces (F and G of paper 03, eq. (2)) the colour then runs
+// continuously along every child. `picture` is `hues` (built in, 512 x 512: the hue wheel along
+// u, deep to light along v) or a PNG file, relative to the working folder and read with Cairo
+// (the image's recipe names the file, not its pixels). The colour IFS draws nothing from the
+// random streams: a render with a picture has the geometry of the render without, pixel for
+// pixel, and colour points are copied with their points when bad values are repaired.
+// Barnsley's colour-stealing pictures colour each pixel by the point of the highest address
+// through it (the "fractal top"); the histogram gives the mean of the colours of the points
+// that fall in the pixel instead, which differs only where pieces overlap.
+//
+// Buffers: point samples, not sets
+// --------------------------------
+// The paper's buffers hold sets ("in superfractal algorithm rather sets, not single points are
+// transformed"): L' = f_1(L or R) union f_2(L or R), each image of the whole source set. Here a
+// buffer is N points, and share j of the new buffer is f_j of the source points j, j + m, ...:
+// every point of a new buffer is the image of exactly one point, and the N points are a sample
+// of the set, not the set. What this changes: (a) the drawing is the set only when N is large
+// enough to hit each of its pixels (a thin buffer shows a dotted curve, where a set cannot be
+// thin); (b) density: each point has one address, so the histogram counts show the child's
+// V-variable measure (each map weighing 1/m), which log shading shows, where a set has no
+// density; (c) colour: one colour per point and the mean per pixel, where a set of pixels must
+// choose one colour per pixel (the top). The set form, done literally on pixel bitmaps with the
+// same choices (a study script, F and G at 128 x 128 and 256 x 256, 30 steps, 100 000 and
+// 300 000 points), gives the same lit pixels within one pixel everywhere (no lit pixel of
+// either form is more than one pixel from a lit pixel of the other; 4-11% of the pixels differ
+// by that one pixel, as the bitmap rounds every image to pixel centres at every step); with 5 000
+// points at 256 x 256 the samples miss 20% of the set's pixels. So with points_per_buffer well
+// above the child's pixel count (the configs use 2-3 million for a megapixel) the set form
+// shows no visible difference, and it is not offered.
 //
 // Determinism
 // -----------
@@ -90,22 +138,34 @@
 //   "ifs_probabilities": "expected 2 probabilities (one per IFS), got 3"; "the probabilities
 //     sum to 0.9, not 1: give probabilities that sum to 1 (they are not normalised)";
 //   "buffer_probabilities": the same with "(one per buffer)";
-//   "child": "child 2 does not exist: there are 2 buffers, numbered from 0".
+//   "child": "child 2 does not exist: there are 2 buffers, numbered from 0";
+//   "picture": "cannot read the picture \"p.png\": no such file (give a PNG file, relative to
+//     the working folder, or hues)" (or "it cannot be opened", "it is not a PNG file", "Cairo
+//     cannot decode it (...)"); "colour stealing needs a colourer that shows the points'
+//     colours (map-colour or flame); this one shows only where they fall";
+//   "maps": "maps[1]: a colour_map is used only by colour stealing: give the renderer a
+//     picture (hues, or a PNG file)".
 // The schema refuses the rest before the plugin sees it, with the element's position: an
 // empty list of maps ("the list of transforms is empty"), a negative probability
 // ("ifs_probabilities[1]: must be >= 0, got -0.5"), zero buffers ("buffers: must be in
-// [1, 65536], got 0").
+// [1, 65536], got 0"), a colour map of the wrong length ("maps[0].colour_map: expected 6
+// numbers, got 5").
+#include "cairo_out.hpp"
 #include "palette.hpp"
 #include "uninitialised.hpp"
 
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <utility>
@@ -179,8 +239,103 @@ uint32_t last_positive(const std::vector<double>& cum) {
 struct Generation {
     // Not zeroed: the start tasks or a step write every element before it is read.
     fp_render::Buffer<double> x, y;
-    fp_render::Buffer<float> r, g, b; ///< empty when the colourer needs no colour
+    fp_render::Buffer<float> r, g, b; ///< empty when the colourer needs no colour or colours are stolen
+    fp_render::Buffer<double> u, v;   ///< the colour IFS's points; empty without colour stealing
 };
+
+/// The picture colours are stolen from: 8-bit RGB, top row first. The point (u, v) of the
+/// picture square [0, 1]^2 (v up) reads the pixel of column min(floor(u w), w - 1), row
+/// min(floor((1 - v) h), h - 1), u and v clamped to [0, 1] first (NaN to 0).
+struct Picture {
+    int w = 0, h = 0;
+    std::vector<unsigned char> rgb;
+
+    fp::Rgb at(double u, double v) const {
+        const double uc = u > 0.0 ? (u < 1.0 ? u : 1.0) : 0.0, vc = v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0;
+        const int col = std::min(int(uc * double(w)), w - 1),
+                  row = std::min(int((1.0 - vc) * double(h)), h - 1);
+        const unsigned char* p = rgb.data() + 3 * (size_t(row) * size_t(w) + size_t(col));
+        return fp::Rgb{float(p[0]) / 255.0f, float(p[1]) / 255.0f, float(p[2]) / 255.0f};
+    }
+};
+
+/// The built-in picture `hues`, 512 x 512: the hue wheel along u (red at u = 0 and 1, then
+/// yellow, green, cyan, blue, magenta), from deep (v = 0: value 0.45, saturation 1) to light
+/// (v = 1: value 1, saturation 0.55).
+Picture hues_picture() {
+    Picture pic;
+    pic.w = pic.h = 512;
+    pic.rgb.resize(size_t(pic.w) * size_t(pic.h) * 3);
+    for (int row = 0; row < pic.h; ++row) {
+        const double v = 1.0 - (double(row) + 0.5) / double(pic.h);
+        const double val = 0.45 + 0.55 * v, sat = 1.0 - 0.45 * v;
+        for (int col = 0; col < pic.w; ++col) {
+            const double h6 = 6.0 * (double(col) + 0.5) / double(pic.w);
+            const int sector = std::min(int(h6), 5);
+            const double f = h6 - double(sector);
+            const double p = val * (1 - sat), q = val * (1 - sat * f), t = val * (1 - sat * (1 - f));
+            double c[3];
+            switch (sector) {
+            case 0: c[0] = val, c[1] = t, c[2] = p; break;
+            case 1: c[0] = q, c[1] = val, c[2] = p; break;
+            case 2: c[0] = p, c[1] = val, c[2] = t; break;
+            case 3: c[0] = p, c[1] = q, c[2] = val; break;
+            case 4: c[0] = t, c[1] = p, c[2] = val; break;
+            default: c[0] = val, c[1] = p, c[2] = q; break;
+            }
+            unsigned char* out = pic.rgb.data() + 3 * (size_t(row) * size_t(pic.w) + size_t(col));
+            for (int k = 0; k < 3; ++k) out[k] = (unsigned char)(std::lround(c[k] * 255.0));
+        }
+    }
+    return pic;
+}
+
+/// A PNG file read with Cairo, composited over black (its alpha, if any, is dropped so).
+Picture png_picture(const std::string& file) {
+    using fp_render::CairoContext;
+    using fp_render::CairoSurface;
+    auto refuse = [&](const std::string& why) {
+        throw fp::ParamError("picture", "cannot read the picture \"" + file + "\": " + why +
+                                            " (give a PNG file, relative to the working folder, or hues)");
+    };
+    {
+        // Cairo tells a missing file apart, but reports any file that is not a PNG as "out of
+        // memory": look at the signature first.
+        std::ifstream in(file, std::ios::binary);
+        if (!in) refuse(std::filesystem::exists(file) ? "it cannot be opened" : "no such file");
+        char sig[8] = {};
+        in.read(sig, 8);
+        if (in.gcount() != 8 || std::memcmp(sig, "\x89PNG\r\n\x1a\n", 8) != 0) refuse("it is not a PNG file");
+    }
+    const CairoSurface png(cairo_image_surface_create_from_png(file.c_str()));
+    if (const cairo_status_t st = cairo_surface_status(png.get()); st != CAIRO_STATUS_SUCCESS)
+        refuse(std::string("Cairo cannot decode it (") + cairo_status_to_string(st) + ")");
+    Picture pic;
+    pic.w = cairo_image_surface_get_width(png.get());
+    pic.h = cairo_image_surface_get_height(png.get());
+    const CairoSurface rgb(cairo_image_surface_create(CAIRO_FORMAT_RGB24, pic.w, pic.h));
+    {
+        const CairoContext cr(cairo_create(rgb.get()));
+        cairo_set_source_rgb(cr.get(), 0, 0, 0);
+        cairo_paint(cr.get());
+        cairo_set_source_surface(cr.get(), png.get(), 0, 0);
+        cairo_paint(cr.get());
+    }
+    cairo_surface_flush(rgb.get());
+    const unsigned char* data = cairo_image_surface_get_data(rgb.get());
+    const int stride = cairo_image_surface_get_stride(rgb.get());
+    pic.rgb.resize(size_t(pic.w) * size_t(pic.h) * 3);
+    for (int r = 0; r < pic.h; ++r) {
+        const auto* row = reinterpret_cast<const std::uint32_t*>(data + size_t(r) * size_t(stride));
+        for (int c = 0; c < pic.w; ++c) {
+            unsigned char* out = pic.rgb.data() + 3 * (size_t(r) * size_t(pic.w) + size_t(c));
+            out[0] = (unsigned char)((row[c] >> 16) & 0xff);
+            out[1] = (unsigned char)((row[c] >> 8) & 0xff);
+            out[2] = (unsigned char)(row[c] & 0xff);
+        }
+    }
+    return pic;
+}
 
 class Superfractal final : public fp::Renderer {
 public:
@@ -201,8 +356,12 @@ private:
     fp::Frame frame_;                                      ///< width, height, view (region), background
     double sxmin_ = 0, sxmax_ = 1, symin_ = 0, symax_ = 1; ///< start box
     uint64_t seed_ = 1, steps_ = 30, points_ = 100000, buffers_ = 2, child_ = 0;
-    bool colour_ = true;
+    bool colour_ = true; ///< the colourer reads the colour sums
+    bool steal_ = false; ///< colour stealing: points carry (u, v) of the colour IFS, not a colour
+    bool rgb_ = true;    ///< points carry a colour (colour_ and not steal_)
     fp::Rgb initial_colour_;
+    Picture picture_;
+    std::vector<std::array<double, 6>> colour_maps_; ///< per map: [a, b, c, d, e, f] of its colour map
 
     std::vector<std::shared_ptr<const fp::Transform>> maps_;
     std::vector<fp::Rgb> colours_;
@@ -239,10 +398,20 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
                          ", numbered from 0");
     colourer_ = p.object<fp::Colourer>("colourer");
     colour_ = colourer_->needs_colour();
+    if (p.has("picture")) {
+        steal_ = true;
+        if (!colour_)
+            throw fp::ParamError("picture", "colour stealing needs a colourer that shows the points' colours "
+                                            "(map-colour or flame); this one shows only where they fall");
+        const std::string& name = p.string("picture");
+        picture_ = name == "hues" ? hues_picture() : png_picture(name);
+    }
+    rgb_ = colour_ && !steal_;
 
     const auto& items = p.objects("maps");
     if (items.empty()) throw fp::ParamError("maps", "the list of maps is empty");
     std::vector<uint32_t> ifs_of(items.size(), 0);
+    std::vector<bool> has_colour_map;
     uint32_t k = 0;
     for (size_t j = 0; j < items.size(); ++j) {
         auto m = fp::as<fp::Transform>(items[j]);
@@ -250,10 +419,23 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
         if (const std::string why = m->plane_map_problem(); !why.empty())
             throw fp::ParamError("maps", "maps[" + std::to_string(j) + "]: " + why);
         fp::Rgb c = fp_render::palette_colour(j);
+        std::array<double, 6> cm{};
+        bool has_cm = false;
         if (items[j].extras) {
             ifs_of[j] = uint32_t(items[j].extras->integer("ifs"));
             if (items[j].extras->has("colour")) c = items[j].extras->colour("colour");
+            if (items[j].extras->has("colour_map")) {
+                const auto& v = items[j].extras->reals("colour_map");
+                std::copy(v.begin(), v.end(), cm.begin());
+                has_cm = true;
+                if (!steal_)
+                    throw fp::ParamError("maps", "maps[" + std::to_string(j) +
+                                                     "]: a colour_map is used only by colour stealing: give "
+                                                     "the renderer a picture (hues, or a PNG file)");
+            }
         }
+        colour_maps_.push_back(cm);
+        has_colour_map.push_back(has_cm);
         k = std::max(k, ifs_of[j] + 1);
         maps_.push_back(std::move(m));
         colours_.push_back(c);
@@ -267,6 +449,14 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
                                              std::to_string(k - 1) + " (each IFS needs at least one map)");
         max_maps_ = std::max(max_maps_, ifs_[i].size());
     }
+    // The default colour map of map number t (from 0) of an IFS of m maps: (u, v) -> ((u + t) / m,
+    // v), the address of the point in base m along u (the picture's row v = 1/2).
+    for (uint32_t i = 0; i < k; ++i)
+        for (size_t t = 0; t < ifs_[i].size(); ++t)
+            if (!has_colour_map[ifs_[i][t]]) {
+                const double m = double(ifs_[i].size());
+                colour_maps_[ifs_[i][t]] = {1.0 / m, 0.0, 0.0, 1.0, double(t) / m, 0.0};
+            }
     initial_colour_ = fp::Rgb{};
     for (const auto& c : colours_) {
         initial_colour_.r += c.r / float(colours_.size());
@@ -282,12 +472,13 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
 
 uint64_t Superfractal::memory_bytes(unsigned) const {
     const uint64_t px = uint64_t(frame_.width) * uint64_t(frame_.height);
-    const uint64_t per_point = 2 * sizeof(double) + (colour_ ? 3 * sizeof(float) : 0);
+    const uint64_t per_point =
+        2 * sizeof(double) + (rgb_ ? 3 * sizeof(float) : 0) + (steal_ ? 2 * sizeof(double) : 0);
     const uint64_t buffers = 2 * buffers_ * points_ * per_point; // two generations
     const uint64_t hist = px * sizeof(fp::HistBin);
     const uint64_t image = px * 3 * sizeof(float);
     // No per-worker state: a task's scratch is on the stack.
-    return buffers + hist + image;
+    return buffers + hist + image + picture_.rgb.size();
 }
 
 void Superfractal::fill_start(Generation& g, size_t b, size_t begin, size_t end, uint64_t stream) const {
@@ -298,7 +489,11 @@ void Superfractal::fill_start(Generation& g, size_t b, size_t begin, size_t end,
         g.x[base + i] = sxmin_ + (sxmax_ - sxmin_) * u;
         g.y[base + i] = symin_ + (symax_ - symin_) * w;
     }
-    if (colour_) {
+    if (steal_) {
+        std::fill(g.u.begin() + std::ptrdiff_t(base + begin), g.u.begin() + std::ptrdiff_t(base + end), 0.5);
+        std::fill(g.v.begin() + std::ptrdiff_t(base + begin), g.v.begin() + std::ptrdiff_t(base + end), 0.5);
+    }
+    if (rgb_) {
         std::fill(g.r.begin() + std::ptrdiff_t(base + begin), g.r.begin() + std::ptrdiff_t(base + end),
                   initial_colour_.r);
         std::fill(g.g.begin() + std::ptrdiff_t(base + begin), g.g.begin() + std::ptrdiff_t(base + end),
@@ -339,7 +534,21 @@ uint64_t Superfractal::step_chunk(const Generation& cur, Generation& next, size_
                 y[i] = cy[s];
             }
             maps_[maps[j]]->apply(fp::Points<double>{x, y, len}, nullptr);
-            if (colour_) {
+            if (steal_) {
+                // The colour IFS in lockstep: the same map number, the same source point.
+                const std::array<double, 6>& cm = colour_maps_[maps[j]];
+                double* __restrict u = next.u.data() + base + b0;
+                double* __restrict v = next.v.data() + base + b0;
+                const double* __restrict cu = cur.u.data();
+                const double* __restrict cv = cur.v.data();
+                for (size_t i = 0; i < len; ++i) {
+                    const size_t s = s0 + m * i;
+                    const double u0 = cu[s], v0 = cv[s];
+                    u[i] = cm[0] * u0 + cm[1] * v0 + cm[4];
+                    v[i] = cm[2] * u0 + cm[3] * v0 + cm[5];
+                }
+            }
+            if (rgb_) {
                 float* __restrict r = next.r.data() + base + b0;
                 float* __restrict g = next.g.data() + base + b0;
                 float* __restrict bl = next.b.data() + base + b0;
@@ -372,7 +581,11 @@ uint64_t Superfractal::repair(Generation& g, size_t b, uint64_t stream) const {
     auto copy = [&](size_t to, size_t from) {
         g.x[base + to] = g.x[base + from];
         g.y[base + to] = g.y[base + from];
-        if (colour_) {
+        if (steal_) {
+            g.u[base + to] = g.u[base + from];
+            g.v[base + to] = g.v[base + from];
+        }
+        if (rgb_) {
             g.r[base + to] = g.r[base + from];
             g.g[base + to] = g.g[base + from];
             g.b[base + to] = g.b[base + from];
@@ -394,10 +607,14 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
     for (auto& g : gen) {
         g.x.resize(nb * n);
         g.y.resize(nb * n);
-        if (colour_) {
+        if (rgb_) {
             g.r.resize(nb * n);
             g.g.resize(nb * n);
             g.b.resize(nb * n);
+        }
+        if (steal_) {
+            g.u.resize(nb * n);
+            g.v.resize(nb * n);
         }
     }
 
@@ -467,7 +684,12 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
         const auto iy = std::min(uint32_t((frame_.region.ymax - y) * scy), uint32_t(frame_.height - 1));
         fp::HistBin& bin = hist.bins[size_t(iy) * size_t(frame_.width) + ix];
         ++bin.hits;
-        if (colour_) {
+        if (steal_) {
+            const fp::Rgb c = picture_.at(last.u[base + i], last.v[base + i]);
+            bin.r += quant(c.r);
+            bin.g += quant(c.g);
+            bin.b += quant(c.b);
+        } else if (colour_) {
             bin.r += quant(last.r[base + i]);
             bin.g += quant(last.g[base + i]);
             bin.b += quant(last.b[base + i]);
@@ -495,7 +717,14 @@ constexpr fp::ParamSpec map_item_params[] = {
         .min(0)
         .max(65535),
     fp::param::colour("colour",
-                      "colour of the points the map produces (default: a built-in palette by index)")
+                      "colour of the points the map produces (default: a built-in palette by index; "
+                      "not used with a picture)")
+        .opt(),
+    fp::param::reals("colour_map",
+                     "colour stealing: the map of the colour IFS on the picture square "
+                     "run with this map, affine coefficients [a, b, c, d, e, f] (u' = a u + b v "
+                     "+ e, v' = c u + d v + f); default ((u + t) / m, v) for map t of m in its IFS")
+        .len(6)
         .opt(),
 };
 
@@ -540,6 +769,10 @@ constexpr fp::ParamSpec params[] = {
     fp::param::object("colourer", fp::Kind::Colourer, "how points are coloured and the histogram tone-mapped")
         .def("{type: map-colour}"),
     fp::param::colour("background", "colour of pixels no point reached").def("[0, 0, 0]"),
+    fp::param::string("picture", "colour stealing (Barnsley): each point takes the colour of this picture at "
+                                 "the point of the colour IFS (the maps' colour_map) run with the same "
+                                 "choices; hues (built in) or a PNG file relative to the working folder")
+        .opt(),
 };
 
 } // namespace

@@ -1,5 +1,6 @@
 // The superfractal renderer (paper 03, Sec. III): Barnsley's V-variable algorithm with buffers.
 #include <fixpoint/host/host.hpp>
+#include <fixpoint/host/image_io.hpp>
 #include <fixpoint/host/runtime.hpp>
 
 #include "cli.hpp"
@@ -246,6 +247,137 @@ TEST(Superfractal, BadProbabilitiesStopTheCliWithOneLine) {
     EXPECT_EQ(r.rc, 2);
     EXPECT_EQ(r.err, dir + "/bad.yaml:4:22: renderer.ifs_probabilities: the probabilities sum to 1.1, not 1: "
                            "give probabilities that sum to 1 (they are not normalised)\n");
+}
+
+// ---------------------------------------------------------------- colour stealing
+
+// A picture of w x h 8-bit colours, written as a PNG: pixel (col, row) has red 10 + 20 col,
+// green 10 + 20 row, blue 200 (off the diagonal) or 255 (on it).
+std::string write_picture(const std::string& dir, int w, int h) {
+    fp::Image img;
+    img.width = w;
+    img.height = h;
+    img.channels = 3;
+    for (int row = 0; row < h; ++row)
+        for (int col = 0; col < w; ++col) {
+            img.pixels.push_back(float(10 + 20 * col) / 255.0f);
+            img.pixels.push_back(float(10 + 20 * row) / 255.0f);
+            img.pixels.push_back(float(col == row ? 255 : 200) / 255.0f);
+        }
+    const std::string path = dir + "/picture.png";
+    fp::host::write_image(img, path, 8, "");
+    return path;
+}
+
+// Pixel k of an image as 8-bit values.
+std::vector<int> pixel8(const fp::Image& img, std::size_t k) {
+    std::vector<int> out;
+    for (std::size_t c = 0; c < 3; ++c) out.push_back(int(img.pixels[3 * k + c] * 255.0f + 0.5f));
+    return out;
+}
+
+TEST(Superfractal, StolenColoursFollowTheAddresses) {
+    // One IFS, one buffer of 4 points, 2 steps, every point starting at (1/2, 1/2) in the
+    // plane and in the picture square. f0 = (x/2, y), f1 = (x/2 + 1/2, y); the colour IFS
+    // g0 = (u/2, v/2 + 1/2), g1 = (u/2 + 1/2, v/2). The shares (share j takes source points
+    // j, j + 2 of map j) give point 0 the address f0 f0, point 1 f0 f1, point 2 f1 f0, point 3
+    // f1 f1: x = 1/8, 3/8, 5/8, 7/8, pixels 0 to 3 of a 4 x 1 image; and in the picture the
+    // same addresses: g0 g0 (1/2, 1/2) = (1/8, 7/8), g0 g1 = g0 (3/4, 1/4) = (3/8, 5/8),
+    // g1 g0 = (5/8, 3/8), g1 g1 = (7/8, 1/8): cells (col, row from the top) (0, 0), (1, 1), (2,
+    // 2), (3, 3) of a 4 x 4 picture, its diagonal. Point 1 was made by f0 from a parent made
+    // by f1: it shows the colour g0 g1, inherited from its parent's g1.
+    const std::string dir = fp::test::scratch_dir("superfractal-steal-addresses");
+    const std::string pic = write_picture(dir, 4, 4);
+    const std::string yaml =
+        "{type: superfractal, width: 4, height: 1, view: [0, 1, 0, 1], buffers: 1, points_per_buffer: 4, "
+        "steps: 2, start_box: [0.5, 0.5, 0.5, 0.5], picture: \"" +
+        pic +
+        "\", colourer: {type: map-colour, density: flat}, maps: ["
+        "{type: affine, coefficients: [0.5, 0, 0, 1, 0, 0], colour_map: [0.5, 0, 0, 0.5, 0, 0.5]}, "
+        "{type: affine, coefficients: [0.5, 0, 0, 1, 0.5, 0], colour_map: [0.5, 0, 0, 0.5, 0.5, 0]}]}";
+    const auto r = render(yaml, 1);
+    ASSERT_EQ(r.stats.drawn, 4u);
+    EXPECT_EQ(pixel8(r.img, 0), (std::vector<int>{10, 10, 255}));
+    EXPECT_EQ(pixel8(r.img, 1), (std::vector<int>{30, 30, 255}));
+    EXPECT_EQ(pixel8(r.img, 2), (std::vector<int>{50, 50, 255}));
+    EXPECT_EQ(pixel8(r.img, 3), (std::vector<int>{70, 70, 255}));
+    // One step: points 0, 1 by f0 (x = 1/4: pixel 1), points 2, 3 by f1 (x = 3/4: pixel 3);
+    // g0 (1/2, 1/2) = (1/4, 3/4): cell (1, 1); g1: (3/4, 1/4): cell (3, 3). Pixels 0 and 2 empty.
+    const auto one = render(fp::test::replace_once(yaml, "steps: 2", "steps: 1"), 1);
+    EXPECT_EQ(pixel8(one.img, 0), (std::vector<int>{0, 0, 0}));
+    EXPECT_EQ(pixel8(one.img, 1), (std::vector<int>{30, 30, 255}));
+    EXPECT_EQ(pixel8(one.img, 3), (std::vector<int>{70, 70, 255}));
+    // The built-in picture `hues` by the default colour maps ((u + t) / m, v): after one step
+    // map 0's points are at (1/4, 1/2), column 128 and row 256 of its 512 x 512: v = 1 -
+    // 256.5/512, value 0.45 + 0.55 v = 0.72446, saturation 1 - 0.45 v = 0.77544, hue sector 1
+    // (6 * 128.5/512 = 1.50586, f = 0.50586): (value (1 - saturation f), value, value (1 -
+    // saturation)) = (112.27, 184.74, 41.48) / 255.
+    const auto hues = render(
+        "{type: superfractal, width: 4, height: 1, view: [0, 1, 0, 1], buffers: 1, points_per_buffer: 4, "
+        "steps: 1, start_box: [0.5, 0.5, 0.5, 0.5], picture: hues, colourer: {type: map-colour, density: "
+        "flat}, maps: [{type: affine, coefficients: [0.5, 0, 0, 1, 0, 0]}, "
+        "{type: affine, coefficients: [0.5, 0, 0, 1, 0.5, 0]}]}",
+        1);
+    EXPECT_EQ(pixel8(hues.img, 1), (std::vector<int>{112, 185, 41}));
+}
+
+TEST(Superfractal, StealingKeepsTheGeometryAndTheBytesOnAnyThreads) {
+    // The same child with and without colour stealing (the colour IFS draws nothing from the
+    // RNG), and the same bytes on 1, 2 and 3 threads: several chunks per buffer, three buffers,
+    // an IFS of three maps, bad values repaired (their colour points copied with them).
+    const std::string maps = "maps: [" + f1 + ", " + f2 + ", " + g1 + ", " + g2 +
+                             ", {type: affine, coefficients: [0.3, 0, 0, 0.3, 0.1, 0.1], ifs: 1}, "
+                             "{type: affine, coefficients: [1e200, 0, 0, 1e200, 0, 0], ifs: 2}, " +
+                             "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0.5], ifs: 2}]";
+    const std::string plain = sf_head +
+                              "points_per_buffer: 40001, buffers: 3, child: 2, steps: 25, "
+                              "colourer: {type: map-colour}, " +
+                              maps + "}";
+    const std::string yaml = fp::test::replace_once(
+        fp::test::replace_once(plain, "colourer:", "picture: hues, colourer:"), "0.1, 0.1], ifs: 1}",
+        "0.1, 0.1], ifs: 1, colour_map: [0, 0.5, 0.5, 0, 0.25, 0.25]}");
+    const auto one = render(yaml, 1), two = render(yaml, 2), three = render(yaml, 3);
+    ASSERT_GT(count(lit(one.img)), 100u);
+    EXPECT_TRUE(one.img.pixels == two.img.pixels);
+    EXPECT_TRUE(one.img.pixels == three.img.pixels);
+    EXPECT_GT(one.stats.bad_values, 0u);
+    const auto without = render(plain, 2);
+    EXPECT_TRUE(lit(without.img) == lit(one.img));
+    EXPECT_FALSE(without.img.pixels == one.img.pixels);
+    EXPECT_EQ(one.progress, one.work_units);
+}
+
+TEST(Superfractal, ColourStealingIsValidated) {
+    const std::string dir = fp::test::scratch_dir("superfractal-steal-errors");
+    fp::test::write_file(dir + "/not.png", "not a picture\n");
+    const std::string h = "{type: superfractal, " + fg;
+    EXPECT_EQ(error_of(h + ", picture: " + dir + "/none.png}"),
+              "renderer.picture: cannot read the picture \"" + dir +
+                  "/none.png\": no such file (give a PNG file, relative to the working folder, or hues)");
+    EXPECT_EQ(
+        error_of(h + ", picture: " + dir + "/not.png}"),
+        "renderer.picture: cannot read the picture \"" + dir +
+            "/not.png\": it is not a PNG file (give a PNG file, relative to the working folder, or hues)");
+    EXPECT_EQ(error_of(h + ", picture: hues, colourer: {type: density}}"),
+              "renderer.picture: colour stealing needs a colourer that shows the points' colours (map-colour "
+              "or flame); this one shows only where they fall");
+    EXPECT_EQ(
+        error_of("{type: superfractal, maps: [" + f1 +
+                 ", {type: affine, coefficients: [1, 0, 0, 1, 0, 0], colour_map: [1, 0, 0, 1, 0, 0]}]}"),
+        "renderer.maps: maps[1]: a colour_map is used only by colour stealing: give the renderer a "
+        "picture (hues, or a PNG file)");
+    EXPECT_EQ(
+        error_of("{type: superfractal, picture: hues, maps: [{type: affine, coefficients: [1, 0, 0, 1, 0, "
+                 "0], colour_map: [1, 0, 0, 1, 0]}]}"),
+        "renderer.maps[0].colour_map: expected 6 numbers, got 5");
+}
+
+TEST(Superfractal, BadPictureStopsTheCliWithOneLine) {
+    const std::string line =
+        fp::test::run_bad_input("superfractal-bad-picture",
+                                "renderer:\n  type: superfractal\n  " + fg + "\n  picture: missing.png\n");
+    EXPECT_EQ(line, "bad.yaml:4:12: renderer.picture: cannot read the picture \"missing.png\": no such file "
+                    "(give a PNG file, relative to the working folder, or hues)");
 }
 
 TEST(Superfractal, Cancels) {
