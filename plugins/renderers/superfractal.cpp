@@ -398,6 +398,11 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
                          ", numbered from 0");
     colourer_ = p.object<fp::Colourer>("colourer");
     colour_ = colourer_->needs_colour();
+    // A point has no step order across buffers: there is no "last" colour to keep.
+    if (colourer_->pixel_rule() == fp::PixelRule::last)
+        throw fp::ParamError("colourer",
+                             "the superfractal renderer keeps the mean colour of a pixel's points: "
+                             "this colourer's mode needs the last one (chaos-game keeps it)");
     if (p.has("picture")) {
         steal_ = true;
         if (!colour_)

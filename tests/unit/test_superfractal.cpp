@@ -225,6 +225,12 @@ TEST(Superfractal, ProbabilitiesAndCountsAreValidated) {
               "renderer.buffer_probabilities: the probabilities sum to 1.2, not 1: give "
               "probabilities that sum to 1 (they are not normalised)");
     EXPECT_EQ(error_of(h + ", buffers: 0}"), "renderer.buffers: must be in [1, 65536], got 0");
+    // flame's last and set-colour modes need the last colour of a pixel, which has no meaning here.
+    for (const char* mode : {"last", "set-colour"})
+        EXPECT_EQ(
+            error_of(h + ", colourer: {type: flame, mode: " + mode + "}}"),
+            "renderer.colourer: the superfractal renderer keeps the mean colour of a pixel's points: this "
+            "colourer's mode needs the last one (chaos-game keeps it)");
     EXPECT_EQ(error_of(h + ", child: 2}"),
               "renderer.child: child 2 does not exist: there are 2 buffers, numbered from 0");
     EXPECT_EQ(error_of("{type: superfractal, maps: []}"), "renderer.maps: the list of transforms is empty");
