@@ -19,9 +19,11 @@
 // pattern's: a pixel on either side of the edge is what a symmetric pattern gives. Detail finer
 // than a pixel differs between p and g(p) point by point (two nearby sample points, or two
 // floating-point roundings of the same orbit, part after tens of steps) but not on average: the
-// smoothing compares what the picture resolves. Measured on paper 04's p3m1 renders (161 x 161,
-// 8 samples), the 3-fold rotation scores 0.67 with neither, 0.97 with both; a broken operation
-// still scores low, since away from edges all four neighbours differ.
+// smoothing compares what the picture resolves. Measured on Fig. 5(a) (161 x 161, 8 samples),
+// the 3-fold rotation scores 0.81 without smoothing and 0.97 with one pass (two: 0.97; one
+// sample per pixel and no smoothing: 0.67), while the same rotation of Fig. 5(e), broken, rises
+// only from 0.24 to 0.37 (two: 0.41): a broken operation still scores low, since away from edges
+// all four neighbours differ.
 //   A fraction (rather than a correlation) because it reads directly ("97 % of the pixels map
 // onto their own colour"), does not depend on the image's contrast, and tells one stray region
 // from a broken symmetry. An operation that keeps fewer than 100 pixels in the picture (a
