@@ -482,9 +482,13 @@ std::string symmetry_text(const SymmetryReport& r, const PixelFrame& f, const Sy
         return t;
     }
     t += "wallpaper groups kept: " + (wk.empty() ? std::string("none") : wk) + "\n";
-    if (!wu.empty()) t += "not measurable (a lattice translation leaves the picture): the wallpaper groups\n";
+    if (!wu.empty())
+        t += "undecided (they need an operation marked n/a, too large for the picture): " + wu + "\n";
     t += "largest wallpaper group: " +
-         (r.largest ? r.largest->name + " (" + r.largest->lattice + " lattice)" : std::string("none")) + "\n";
+         (r.largest    ? r.largest->name + " (" + r.largest->lattice + " lattice)"
+          : wu.empty() ? std::string("none")
+                       : std::string("none decided")) +
+         "\n";
     t +=
         "point group about the origin: " + (r.largest_rosette ? r.largest_rosette->name : std::string("C1")) +
         "\n";
