@@ -169,6 +169,32 @@ const std::vector<std::string> hex_rot = {"r3", "r6"};
 
 } // namespace
 
+// ---------------------------------------------------------------- frames, by hand
+
+// `area` (orbit-trap): pixel 0 at xmin, pixel W - 1 at xmax, row 0 at ymax. `view` (chaos-game):
+// W cells, pixel i at the centre of cell i.
+TEST(Symmetry, PixelFramesPlacePixelsAsTheRenderersDo) {
+    fp::host::PixelFrame area;
+    area.width = 5, area.height = 3, area.region = {-2, 2, -1, 1}, area.endpoints = true;
+    EXPECT_DOUBLE_EQ(area.to_plane(0, 0).x, -2);
+    EXPECT_DOUBLE_EQ(area.to_plane(4, 0).x, 2);
+    EXPECT_DOUBLE_EQ(area.to_plane(0, 0).y, 1);
+    EXPECT_DOUBLE_EQ(area.to_plane(0, 2).y, -1);
+    fp::host::PixelFrame view = area;
+    view.endpoints = false;
+    EXPECT_DOUBLE_EQ(view.to_plane(0, 0).x, -1.6); // cells 0.8 wide
+    EXPECT_DOUBLE_EQ(view.to_plane(4, 2).y, -2.0 / 3);
+    for (const auto* f : {&area, &view}) {
+        const fp::Vec2 q = f->to_pixel(f->to_plane(3.25, 1.5));
+        EXPECT_NEAR(q.x, 3.25, 1e-12);
+        EXPECT_NEAR(q.y, 1.5, 1e-12);
+    }
+    // An image without a recipe: [-2 pi, 2 pi] across, square pixels.
+    const auto d = fp::host::default_frame(161, 81);
+    EXPECT_DOUBLE_EQ(d.region.xmax, 2 * pi);
+    EXPECT_DOUBLE_EQ(d.region.ymax, pi);
+}
+
 // ---------------------------------------------------------------- synthetic, by hand
 
 // cos x + cos y: period 2 pi in x and y, unchanged by the quarter turn (-y, x) and the mirrors in
