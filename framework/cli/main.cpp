@@ -386,12 +386,17 @@ int cmd_animate(const Options& o, AnimateOptions ao) {
     ao.threads = o.threads ? o.threads : hardware_threads();
     ao.info = [](const std::string& s) { spdlog::info("{}", s); };
     ao.warn = [](const std::string& s) { spdlog::warn("{}", s); };
-    return animate(
-        reg, ao,
-        [&](const Pipeline& p, RenderStats& stats, double& secs) {
-            return render_checked(p, ao.threads, o.quiet, stats, secs);
-        },
-        &g_interrupted);
+    try {
+        return animate(
+            reg, ao,
+            [&](const Pipeline& p, RenderStats& stats, double& secs) {
+                return render_checked(p, ao.threads, o.quiet, stats, secs);
+            },
+            &g_interrupted);
+    } catch (const Cancelled&) {
+        std::fprintf(stderr, "fixpoint: interrupted; the frames written are kept: run again to continue\n");
+        return 130;
+    }
 }
 
 constexpr long long max_eval_steps = 1'000'000'000'000;

@@ -555,7 +555,8 @@ interrupted run continues when run again; a file with another recipe is refused 
 render (check) the config as it stands, ignoring the animation; validate also checks every
 frame.
 
-  fixpoint animate configs/animation/gm-mu-sweep.yaml -o frames/%04d.png --video sweep.mp4
+  fixpoint animate configs/animation/fig4-centres.yaml -o frames/%04d.png --video fig4.mp4
+  fixpoint animate configs/animation/fig4-centres.yaml --list --frames 40..47
 )";
 }
 
@@ -627,10 +628,11 @@ int animate(const Registry& reg, const AnimateOptions& o, const FrameRenderer& r
         }
         if (interrupted && interrupted->load()) throw Cancelled();
     }
-    // The frames' folder is made once everything else has been checked.
-    const fs::path dir = fs::path(pat.path(0)).parent_path();
-    if (!dir.empty()) {
+    // The frames' folders are made once everything else has been checked.
+    for (long k = first; k <= last; ++k) {
+        const fs::path dir = fs::path(pat.path(k)).parent_path();
         std::error_code ec;
+        if (dir.empty() || fs::is_directory(dir, ec)) continue;
         fs::create_directories(dir, ec);
         if (ec) throw InputError("-o: cannot make the folder '" + dir.string() + "': " + ec.message());
     }
