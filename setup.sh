@@ -30,6 +30,7 @@ packages=(
     libgtest-dev libgmock-dev libbenchmark-dev clang-format fonts-dejavu-core
     libcairo2-dev libhwy-dev
     python3-dev pybind11-dev python3-numpy
+    ffmpeg # fixpoint animate --video (and ffprobe for its test)
 )
 quick=${FIXPOINT_QUICK:-}
 if [ -n "$quick" ] && [ -n "${CI:-}" ]; then

@@ -3,6 +3,7 @@
 // Exit codes: 0 success, 2 bad input (config, parameters, command line), 1 internal
 // failure, 130 interrupted. Every error is one line on stderr.
 #include <fixpoint/fixpoint.hpp>
+#include <fixpoint/host/animate.hpp>
 #include <fixpoint/host/build.hpp>
 #include <fixpoint/host/conformance.hpp>
 #include <fixpoint/host/converse.hpp>
@@ -377,6 +378,37 @@ int cmd_render(const Options& o, bool validate_only) {
     return 0;
 }
 
+// validate: the config as render takes it, and every frame of its animation: section if any.
+int cmd_validate(const Options& o) {
+    const int rc = cmd_render(o, true);
+    if (rc == 0 && o.vary.empty())
+        if (const std::string a = validate_animation(make_registry(o), o.config, o.sets);
+            !a.empty() && !o.quiet)
+            spdlog::info("{}: valid: {}", o.config, a);
+    return rc;
+}
+
+// animate: framework/src/animate.cpp; each frame rendered as render renders one.
+int cmd_animate(const Options& o, AnimateOptions ao) {
+    install_sigint();
+    const Registry reg = make_registry(o);
+    ao.config = o.config, ao.sets = o.sets, ao.quiet = o.quiet, ao.force = o.force;
+    ao.threads = o.threads ? o.threads : hardware_threads();
+    ao.info = [](const std::string& s) { spdlog::info("{}", s); };
+    ao.warn = [](const std::string& s) { spdlog::warn("{}", s); };
+    try {
+        return animate(
+            reg, ao,
+            [&](const Pipeline& p, RenderStats& stats, double& secs) {
+                return render_checked(p, ao.threads, o.quiet, stats, secs);
+            },
+            &g_interrupted);
+    } catch (const Cancelled&) {
+        std::fprintf(stderr, "fixpoint: interrupted; the frames written are kept: run again to continue\n");
+        return 130;
+    }
+}
+
 constexpr long long max_eval_steps = 1'000'000'000'000;
 
 std::string range_of(const ParamSpec& s) {
@@ -748,6 +780,31 @@ int main(int argc, char** argv) {
     validate_cmd->add_flag("--force", o.force, "Check as render --force would");
     validate_cmd->add_option("--vary", o.vary, "Check every child of a collection (as render --vary)");
 
+    AnimateOptions ao;
+    auto* animate_cmd = app.add_subcommand(
+        "animate", "Render the frames of a config's animation: section, and a video with ffmpeg");
+    animate_cmd->footer(animate_help());
+    animate_cmd->add_option("config", o.config, "Pipeline file (YAML) with an animation: section")
+        ->required();
+    animate_cmd->add_option("-o,--output", ao.pattern,
+                            "The frames' files, with one frame number: frames/%04d.png (.png, .exr, .tif); "
+                            "the folder is made");
+    animate_cmd->add_option("--frames", ao.frames, "Only frames A..B (or one frame K); default: all");
+    animate_cmd->add_option("--video", ao.video,
+                            "Assemble the frames (of --frames) into a video with ffmpeg: .mp4, .mkv, .mov "
+                            "(H.264) or .gif");
+    animate_cmd->add_option("--set", o.sets,
+                            "Override a value before the animation's: path.to.param=value (repeatable; "
+                            "--set animation.frames=3 too)");
+    animate_cmd->add_option("--threads", o.threads, "Worker threads (default: all cores)")
+        ->check(CLI::Range(1u, 4096u));
+    animate_cmd->add_flag("--list", ao.list,
+                          "Check every frame and print each frame's values as --set takes them; render "
+                          "nothing");
+    animate_cmd->add_flag("-q,--quiet", o.quiet, "No progress bar, no log");
+    animate_cmd->add_flag("--force", o.force,
+                          "Replace frame files made with another recipe, and an existing video");
+
     auto* plugins = app.add_subcommand("plugins", "List the plugins found");
     plugins->add_option("--kind", o.kind, "Only this kind (shape, transform, iteration-scheme, ...)");
     plugins->add_flag("--check", o.check,
@@ -879,7 +936,8 @@ int main(int argc, char** argv) {
 
     try {
         if (*render) return cmd_render(o, false);
-        if (*validate_cmd) return cmd_render(o, true);
+        if (*validate_cmd) return cmd_validate(o);
+        if (*animate_cmd) return cmd_animate(o, ao);
         if (*plugins) return cmd_plugins(o);
         if (*describe) return cmd_describe(o);
         if (*eval) return cmd_eval(o);

@@ -267,9 +267,11 @@ void apply_override(CNode& root, const std::string& assignment, const std::strin
     const std::string where = flag + " " + assignment;
     const std::string shown = excerpt(where, 80); // the assignment may be long or hold control characters
     if (eq == std::string::npos || eq == 0) throw InputError(shown + ": expected path.to.param=value");
-    const std::string path = assignment.substr(0, eq);
     CNode value = parse_yaml(assignment.substr(eq + 1), where);
+    override_target(root, assignment.substr(0, eq), shown, value.mark) = std::move(value);
+}
 
+CNode& override_target(CNode& root, const std::string& path, const std::string& shown, const Mark& made_at) {
     // Split "a.b[2].c" into steps: names and indices.
     struct Step {
         std::string key;
@@ -316,7 +318,7 @@ void apply_override(CNode& root, const std::string& assignment, const std::strin
             if (cur->type == CNode::Type::Null) {
                 // A mapping made by the override: it stands where the null stood, or (made from
                 // nothing) at the override itself, never at an unknown "<input>:0:0".
-                const Mark at = cur->mark.source ? cur->mark : value.mark;
+                const Mark at = cur->mark.source ? cur->mark : made_at;
                 *cur = map_node();
                 cur->mark = at;
             }
@@ -329,14 +331,14 @@ void apply_override(CNode& root, const std::string& assignment, const std::strin
                     throw InputError(shown + ": " + quote(walked + (walked.empty() ? "" : ".") + st.key, 80) +
                                      " does not exist");
                 cur->keys.emplace_back(st.key, CNode{});
-                cur->key_marks.push_back(value.mark);
+                cur->key_marks.push_back(made_at);
                 next = &cur->keys.back().second;
             }
             cur = next;
             walked += (walked.empty() ? "" : ".") + st.key;
         }
     }
-    *cur = std::move(value);
+    return *cur;
 }
 
 // ------------------------------------------------------------------ emission

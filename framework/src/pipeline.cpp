@@ -75,7 +75,9 @@ Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::
 Pipeline load_pipeline(const Registry& reg, CNode root) {
     auto fail = [](const Mark& m, const std::string& msg) { throw InputError(m.str() + ": " + msg); };
     if (!root.is_map()) fail(root.mark, "expected a mapping with a 'renderer:' key, got " + root.describe());
-    const std::vector<std::string> top = {"renderer", "output", "fixpoint_version", "plugins"};
+    // animation: is read by `fixpoint animate` (animate.cpp); a render of the config as it
+    // stands leaves it aside, and recipes do not carry it.
+    const std::vector<std::string> top = {"renderer", "output", "fixpoint_version", "plugins", "animation"};
     for (std::size_t i = 0; i < root.keys.size(); ++i) {
         const auto& k = root.keys[i].first;
         if (std::find(top.begin(), top.end(), k) != top.end()) continue;

@@ -59,6 +59,10 @@ CNode load_yaml_file(const std::string& path);
 /// Apply `path.to.param=value` (value is YAML) to `root`. Throws fp::InputError.
 /// `flag` names the option in messages (--set, --vary).
 void apply_override(CNode& root, const std::string& assignment, const std::string& flag = "--set");
+/// The node at `path` ("a.b[2].c") in `root`, as apply_override finds it: a missing name is
+/// added (null) to its mapping, and what is made stands at `made_at`. Throws fp::InputError
+/// "shown: why" for a path that does not fit the tree (a missing index, a scalar on the way).
+CNode& override_target(CNode& root, const std::string& path, const std::string& shown, const Mark& made_at);
 
 /// Emit as block YAML (keys in stored order).
 std::string emit_yaml(const CNode& n);
