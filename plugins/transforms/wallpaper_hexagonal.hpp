@@ -96,7 +96,9 @@ template <class T>
 [[gnu::always_inline]] inline bool in_cell(T x, T y) {
     using K = HexConst<T>;
     const T hx = x * T(0.5), hy = y * K::h;
-    return (std::fabs(x) < K::pi) & (std::fabs(hx + hy) < K::pi) & (std::fabs(hx - hy) < K::pi);
+    // (& on ints, not &&: no branches, so that the loops calling this vectorise.)
+    return (int(std::fabs(x) < K::pi) & int(std::fabs(hx + hy) < K::pi) & int(std::fabs(hx - hy) < K::pi)) !=
+           0;
 }
 
 /// (x, y) <- (x, y) - N(x, y), N the nearest point of the hexagonal lattice L (see above);
