@@ -131,9 +131,9 @@ Measured measure(const std::vector<std::string>& args) {
 }
 
 const std::vector<std::string> all_configs = {
-    "fig5a", "fig5b", "fig5c", "fig5d", "fig5e", "fig5f",  "fig5g",  "fig6a", "fig6b", "fig6c",
-    "fig6d", "fig6e", "fig6f", "fig7a", "fig7b", "fig7c",  "fig7d",  "fig8a", "fig8b", "fig8c",
-    "fig8d", "fig9a", "fig9b", "fig9c", "fig9d", "fig10a", "fig10b", "fig10c"};
+    "fig5a", "fig5a-hexagonal", "fig5b", "fig5c", "fig5d", "fig5e", "fig5f",  "fig5g",  "fig6a", "fig6b",
+    "fig6c", "fig6d",           "fig6e", "fig6f", "fig7a", "fig7b", "fig7c",  "fig7d",  "fig8a", "fig8b",
+    "fig8c", "fig8d",           "fig9a", "fig9b", "fig9c", "fig9d", "fig10a", "fig10b", "fig10c"};
 
 /// Configs of configs/orbit-trap/ measured in one run (the plugins load once), by name.
 std::map<std::string, Measured> measure_configs(const std::vector<std::string>& names) {
@@ -419,6 +419,7 @@ TEST(SymmetryPaper04, EveryOrbitTrapConfig) {
     };
     const std::vector<Row> table = {
         {"fig5a", "p3m1", "D3", "p3m1 map, one circle about the origin"},
+        {"fig5a-hexagonal", "p3m1", "D3", "the same on the hexagonal lattice"},
         {"fig5b", "cm", "D1", "traps of Fig. 3a: no 3-fold rotation"},
         {"fig5c", "p3m1", "D3", "traps of Fig. 1b share p3m1 (to 0.02)"},
         {"fig5d", "cm", "D1", "traps of Fig. 1c"},
