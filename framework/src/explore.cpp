@@ -882,6 +882,9 @@ int run_explore(const Registry& reg, const ExploreOptions& o) {
     std::string command = "fixpoint explore " + o.config + " --seed " + std::to_string(o.seed) +
                           " --candidates " + std::to_string(o.candidates) + " --generations " +
                           std::to_string(o.generations);
+    command += " --keep " + std::to_string(o.keep) + " --draft-size " + std::to_string(o.draft_size) +
+               " --draft-points " + std::to_string(o.draft_points);
+    for (const auto& s : o.sets) command += " --set '" + s + "'";
     for (const auto& p : o.params) command += " --param '" + p + "'";
     for (const auto& r : o.random) command += " --random " + r;
     if (!o.weights.empty()) command += " --weights " + o.weights;
