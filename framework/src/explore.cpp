@@ -6,8 +6,10 @@
 //   PATH=a+bq..c+dq` (a sequence parameter such as an iteration's alpha, as a q-number drawn
 //   componentwise; a plain A..B on a sequence draws a real), `--param 'PATH=a|b|c'` (choices, any
 //   parameter: each choice is YAML text, checked against the config before the search), or
-//   `--random PLUGIN-PATH` (every real parameter of that plugin whose declared range has two
-//   finite ends, and every integer one whose declared range holds at most 64 values). PATH is
+//   `--random PLUGIN-PATH` (every real, integer and constant sequence parameter of that
+//   plugin: over its declared range when both ends are finite and, for an integer, it holds
+//   at most 64 values; else over v +- |v|/2, or +- 0.5 around 0, for the config's value v,
+//   within the declared range: the plugins declare few two-ended ranges). PATH is
 //   the path of `--set` (renderer.maps[0].shape.radius); the parameter may be one the config
 //   leaves at its default. A path that is not a parameter, a bad range, a range outside the
 //   declared one or a parameter kind a range does not fit is one line of error (exit 2).
@@ -69,8 +71,11 @@ const char* const explore_help = R"(Ranges (--param PATH=RANGE, PATH as in --set
   A..B         a real parameter: uniform in [A, B]; an integer parameter: whole A..B
   a+bq..c+dq   a sequence parameter (an iteration's alpha): a q-number, componentwise
   'a|b|c'      choices, for any parameter (each a YAML value)
-  --random P   every parameter of the plugin at path P (renderer.iteration, renderer.maps[0])
-               with a declared range: reals with two finite ends, integers of at most 64 values
+  --random P   every real, integer and constant sequence parameter of the plugin at path P
+               (renderer.iteration, renderer.maps[0].shape): over its declared range when
+               both ends are finite (integers: at most 64 values), else over v +- |v|/2 (+- 0.5
+               around 0) for the config's value v, within the declared range; a renderer's
+               size and quality (width, height, points, chains, samples, ...) are kept
 Measures, each scored in [0, 1] on a draft (--draft-size, --draft-points):
   coverage   fraction of pixels not of the background; score: 0 at <= 0.2% (dust), rising
              log-linearly to 1 at 2%, 1 up to 60%, falling linearly to 0 at 100% (a blob)
@@ -383,30 +388,66 @@ std::vector<Dim> random_dims(const Index& idx, const std::string& path, const st
         throw InputError(shown + ": " + quote(config, 200) + " has no plugin at " + quote(path, 100) +
                          (near.empty() ? "" : " (did you mean '" + near[0] + "'?)"));
     }
+    // The size and quality of a render are not searched.
+    static const std::set<std::string> render_size = {"width",   "height",         "points",
+                                                      "chains",  "skip",           "seed",
+                                                      "samples", "max_iterations", "points_per_buffer"};
+    const bool renderer = it->second->plugin->desc->kind == Kind::Renderer;
     std::vector<Dim> out;
     for (const auto& p : it->second->params) {
         const ParamSpec& s = *p.spec;
-        if (taken.count(p.path) || !std::isfinite(s.lo) || !std::isfinite(s.hi)) continue;
+        if (taken.count(p.path) || (renderer && render_size.count(s.name))) continue;
         Dim d;
         d.path = p.path;
+        // Around the config's value v when the declared range has an infinite end: v +- |v| / 2
+        // (+- 0.5 around 0), within the declared range.
+        auto around = [&](double v, int c) {
+            const double half = v != 0 ? std::fabs(v) / 2 : 0.5;
+            d.lo[c] = v - half;
+            d.hi[c] = v + half;
+        };
+        auto within = [&] {
+            if (d.lo[0] <= s.lo) d.lo[0] = s.lo, d.lo_open = s.lo_open;
+            if (d.hi[0] >= s.hi) d.hi[0] = s.hi, d.hi_open = s.hi_open;
+        };
+        const bool bounded = std::isfinite(s.lo) && std::isfinite(s.hi);
         if (s.type == ParamType::Real) {
             d.kind = Dim::Kind::Real;
-            d.digits = digits_for(s.lo, s.hi);
-            d.lo_open = s.lo_open;
-            d.hi_open = s.hi_open;
-        } else if (s.type == ParamType::Int && s.hi - s.lo <= 63) {
+            if (bounded)
+                d.lo = {s.lo, 0}, d.hi = {s.hi, 0}, d.lo_open = s.lo_open, d.hi_open = s.hi_open;
+            else
+                around(std::get<double>(p.value), 0), within();
+            d.digits = digits_for(d.lo[0], d.hi[0]);
+        } else if (s.type == ParamType::Int) {
             d.kind = Dim::Kind::Int;
+            if (bounded && s.hi - s.lo <= 63) {
+                d.lo = {s.lo, 0}, d.hi = {s.hi, 0};
+            } else {
+                const double v = double(std::get<std::int64_t>(p.value));
+                const double half = std::max(1.0, std::round(std::fabs(v) / 2));
+                d.lo = {std::max(v - half, s.lo_open ? s.lo + 1 : s.lo), 0};
+                d.hi = {std::min(v + half, s.hi_open ? s.hi - 1 : s.hi), 0};
+                d.lo[0] = std::ceil(d.lo[0]), d.hi[0] = std::floor(d.hi[0]);
+            }
+        } else if (s.type == ParamType::Sequence) {
+            // A constant: a real, or a q-number (componentwise); periodic lists are left alone.
+            const auto& seq = std::get<Sequence>(p.value);
+            if (seq.values.size() != 1 || seq.bare_pair) continue;
+            const Vec2 v = seq.values[0];
+            d.kind = v.y != 0 ? Dim::Kind::QNum : Dim::Kind::Real;
+            around(v.x, 0);
+            if (v.y != 0) around(v.y, 1);
+            d.digits = std::max(digits_for(d.lo[0], d.hi[0]),
+                                d.kind == Dim::Kind::QNum ? digits_for(d.lo[1], d.hi[1]) : 0);
         } else {
             continue;
         }
-        d.lo = {s.lo, 0};
-        d.hi = {s.hi, 0};
+        if (!(d.lo[0] < d.hi[0])) continue;
         out.push_back(d);
     }
     if (out.empty())
         throw InputError(shown + ": " + std::string(it->second->plugin->desc->name) +
-                         " has no real parameter with a finite declared range nor integer one of at most 64 "
-                         "values");
+                         " has no real, integer or constant sequence parameter to search");
     return out;
 }
 
@@ -874,6 +915,9 @@ int run_explore(const Registry& reg, const ExploreOptions& o) {
             cap += std::string(j ? ", " : "") + (S.dims.size() == 1 ? short_name(d.path) + " = " : "") +
                    gene_text(d, ranked[k]->genes[j]);
         }
+        // Cut to the cell (12-pixel DejaVu Sans: digits about 7.6 pixels wide).
+        const std::size_t fits = std::size_t(std::max(8.0, (images.back().width - 4) / 7.6));
+        if (cap.size() > fits) cap = cap.substr(0, fits - 2) + "..";
         captions.push_back(cap);
         say("best-" + std::to_string(k + 1) + ": score " + fixed(ranked[k]->total, 4) + ": " +
             measures_line(*ranked[k]));

@@ -235,6 +235,29 @@ TEST(Explore, TheBestBeatsTheWorst) {
     EXPECT_EQ(forced.rc, 0) << forced.err;
 }
 
+TEST(Explore, RandomSearchesAPluginsParameters) {
+    const std::string dir = scratch_dir("explore_random");
+    write_file(dir + "/cfg.yaml", circles);
+    const auto r = run_cli({"explore", "--quiet", dir + "/cfg.yaml", "-o", dir + "/out", "--random",
+                            "renderer.maps[2].shape", "--random", "renderer", "--candidates", "6", "--keep",
+                            "2", "--draft-size", "32", "--draft-points", "5000"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto rows = table(dir + "/out/candidates.tsv");
+    ASSERT_EQ(rows.size(), 6u);
+    for (const auto& row : rows) {
+        // The circle's radius 0.9 over 0.45..1.35 (no upper end declared); the renderer's
+        // set_line and set_fill over their declared ranges; its width, points, ... kept.
+        const double radius = std::stod(row.at("renderer.maps[2].shape.radius"));
+        EXPECT_GE(radius, 0.45);
+        EXPECT_LE(radius, 1.35);
+        const double fill = std::stod(row.at("renderer.set_fill"));
+        EXPECT_GE(fill, 0);
+        EXPECT_LE(fill, 1);
+        EXPECT_EQ(row.count("renderer.width"), 0u);
+        EXPECT_EQ(row.count("renderer.maps[2].shape.centre"), 0u); // a point: not searched
+    }
+}
+
 TEST(Explore, ErrorLines) {
     const std::string dir = scratch_dir("explore_errors");
     write_file(dir + "/cfg.yaml", circles);
@@ -272,6 +295,9 @@ TEST(Explore, ErrorLines) {
     EXPECT_EQ(err({"--random", "renderer.iteration.alpha"}),
               "--random renderer.iteration.alpha: '" + cfg +
                   "' has no plugin at 'renderer.iteration.alpha' (did you mean 'renderer.iteration'?)\n");
+    EXPECT_EQ(err({"--random", "renderer.iteration"}),
+              "--random renderer.iteration: picard has no real, integer or constant sequence parameter to "
+              "search\n");
     EXPECT_EQ(err({"--param", "renderer.maps[0].shape.radius=0.3..0.9", "--weights", "coverage=1,beauty=2"}),
               "--weights coverage=1,beauty=2: unknown measure 'beauty' (the measures: coverage, entropy, "
               "dimension, lyapunov)\n");
