@@ -758,7 +758,17 @@ int run_explore(const Registry& reg, const ExploreOptions& o) {
     S.threads = o.threads ? o.threads : hardware_threads();
 
     // The config with --set, validated as a whole first.
-    S.base = load_yaml_file(o.config);
+    // A config, or an image fixpoint wrote (its recipe); either without output.path, so that a
+    // best-k.yaml rendered without -o does not write where the original did.
+    S.base =
+        is_recipe_image(o.config) ? parse_yaml(read_recipe(o.config), o.config) : load_yaml_file(o.config);
+    if (CNode* out = S.base.find("output"); out && out->is_map())
+        for (std::size_t i = 0; i < out->keys.size(); ++i)
+            if (out->keys[i].first == "path") {
+                out->keys.erase(out->keys.begin() + std::ptrdiff_t(i));
+                out->key_marks.erase(out->key_marks.begin() + std::ptrdiff_t(i));
+                break;
+            }
     for (const auto& s : o.sets) apply_override(S.base, s);
     const Pipeline base_pipe = load_pipeline(reg, S.base);
     const auto typed = validate(reg, Kind::Renderer, *S.base.find("renderer"), "renderer");

@@ -237,7 +237,7 @@ TEST(Explore, TheBestBeatsTheWorst) {
 
 TEST(Explore, RandomSearchesAPluginsParameters) {
     const std::string dir = scratch_dir("explore_random");
-    write_file(dir + "/cfg.yaml", circles);
+    write_file(dir + "/cfg.yaml", std::string(circles) + "output: {path: original.png}\n");
     const auto r = run_cli({"explore", "--quiet", dir + "/cfg.yaml", "-o", dir + "/out", "--random",
                             "renderer.maps[2].shape", "--random", "renderer", "--candidates", "6", "--keep",
                             "2", "--draft-size", "32", "--draft-points", "5000"});
@@ -256,6 +256,9 @@ TEST(Explore, RandomSearchesAPluginsParameters) {
         EXPECT_EQ(row.count("renderer.width"), 0u);
         EXPECT_EQ(row.count("renderer.maps[2].shape.centre"), 0u); // a point: not searched
     }
+    // The configs written do not name the original's output: rendered without -o, they do not
+    // write over it.
+    EXPECT_EQ(read_file(dir + "/out/best-1.yaml").find("original.png"), std::string::npos);
 }
 
 TEST(Explore, ErrorLines) {
