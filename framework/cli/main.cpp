@@ -751,8 +751,9 @@ int main(int argc, char** argv) {
     explore->add_option("--random", ex.random,
                         "Every ranged parameter of the plugin at this path (repeatable)");
     explore->add_option("--set", ex.sets, "Override a value first: path.to.param=value (repeatable)");
-    explore->add_option("--weights", ex.weights,
-                        "Weights of the measures (default coverage=1,entropy=1,dimension=2,lyapunov=1)");
+    explore->add_option(
+        "--weights", ex.weights,
+        "Weights of the measures (default coverage=1,entropy=1,dimension=2,lyapunov=1,symmetry=0)");
     explore->add_option("--seed", ex.seed, "Seed of the search (default 1)");
     explore
         ->add_option("--candidates", ex.candidates,

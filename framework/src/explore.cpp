@@ -22,8 +22,10 @@
 //   box-counting dimension of the draft, and the largest Lyapunov exponent of the map for the
 //   chaos-game renderer (Gumowski–Mira maps, inversions, affine IFS; absent for other renderers,
 //   and its weight then ignored). The total is the weighted mean of the scores of the measures
-//   present (--weights, default coverage=1,entropy=1,dimension=2,lyapunov=1). Adding a measure
-//   (symmetry, when it exists) is one entry of measure_table().
+//   present (--weights, default coverage=1,entropy=1,dimension=2,lyapunov=1,symmetry=0). The
+//   symmetry measure is `fixpoint symmetry`'s (symmetry.hpp): the best score of a rotation or
+//   mirror about the origin, computed only when weighted. Adding a measure is one entry of
+//   measure_table().
 // - Search: --candidates N drawn at random, candidate i from fp::chain_stream(seed, i); then
 //   --generations G, each of N children of the best K so far (two parents drawn from them,
 //   uniform crossover of the values, each value mutated with probability 1/2 by a Gaussian step
@@ -45,6 +47,7 @@
 #include <fixpoint/host/measures.hpp>
 #include <fixpoint/host/pipeline.hpp>
 #include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/symmetry.hpp>
 #include <fixpoint/iteration.hpp>
 #include <fixpoint/rng.hpp>
 #include <fixpoint/text.hpp>
@@ -87,6 +90,11 @@ Measures, each scored in [0, 1] on a draft (--draft-size, --draft-points):
              32 orbits of the maps drawn by weight, through the iteration scheme); score:
              1 / (1 + exp(-L / 0.05)), chaos near 1, regular orbits 0.5; absent for other
              renderers, and its weight ignored
+  symmetry   the best symmetry about the origin: the highest score of `fixpoint symmetry`
+             (fraction of pixels that agree) over the rotations by 180, 90, 120, 60 degrees
+             and the mirrors in the axes and the diagonal; score: 0 at 0.5, linear to 1 at 1;
+             weight 0 by default (the background agrees with itself: on a sparse picture
+             everything scores high, so weight it beside coverage); absent with fit_view
   The score of a candidate is the weighted mean over the measures present (--weights).
 Search: --candidates random ones (candidate i from chain_stream(seed, i)), then --generations
   of as many children of the best --keep (uniform crossover, Gaussian mutation of a tenth of
@@ -457,7 +465,25 @@ struct Draft {
     const Image* image = nullptr;
     Rgb background;
     std::optional<double> lyapunov;
+    const PixelFrame* frame = nullptr; ///< where the pixels stand in the plane; null: unknown
+    bool symmetry = false;             ///< the symmetry measure is weighted (it costs a little)
 };
+
+/// The best symmetry about the origin: the highest score of `fixpoint symmetry` (symmetry.hpp:
+/// the fraction of pixels whose colour agrees with the picture at g(p)) among the rotations by
+/// 180, 90, 120 and 60 degrees and the mirrors in the axes and the diagonal. None when the frame
+/// is unknown or no operation keeps enough of the picture to be measured.
+std::optional<double> best_point_symmetry(const Draft& d) {
+    if (!d.symmetry || !d.frame) return std::nullopt;
+    static const std::set<std::string> point_ops = {"r2", "r4", "r3", "r6", "m(x,-y)", "m(-x,y)", "m(y,x)"};
+    std::optional<double> best;
+    for (const auto& op : symmetry_ops())
+        if (point_ops.count(op.id)) {
+            const OpScore sc = score_op(*d.image, *d.frame, op, SymmetryOptions{});
+            if (sc.measured) best = std::max(best.value_or(0.0), sc.score);
+        }
+    return best;
+}
 
 struct MeasureDef {
     const char* name;
@@ -477,8 +503,19 @@ const std::vector<MeasureDef>& measure_table() {
          [](const Draft& d) -> std::optional<double> { return box_dimension(*d.image, d.background); },
          dimension_score},
         {"lyapunov", 1, [](const Draft& d) { return d.lyapunov; }, lyapunov_score},
+        // Broken operations score 0.1 to 0.5 and kept ones 0.85 to 1 (symmetry.cpp): 0 at 0.5,
+        // linear to 1 at 1. The background agrees with itself: on a sparse picture every
+        // operation scores high, so weight it beside coverage.
+        {"symmetry", 0, best_point_symmetry, [](double v) { return std::clamp((v - 0.5) / 0.5, 0.0, 1.0); }},
     };
     return table;
+}
+
+std::size_t symmetry_index() {
+    const auto& t = measure_table();
+    for (std::size_t k = 0; k < t.size(); ++k)
+        if (std::string(t[k].name) == "symmetry") return k;
+    return t.size();
 }
 
 std::vector<double> parse_weights(const std::string& text) {
@@ -614,6 +651,7 @@ struct Candidate {
     std::shared_ptr<const Renderer> renderer;
     std::unique_ptr<TObject> typed;
     Rgb background;
+    std::optional<PixelFrame> frame;
 };
 
 /// A RenderContext that runs every task on the calling thread: a draft is small, and the
@@ -661,7 +699,16 @@ struct Search {
                 for (const auto& s : c.overrides) apply_override(root, s, "--param");
                 for (const auto& s : draft_sets) apply_override(root, s, "--draft");
                 c.typed = validate(reg, Kind::Renderer, *root.find("renderer"), "renderer");
-                c.renderer = load_pipeline(reg, root).renderer;
+                const Pipeline dp = load_pipeline(reg, root);
+                c.renderer = dp.renderer;
+                // The draft's frame in the plane, for the symmetry measure: none with fit_view
+                // (the recipe's view is not the one drawn) or without a view or area.
+                const TParam* fit = param_of(*c.typed, "fit_view");
+                if (!(fit && std::holds_alternative<bool>(fit->value) && std::get<bool>(fit->value))) try {
+                        c.frame = frame_from_recipe(dp.recipe, dp.renderer->width(), dp.renderer->height(),
+                                                    "draft");
+                    } catch (const InputError&) {
+                    }
                 if (const TParam* bg = param_of(*c.typed, "background"))
                     if (const auto* rgb = std::get_if<Rgb>(&bg->value)) c.background = *rgb;
                 c.valid = true;
@@ -684,7 +731,8 @@ struct Search {
                     SerialContext ctx(o.cancel);
                     RenderStats stats;
                     const Image img = c.renderer->render(ctx, stats);
-                    Draft d{&img, c.background, chaos_game_lyapunov(reg, *c.typed, o.seed, c.id)};
+                    Draft d{&img, c.background, chaos_game_lyapunov(reg, *c.typed, o.seed, c.id),
+                            c.frame ? &*c.frame : nullptr, weights[symmetry_index()] > 0};
                     double sw = 0, s = 0;
                     for (std::size_t k = 0; k < measure_table().size(); ++k) {
                         const auto& md = measure_table()[k];

@@ -261,6 +261,33 @@ TEST(Explore, RandomSearchesAPluginsParameters) {
     EXPECT_EQ(read_file(dir + "/out/best-1.yaml").find("original.png"), std::string::npos);
 }
 
+TEST(Explore, SymmetryOfSymmetry) {
+    // The three circles keep the rotation by 120 degrees and a mirror only with equal radii:
+    // weighted alone, `fixpoint symmetry`'s measure puts the second radius nearest 0.9 first.
+    const std::string dir = scratch_dir("explore_symmetry");
+    write_file(dir + "/cfg.yaml", circles);
+    const auto r = run_cli({"explore", "--quiet", dir + "/cfg.yaml", "-o", dir + "/out", "--param",
+                            "renderer.maps[1].shape.radius=0.5..1.3", "--weights",
+                            "coverage=0,entropy=0,dimension=0,lyapunov=0,symmetry=1", "--candidates", "10",
+                            "--keep", "1", "--draft-size", "64", "--draft-points", "40000"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto rows = table(dir + "/out/candidates.tsv");
+    ASSERT_EQ(rows.size(), 10u);
+    double nearest = 1;
+    for (const auto& row : rows)
+        nearest = std::min(nearest, std::fabs(std::stod(row.at("renderer.maps[1].shape.radius")) - 0.9));
+    EXPECT_EQ(std::fabs(std::stod(rows[0].at("renderer.maps[1].shape.radius")) - 0.9), nearest);
+    EXPECT_LT(nearest, 0.01);
+    // Not weighted (the default), it is not computed.
+    const std::string d2 = scratch_dir("explore_symmetry_off");
+    write_file(d2 + "/cfg.yaml", circles);
+    const auto r2 = run_cli({"explore", "--quiet", d2 + "/cfg.yaml", "-o", d2 + "/out", "--param",
+                             "renderer.maps[1].shape.radius=0.5..1.3", "--candidates", "2", "--keep", "1",
+                             "--draft-size", "32", "--draft-points", "5000"});
+    ASSERT_EQ(r2.rc, 0) << r2.err;
+    EXPECT_EQ(table(d2 + "/out/candidates.tsv")[0].at("symmetry"), "");
+}
+
 TEST(Explore, ErrorLines) {
     const std::string dir = scratch_dir("explore_errors");
     write_file(dir + "/cfg.yaml", circles);
@@ -303,7 +330,7 @@ TEST(Explore, ErrorLines) {
               "search\n");
     EXPECT_EQ(err({"--param", "renderer.maps[0].shape.radius=0.3..0.9", "--weights", "coverage=1,beauty=2"}),
               "--weights coverage=1,beauty=2: unknown measure 'beauty' (the measures: coverage, entropy, "
-              "dimension, lyapunov)\n");
+              "dimension, lyapunov, symmetry)\n");
     EXPECT_EQ(err({}),
               "explore: name the parameters to search with --param PATH=RANGE or --random PLUGIN-PATH\n");
 }
