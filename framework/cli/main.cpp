@@ -7,6 +7,7 @@
 #include <fixpoint/host/build.hpp>
 #include <fixpoint/host/conformance.hpp>
 #include <fixpoint/host/converse.hpp>
+#include <fixpoint/host/explore.hpp>
 #include <fixpoint/host/image_io.hpp>
 #include <fixpoint/host/pipeline.hpp>
 #include <fixpoint/host/progress.hpp>
@@ -769,6 +770,47 @@ int main(int argc, char** argv) {
     render->add_option("--columns", o.columns, "Columns of the contact sheet (default: about square)")
         ->check(CLI::Range(1, 1000));
 
+    ExploreOptions ex;
+    auto* explore = app.add_subcommand(
+        "explore", "Search parameters of a config for good patterns: score quick drafts, keep the best");
+    explore->add_option("config", ex.config, "Pipeline file (YAML)")->required();
+    explore
+        ->add_option("-o,--output", ex.out_dir,
+                     "Folder of best-k.yaml, best-k.png, sheet.png, candidates.tsv")
+        ->required();
+    explore->add_option("--param", ex.params,
+                        "A parameter and its range: PATH=A..B, PATH=a+bq..c+dq, 'PATH=a|b|c'");
+    explore->add_option("--random", ex.random,
+                        "Every ranged parameter of the plugin at this path (repeatable)");
+    explore->add_option("--set", ex.sets, "Override a value first: path.to.param=value (repeatable)");
+    explore->add_option(
+        "--weights", ex.weights,
+        "Weights of the measures (default coverage=1,entropy=1,dimension=2,lyapunov=1,symmetry=0)");
+    explore->add_option("--seed", ex.seed, "Seed of the search (default 1)");
+    explore
+        ->add_option("--candidates", ex.candidates,
+                     "Candidates of the random phase and of each generation (default 24)")
+        ->check(CLI::Range(1, 100000));
+    explore->add_option("--keep", ex.keep, "Best candidates kept, rendered and written (default 6)")
+        ->check(CLI::Range(1, 1000));
+    explore
+        ->add_option("--generations", ex.generations,
+                     "Evolutionary generations after the random phase (default 0)")
+        ->check(CLI::Range(0, 10000));
+    explore->add_option("--draft-size", ex.draft_size, "Larger side of a draft in pixels (default 160)")
+        ->check(CLI::Range(8, 4096));
+    explore->add_option("--draft-points", ex.draft_points, "Most points of a draft (default 100000)")
+        ->check(CLI::Range(1LL, 1000000000LL));
+    explore->add_option("--columns", ex.columns, "Columns of the contact sheet (default: about square)")
+        ->check(CLI::Range(1, 1000));
+    explore
+        ->add_option("--threads", ex.threads,
+                     "Worker threads (default: all cores); the result does not depend on it")
+        ->check(CLI::Range(1u, 4096u));
+    explore->add_flag("-q,--quiet", o.quiet, "No summary lines");
+    explore->add_flag("--force", ex.force, "Replace existing files in the folder");
+    explore->footer(explore_help);
+
     auto* validate_cmd =
         app.add_subcommand("validate", "Check everything a render would check; render nothing");
     validate_cmd->add_option("config", o.config, "Pipeline file (YAML)")->required();
@@ -946,6 +988,12 @@ int main(int argc, char** argv) {
         if (*addresses) return cmd_addresses(o);
         if (*to_sub) return cmd_to_subdivision(o);
         if (*symmetry) return cmd_symmetry(o);
+        if (*explore) {
+            install_sigint();
+            ex.cancel = &g_interrupted;
+            if (!o.quiet) ex.info = [](const std::string& l) { spdlog::info("{}", l); };
+            return run_explore(make_registry(o), ex);
+        }
     } catch (const Cancelled&) {
         std::fprintf(stderr, "fixpoint: interrupted; no image written\n");
         return 130;
