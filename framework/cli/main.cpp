@@ -360,7 +360,13 @@ int cmd_render(const Options& o, bool validate_only) {
         write_bytes(doc, out);
     } else {
         const Image img = render_checked(p, threads, o.quiet, stats, secs);
-        write_image(img, out, p.bit_depth, p.recipe, print_resolution(o.print, img.width, img.height));
+        const Repeat r = parse_repeat(o.print);
+        const std::string recipe = r.across * r.down == 1
+                                       ? p.recipe
+                                       : "# the tile repeated " + o.print.repeat +
+                                             " (--repeat); the recipe renders one tile\n" + p.recipe;
+        write_image(repeat_image(img, r), out, p.bit_depth, recipe,
+                    print_resolution(o.print, img.width, img.height));
     }
     if (!o.quiet)
         spdlog::info(
@@ -620,6 +626,8 @@ int main(int argc, char** argv) {
                      "Render one period of a periodic pattern (orbit-trap with a wallpaper map, Picard), so "
                      "that copies join without a seam: the smallest rectangle of periods centred on the "
                      "area's centre, at the config's width, the height following (square pixels)");
+    render->add_option("--repeat", o.print.repeat,
+                       "With --tile: write the tile repeated NxM times (3x3), to see it join");
     render
         ->add_option("--dpi", o.print.dpi,
                      "Print resolution in pixels per inch, written into the image (TIFF and PNG); with "

@@ -4,6 +4,7 @@
 #include <fixpoint/host/print.hpp>
 #include <fixpoint/text.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -38,8 +39,41 @@ PrintSize parse_print_size(const std::string& s) {
     return {length_inches(s, s.substr(0, x)), length_inches(s, s.substr(x + 1))};
 }
 
+Repeat parse_repeat(const PrintRequest& req) {
+    if (req.repeat.empty()) return {};
+    if (!req.tile) throw InputError("--repeat: repeats a tile: give --tile too");
+    const std::string& s = req.repeat;
+    const auto bad = [&]() {
+        return InputError("--repeat: expected NxM, copies across and down (1 to 16 each), as 3x3, got " +
+                          quote(s));
+    };
+    const auto x = s.find('x');
+    if (x == std::string::npos) throw bad();
+    Repeat r;
+    const auto [a, ea] = std::from_chars(s.data(), s.data() + x, r.across);
+    const auto [b, eb] = std::from_chars(s.data() + x + 1, s.data() + s.size(), r.down);
+    if (ea != std::errc() || eb != std::errc() || a != s.data() + x || b != s.data() + s.size() ||
+        r.across < 1 || r.across > 16 || r.down < 1 || r.down > 16)
+        throw bad();
+    return r;
+}
+
+Image repeat_image(const Image& img, const Repeat& r) {
+    if (r.across == 1 && r.down == 1) return img;
+    Image out;
+    out.width = img.width * r.across, out.height = img.height * r.down, out.channels = img.channels;
+    out.pixels.resize(std::size_t(out.width) * std::size_t(out.height) * std::size_t(out.channels));
+    const std::size_t row = std::size_t(img.width) * std::size_t(img.channels);
+    for (int j = 0; j < out.height; ++j)
+        for (int i = 0; i < r.across; ++i)
+            std::copy_n(img.pixels.data() + std::size_t(j % img.height) * row, row,
+                        out.pixels.data() + (std::size_t(j) * std::size_t(r.across) + std::size_t(i)) * row);
+    return out;
+}
+
 Pipeline load_for_print(const Registry& reg, const std::string& config, std::vector<std::string> sets,
                         const PrintRequest& req) {
+    parse_repeat(req); // checked before the render
     if (req.dpi > 0 && !req.print_size.empty()) {
         const PrintSize size = parse_print_size(req.print_size);
         if (req.tile && size.height > 0)

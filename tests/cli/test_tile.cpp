@@ -238,6 +238,24 @@ TEST(Tile, SeamTestSeesAWrongTile) {
     EXPECT_GT(s.translated[2], 0.2);
 }
 
+// --repeat 2x3: the tile's pixels, 2 across and 3 down; the recipe renders the tile.
+TEST(Tile, RepeatWritesCopies) {
+    const std::string dir = scratch_dir("tile_repeat");
+    write_file(dir + "/p3m1.yaml", p3m1);
+    const fp::Image tile = render(dir, "p3m1.yaml", {"--tile"}, "tile.png");
+    const fp::Image rep = render(dir, "p3m1.yaml", {"--tile", "--repeat", "2x3"}, "rep.png");
+    ASSERT_EQ(rep.width, 2 * tile.width);
+    ASSERT_EQ(rep.height, 3 * tile.height);
+    for (int j = 0; j < rep.height; ++j)
+        for (int i = 0; i < rep.width; ++i)
+            for (int c = 0; c < 3; ++c)
+                ASSERT_EQ(rep.pixels[(std::size_t(j) * rep.width + i) * 3 + c],
+                          tile.pixels[(std::size_t(j % tile.height) * tile.width + i % tile.width) * 3 + c]);
+    const auto r = run_cli({"render", "--quiet", dir + "/rep.png", "-o", dir + "/again.png"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(read_file(dir + "/again.png"), read_file(dir + "/tile.png"));
+}
+
 TEST(Tile, SameBytesOnAnyThreadCount) {
     const std::string dir = scratch_dir("tile_threads");
     write_file(dir + "/p3m1.yaml", p3m1);
@@ -353,6 +371,10 @@ TEST(Tile, RefusedWithOneLine) {
         {"render", "--quiet", dir + "/s.yaml", "--print-size", "30", "-o", dir + "/x.png"},
         "--print-size: expected WIDTH or WIDTHxHEIGHT, each a positive number and a unit (mm, cm or in), "
         "as 30cm or 30cmx20cm, got '30'");
+    one_line({"render", "--quiet", dir + "/s.yaml", "--repeat", "3x3", "-o", dir + "/x.png"},
+             "--repeat: repeats a tile: give --tile too");
+    one_line({"render", "--quiet", dir + "/s.yaml", "--tile", "--repeat", "3", "-o", dir + "/x.png"},
+             "--repeat: expected NxM, copies across and down (1 to 16 each), as 3x3, got '3'");
     EXPECT_FALSE(std::filesystem::exists(dir + "/x.png"));
 }
 

@@ -11,12 +11,13 @@
 
 namespace fp::host {
 
-/// What the render command was asked for: --tile, --dpi N, --print-size SIZE.
+/// What the render command was asked for: --tile, --repeat NxM, --dpi N, --print-size SIZE.
 struct PrintRequest {
     bool tile = false;
+    std::string repeat;     ///< empty: not given
     double dpi = 0;         ///< 0: not given
     std::string print_size; ///< empty: not given
-    bool any() const { return tile || dpi > 0 || !print_size.empty(); }
+    bool any() const { return tile || !repeat.empty() || dpi > 0 || !print_size.empty(); }
 };
 
 /// --print-size: a physical width, or width x height, each a number and a unit (mm, cm or in):
@@ -26,6 +27,16 @@ struct PrintSize {
     double width = 0, height = 0;
 };
 PrintSize parse_print_size(const std::string& s);
+
+/// --repeat: "NxM", N copies across and M down, each 1 to 16 (a preview of the tiling; only
+/// with --tile). Throws fp::InputError naming the option.
+struct Repeat {
+    int across = 1, down = 1;
+};
+Repeat parse_repeat(const PrintRequest& req);
+
+/// The image repeated r.across x r.down times.
+Image repeat_image(const Image& img, const Repeat& r);
 
 /// load_pipeline with what `req` implies:
 ///   --dpi with --print-size: the size in pixels, renderer.width = round(width * dpi) (and
