@@ -62,7 +62,7 @@ struct Options {
     bool quiet = false, force = false, check = false, verbose = false;
     std::string steps = "1";
     long long level = -1;
-    PrintRequest print; // --tile, --dpi, --print-size
+    PrintRequest print; // --tile, --repeat, --dpi, --print-size
 };
 
 Registry make_registry(const Options& o) {
@@ -332,7 +332,7 @@ int cmd_render(const Options& o, bool validate_only) {
     // replaces that. The flag is checked once the checks are done and polled by the render.
     install_sigint();
     if (!o.vary.empty() && o.print.any())
-        throw InputError("--tile, --dpi and --print-size make one image: not with --vary");
+        throw InputError("--tile, --repeat, --dpi and --print-size make one image: not with --vary");
     if (!o.vary.empty()) return cmd_collection(o, validate_only);
     const Registry reg = make_registry(o);
     const Pipeline p = told(load_for_print(reg, o.config, o.sets, o.print));

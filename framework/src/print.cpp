@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 namespace fp::host {
@@ -103,7 +104,14 @@ Pipeline load_for_print(const Registry& reg, const std::string& config, std::vec
                          "wallpaper mapping)");
     sets.push_back("renderer.tile=true");
     try {
-        return load_pipeline(reg, config, sets);
+        Pipeline p = load_pipeline(reg, config, sets);
+        const Repeat r = parse_repeat(req);
+        if (std::int64_t(p.renderer->width()) * r.across > 65536 ||
+            std::int64_t(p.renderer->height()) * r.down > 65536)
+            throw InputError("--repeat " + req.repeat + ": the " + std::to_string(p.renderer->width()) + "x" +
+                             std::to_string(p.renderer->height()) +
+                             " tile repeated would be wider or taller than 65536 pixels");
+        return p;
     } catch (const InputError& e) {
         // The renderer's refusal of `tile`, said as the option the user gave.
         const std::string m = e.what(), at = "--set renderer.tile=true: renderer.tile: ";

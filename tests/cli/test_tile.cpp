@@ -187,6 +187,12 @@ TEST(Tile, WallpaperMapsDeclareTheirPeriods) {
         f->apply(fp::Points<double>{&x0, &y0, 1}, nullptr);
         f->apply(fp::Points<double>{&x, &y, 1}, nullptr);
         EXPECT_GT(std::fabs(x - x0) + std::fabs(y - y0), 1e-6) << g;
+        // cm and cmm also forget their centring (pi, pi) (2 pi Z^2 is a sublattice of theirs).
+        if (std::string(g) == "cm" || std::string(g) == "cmm") {
+            x = 0.3 + pi, y = 0.2 + pi;
+            f->apply(fp::Points<double>{&x, &y, 1}, nullptr);
+            EXPECT_LT(std::fabs(x - x0) + std::fabs(y - y0), 1e-12) << g;
+        }
     }
     EXPECT_FALSE(fp::test::host().make<fp::Transform>("{type: gumowski-mira}")->periods());
 }
@@ -375,6 +381,13 @@ TEST(Tile, RefusedWithOneLine) {
              "--repeat: repeats a tile: give --tile too");
     one_line({"render", "--quiet", dir + "/s.yaml", "--tile", "--repeat", "3", "-o", dir + "/x.png"},
              "--repeat: expected NxM, copies across and down (1 to 16 each), as 3x3, got '3'");
+    write_file(dir + "/c.yaml", cmm);
+    one_line({"render", "--quiet", dir + "/c.yaml", "--tile", "--vary", "renderer.samples=1,4", "-o",
+              dir + "/x.png"},
+             "--tile, --repeat, --dpi and --print-size make one image: not with --vary");
+    one_line({"render", "--quiet", dir + "/c.yaml", "--tile", "--repeat", "16x2", "--set",
+              "renderer.width=5000", "-o", dir + "/x.png"},
+             "--repeat 16x2: the 5000x5000 tile repeated would be wider or taller than 65536 pixels");
     EXPECT_FALSE(std::filesystem::exists(dir + "/x.png"));
 }
 

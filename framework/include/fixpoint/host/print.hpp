@@ -44,7 +44,9 @@ Image repeat_image(const Image& img, const Repeat& r);
 ///     from its width);
 ///   --tile: renderer.tile = true, for a renderer that declares `tile` (orbit-trap); any other
 ///     refuses with "--tile: the RENDERER renderer draws no periodic pattern; only orbit-trap
-///     renders one period (with a wallpaper mapping)".
+///     renders one period (with a wallpaper mapping)", and the renderer's refusal of `tile`
+///     is said as "--tile: ...";
+///   --repeat: checked (NxM, with --tile, at most 65536 pixels across and down).
 /// Throws fp::InputError.
 Pipeline load_for_print(const Registry& reg, const std::string& config, std::vector<std::string> sets,
                         const PrintRequest& req);
