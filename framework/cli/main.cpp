@@ -10,6 +10,7 @@
 #include <fixpoint/host/explore.hpp>
 #include <fixpoint/host/image_io.hpp>
 #include <fixpoint/host/pipeline.hpp>
+#include <fixpoint/host/print.hpp>
 #include <fixpoint/host/progress.hpp>
 #include <fixpoint/host/registry.hpp>
 #include <fixpoint/host/runtime.hpp>
@@ -73,6 +74,7 @@ struct Options {
     double tolerance = SymmetryOptions{}.tolerance, threshold = SymmetryOptions{}.threshold;
     int smooth = SymmetryOptions{}.smooth;
     bool json = false;
+    PrintRequest print; // --tile, --repeat, --dpi, --print-size
 };
 
 Registry make_registry(const Options& o) {
@@ -341,9 +343,11 @@ int cmd_render(const Options& o, bool validate_only) {
     // not lost: a background job of a script starts with SIGINT ignored, and the handler
     // replaces that. The flag is checked once the checks are done and polled by the render.
     install_sigint();
+    if (!o.vary.empty() && o.print.any())
+        throw InputError("--tile, --repeat, --dpi and --print-size make one image: not with --vary");
     if (!o.vary.empty()) return cmd_collection(o, validate_only);
     const Registry reg = make_registry(o);
-    const Pipeline p = told(load_pipeline(reg, o.config, o.sets));
+    const Pipeline p = told(load_for_print(reg, o.config, o.sets, o.print));
     const unsigned threads = o.threads ? o.threads : hardware_threads();
     check_memory(p, threads);
     const Output output = resolve_output(o, p);
@@ -368,7 +372,13 @@ int cmd_render(const Options& o, bool validate_only) {
         write_bytes(doc, out);
     } else {
         const Image img = render_checked(p, threads, o.quiet, stats, secs);
-        write_image(img, out, p.bit_depth, p.recipe);
+        const Repeat r = parse_repeat(o.print);
+        const std::string recipe = r.across * r.down == 1
+                                       ? p.recipe
+                                       : "# the tile repeated " + o.print.repeat +
+                                             " (--repeat); the recipe renders one tile\n" + p.recipe;
+        write_image(repeat_image(img, r), out, p.bit_depth, recipe,
+                    print_resolution(o.print, img.width, img.height));
     }
     if (!o.quiet)
         spdlog::info(
@@ -769,6 +779,21 @@ int main(int argc, char** argv) {
                        "OUT-<k>.png, and a contact sheet with captions to OUT");
     render->add_option("--columns", o.columns, "Columns of the contact sheet (default: about square)")
         ->check(CLI::Range(1, 1000));
+    render->add_flag("--tile", o.print.tile,
+                     "Render one period of a periodic pattern (orbit-trap with a wallpaper map, Picard), so "
+                     "that copies join without a seam: the smallest rectangle of periods centred on the "
+                     "area's centre, at the config's width, the height following (square pixels)");
+    render->add_option("--repeat", o.print.repeat,
+                       "With --tile: write the tile repeated NxM times (3x3), to see it join");
+    render
+        ->add_option("--dpi", o.print.dpi,
+                     "Print resolution in pixels per inch, written into the image (TIFF and PNG); with "
+                     "--print-size it sets the size in pixels")
+        ->check(CLI::PositiveNumber);
+    render->add_option("--print-size", o.print.print_size,
+                       "Physical size, WIDTH or WIDTHxHEIGHT in mm, cm or in (30cm, 30cmx20cm): with --dpi "
+                       "the size in pixels, alone the resolution written (pixels / size); a 16-bit TIFF "
+                       "for print: -o out.tif --set output.bit_depth=16");
 
     ExploreOptions ex;
     auto* explore = app.add_subcommand(

@@ -66,7 +66,8 @@ void check_output(const std::string& path) {
         throw InputError("cannot write '" + path + "': " + std::strerror(errno));
 }
 
-void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe) {
+void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
+                 const Resolution& resolution) {
     const Format f = format_for(path);
     if (is_vector(f))
         throw InputError("'" + path +
@@ -80,6 +81,11 @@ void write_image(const Image& img, const std::string& path, int bit_depth, const
     spec.attribute("ImageDescription", recipe);
     spec.attribute("Software", "fixpoint " FIXPOINT_VERSION);
     if (f == Format::Exr) spec.attribute("compression", "zip");
+    if (resolution.x > 0 && resolution.y > 0) {
+        spec.attribute("XResolution", float(resolution.x));
+        spec.attribute("YResolution", float(resolution.y));
+        spec.attribute("ResolutionUnit", "inch");
+    }
 
     auto out = OIIO::ImageOutput::create(oiio_format);
     if (!out) throw InternalError(std::string("OpenImageIO has no writer for ") + oiio_format);

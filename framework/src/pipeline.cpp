@@ -115,6 +115,7 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
     p.renderer = std::dynamic_pointer_cast<const Renderer>(build(reg, *typed));
     if (!p.renderer) throw InternalError("renderer plugin built an object that is not a Renderer");
     p.renderer_mark = r->mark;
+    p.renderer_type = typed->plugin->desc->name;
 
     // The plugins the render uses, each "VERSION HASH": recorded in the recipe, and compared
     // with those a recipe (or a config copied from one) was made with.

@@ -37,6 +37,29 @@
 // exactly the negated point, and for a square area with W = H the transposed one exactly the
 // swapped point. (W = 1 or H = 1: that axis is sampled at the centre.)
 //
+// Tiles (`tile: true`, `fixpoint render --tile`)
+// ----------------------------------------------
+// The pattern is periodic when the map is (Transform::periods(): the wallpaper maps, with the
+// lattice 2 pi Z^2 for the square groups and 2 pi Z (1, 0) + 2 pi Z (1/2, sqrt(3)/2) for the
+// hexagonal ones) and the iteration is Picard: the traps are tested after each step, never on
+// the start point p_0 itself, so a sample's colour depends on p_0 only through f(p_0), and
+// f(p_0 + t) = f(p_0) for a period t (the reductions act on f's output only). Under any other
+// scheme a step also uses p_0 itself (the S-iteration's (1 - beta) p + beta f(p), Mann's
+// (1 - alpha) p + alpha f(p)), a translation by a period survives the first step, and the
+// pattern is not periodic: `tile` refuses it, as it refuses a map without periods.
+// With `tile`, the area is replaced by the smallest rectangle of periods (2 pi x 2 pi, or
+// 2 pi x 2 pi sqrt(3) for the hexagonal groups) centred on the area's centre (the default area
+// gives [-pi, pi)^2 and [-pi, pi) x [-pi sqrt 3, pi sqrt 3)), and the height by
+// round(W * cell height / cell width), so that pixels are square (to within 1 / (2 H) for the
+// hexagonal cell, whose sides are incommensurable). The pixels then divide the cell exactly:
+// pixel (i, j)'s sample (dx, dy) is at
+//     x0 = cx + (w / 2) (((2 i - (W - 1)) + 2 dx) * (1 / W)),  (xmin + (i + 1/2 + dx) w / W)
+// and y0 likewise (y flipped), the formula above with 1 / W for 1 / (W - 1): the pixel centres
+// lie half a pixel inside the cell's edges, so that pixel W would be pixel 0 one period on,
+// and copies of the image join without a seam (tests/cli/test_tile.cpp). In floating point
+// f(p_0 + t) and f(p_0) differ by rounding, which chaotic orbits can grow: the join matches
+// as closely as two renders of the same pattern at slightly different start points do.
+//
 // Samples: 1 is the pixel's own point (as the paper's algorithm); 8 is the pattern
 // (+-1/8, +-3/8), (+-3/8, +-1/8) (eight rooks, one per row and column of an 8 x 8 grid of the
 // pixel); s^2 (4, 9, 16, ...) a centred s x s grid. Each pattern is closed under the square's
@@ -82,7 +105,8 @@
 // Errors (ParamError): "area": "the area must be [xmin, xmax, ymin, ymax] with xmin < xmax" (or
 // ymin < ymax); "samples": "expected 1, 8 or a square number (4, 9, 16, ...) of samples: patterns
 // closed under the square's symmetries, got 3"; "colourer": "this colourer cannot colour
-// orbit-trap hits (use colour-map)"; "height": the image is too large.
+// orbit-trap hits (use colour-map)"; "height": the image is too large; "tile": the mapping
+// has no periods, or the iteration is not Picard (see Tiles), or the tile is too large.
 #include "orbit-trap/batch.hpp"
 #include "orbit-trap/reduce.hpp"
 
@@ -95,6 +119,7 @@
 #include <cstdint>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -186,6 +211,7 @@ public:
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
 
 private:
+    void set_tile();
     template <class T>
     fp::Image run(fp::RenderContext& ctx, fp::RenderStats& stats) const;
     template <class T>
@@ -193,6 +219,7 @@ private:
 
     fp::Frame frame_; ///< width, height, area (region), background (optional)
     double cx_ = 0, cy_ = 0, hx_ = 1, hy_ = 1;
+    double iw_ = 1, ih_ = 1; ///< 1 / (W - 1), 1 / (H - 1); with `tile`, 1 / W and 1 / H
     uint32_t max_iterations_ = 100;
     std::vector<Offset> offsets_;
     size_t tile_pixels_ = 1;
@@ -248,6 +275,27 @@ OrbitTrap::OrbitTrap(const fp::ParamBag& p) {
                                     : Reduction::none;
     double_ = p.string("precision") == "double";
     iteration_->check_steps(*mapping_, max_iterations_);
+    iw_ = 1.0 / double(std::max(frame_.width - 1, 1)), ih_ = 1.0 / double(std::max(frame_.height - 1, 1));
+    if (p.boolean("tile")) set_tile();
+}
+
+// `tile`: one rectangular period centred on the area's centre, square pixels (see Tiles).
+void OrbitTrap::set_tile() {
+    const std::optional<fp::PeriodLattice> cell = mapping_->periods();
+    if (!cell || !(cell->width > 0) || !(cell->height > 0))
+        throw fp::ParamError("tile", "the mapping is not periodic, so its pattern has no tile (the wallpaper "
+                                     "maps are)");
+    if (!iteration_->is_picard())
+        throw fp::ParamError("tile", "the pattern is periodic only under the Picard iteration: a step of "
+                                     "this iteration also uses the point itself, so a translation by a "
+                                     "period does not cancel");
+    const double h = std::max(1.0, std::round(double(frame_.width) * cell->height / cell->width));
+    if (double(frame_.width) * h >= 4294967295.0)
+        throw fp::ParamError("tile", "the tile is too large: width * height must be below 4294967295 pixels");
+    frame_.height = int(h);
+    hx_ = cell->width / 2, hy_ = cell->height / 2;
+    frame_.region = {cx_ - hx_, cx_ + hx_, cy_ - hy_, cy_ + hy_};
+    iw_ = 1.0 / double(frame_.width), ih_ = 1.0 / double(frame_.height);
 }
 
 uint64_t OrbitTrap::memory_bytes(unsigned workers) const {
@@ -264,14 +312,12 @@ TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, const fp::Rende
     const size_t ns = offsets_.size(), np = p1 - p0, b = np * ns;
     // The batch's start points (orbit-trap/kernels-inl.hpp, per target: plain loops the
     // compiler vectorises for each instruction set).
-    const double iw = 1.0 / double(std::max(frame_.width - 1, 1)),
-                 ih = 1.0 / double(std::max(frame_.height - 1, 1));
     const fp_orbit_trap::TileFrame tf{cx_,
                                       hx_,
                                       cy_,
                                       hy_,
-                                      iw,
-                                      ih,
+                                      iw_,
+                                      ih_,
                                       size_t(frame_.width),
                                       size_t(frame_.height),
                                       offsets_.data(),
@@ -378,6 +424,12 @@ constexpr fp::ParamSpec params[] = {
                                    "hexagonal lattice of p3 ... p6m into its hexagon about 0)")
         .def("fmod")
         .one_of("fmod|centred|floor|none|hexagonal"),
+    fp::param::boolean("tile",
+                       "render one period of the pattern, to be repeated without a seam: the area becomes "
+                       "the smallest rectangle of the map's periods, centred on the area's centre, and "
+                       "the height follows from the width (square pixels); needs a periodic mapping "
+                       "(wallpaper) and the Picard iteration")
+        .def("false"),
     fp::param::string("precision", "arithmetic of the orbits: float (twice the SIMD width) or double")
         .def("float")
         .one_of("float|double"),

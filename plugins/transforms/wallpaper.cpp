@@ -55,6 +55,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -205,7 +207,8 @@ wp::Matrix coefficients(const fp::ParamBag& p, const std::string& group) {
 class Wallpaper final : public fp::Transform {
 public:
     explicit Wallpaper(const fp::ParamBag& p)
-        : map_(coefficients(p, p.string("group")), wp::is_hexagonal(p.string("group")), reduction_of(p)) {
+        : map_(coefficients(p, p.string("group")), wp::is_hexagonal(p.string("group")), reduction_of(p)),
+          hexagonal_(wp::is_hexagonal(p.string("group"))) {
         map_.set_runners(&fp_wallpaper::dispatch_f, &fp_wallpaper::dispatch_d);
     }
 
@@ -215,8 +218,22 @@ public:
     /// The paper's area [-2 pi, 2 pi]^2 and a little more.
     fp::Box sample_domain() const override { return {-7, 7, -7, 7}; }
 
+    /// The input's periods (the output's reduction does not matter): 2 pi Z^2 for the square
+    /// groups (cm and cmm forget (pi, pi) too: 2 pi Z^2 is a sublattice of theirs with the same
+    /// smallest rectangle), and 2 pi Z (1, 0) + 2 pi Z (1/2, sqrt(3)/2) for the hexagonal ones
+    /// (X = v0 . p and Y = v1 . p change by multiples of 2 pi), whose smallest rectangle is
+    /// 2 pi x 2 pi sqrt(3).
+    std::optional<fp::PeriodLattice> periods() const override {
+        const double a = 2 * std::numbers::pi;
+        if (hexagonal_)
+            return fp::PeriodLattice{
+                {a, 0}, {a / 2, a * std::numbers::sqrt3 / 2}, a, a * std::numbers::sqrt3};
+        return fp::PeriodLattice{{a, 0}, {0, a}, a, a};
+    }
+
 private:
     wp::Map map_;
+    bool hexagonal_ = false;
 };
 
 #define FP_WALLPAPER_ENTRY(n)                                                                                \

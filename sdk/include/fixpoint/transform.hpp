@@ -36,6 +36,15 @@ struct KnownKernel {
     double c[6] = {};              ///< affine, gumowski_mira: the coefficients above
 };
 
+/// The translations a periodic map forgets: T(p + m a + n b) = T(p) for all integers m, n (in
+/// real arithmetic; floating point agrees up to rounding), and the smallest rectangle whose
+/// sides (width, 0) and (0, height) are such translations: one period of any picture that
+/// depends on p only through T(p), as a rectangular image tile.
+struct PeriodLattice {
+    Vec2 a, b;
+    double width = 0, height = 0;
+};
+
 class Transform : public Object {
 public:
     ~Transform() override;
@@ -69,6 +78,10 @@ public:
 
     /// The map as a known kernel (see KnownKernel), when it is one; the default is none.
     virtual KnownKernel kernel() const;
+
+    /// The map's lattice of periods (see PeriodLattice), when it is periodic (the wallpaper
+    /// maps); the default is none. `fixpoint render --tile` renders one rectangular period.
+    virtual std::optional<PeriodLattice> periods() const;
 };
 
 } // namespace fp

@@ -28,10 +28,17 @@ Format format_for(const std::string& path);
 /// file. Throws fp::InputError.
 void check_output(const std::string& path);
 
+/// The print resolution an image declares, in pixels per inch (0: none declared).
+struct Resolution {
+    double x = 0, y = 0;
+};
+
 /// Write atomically (a temporary file beside the target, then rename): a failed write never
 /// leaves a partial file at `path`. PNG and TIFF take `bit_depth` 8 or 16; EXR is float.
-/// `recipe` goes into the ImageDescription metadata.
-void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe);
+/// `recipe` goes into the ImageDescription metadata; a resolution, when given, into
+/// XResolution, YResolution and ResolutionUnit "inch" (TIFF's tags, PNG's pHYs chunk).
+void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
+                 const Resolution& resolution = {});
 
 /// The pixels as an 8- or 16-bit PNG or TIFF of write_image stores them (OpenImageIO's
 /// conversion, the one write_image uses): width * height * channels values of `bit_depth` bits

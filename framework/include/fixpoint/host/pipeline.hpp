@@ -19,8 +19,9 @@ namespace fp::host {
 struct Pipeline {
     std::shared_ptr<const Renderer> renderer;
     Mark renderer_mark;
-    std::string output_path; ///< from the config; empty when not given
-    Mark output_mark;        ///< where output.path stands (for messages about it)
+    std::string renderer_type; ///< the renderer plugin's name
+    std::string output_path;   ///< from the config; empty when not given
+    Mark output_mark;          ///< where output.path stands (for messages about it)
     int bit_depth = 8;
     /// The resolved recipe: every default filled in, the version; no output path (so that
     /// rendering a recipe gives the same bytes whatever it is written to).
