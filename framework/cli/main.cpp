@@ -423,14 +423,7 @@ int cmd_animate(const Options& o, AnimateOptions ao) {
 constexpr long long max_eval_steps = 1'000'000'000'000;
 
 std::string range_of(const ParamSpec& s) {
-    const bool lo = std::isfinite(s.lo), hi = std::isfinite(s.hi);
-    if (!lo && !hi) return "";
-    std::string r = s.lo_open || !lo ? "(" : "[";
-    r += lo ? format_real(s.lo) : "-inf";
-    r += ", ";
-    r += hi ? format_real(s.hi) : "inf";
-    r += s.hi_open || !hi ? ")" : "]";
-    return r;
+    return std::isfinite(s.lo) || std::isfinite(s.hi) ? declared_range(s) : "";
 }
 
 void print_params(const ParamSpec* ps, std::size_t n, const std::string& indent) {

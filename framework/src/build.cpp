@@ -339,6 +339,16 @@ std::string format_real(double v) {
     return std::string(buf, p);
 }
 
+std::string declared_range(const ParamSpec& s) {
+    const bool lo = std::isfinite(s.lo), hi = std::isfinite(s.hi);
+    std::string r = s.lo_open || !lo ? "(" : "[";
+    r += lo ? format_real(s.lo) : "-inf";
+    r += ", ";
+    r += hi ? format_real(s.hi) : "inf";
+    r += s.hi_open || !hi ? ")" : "]";
+    return r;
+}
+
 std::string format_float(float v) {
     char buf[64];
     auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);

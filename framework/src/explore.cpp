@@ -176,16 +176,6 @@ bool parse_q(std::string t, Gene& g) {
     return true;
 }
 
-std::string declared_range(const ParamSpec& s) {
-    const bool lo = std::isfinite(s.lo), hi = std::isfinite(s.hi);
-    std::string r = s.lo_open || !lo ? "(" : "[";
-    r += lo ? format_real(s.lo) : "-inf";
-    r += ", ";
-    r += hi ? format_real(s.hi) : "inf";
-    r += s.hi_open || !hi ? ")" : "]";
-    return r;
-}
-
 bool inside(const ParamSpec& s, double v) {
     if (v < s.lo || (s.lo_open && v <= s.lo)) return false;
     if (v > s.hi || (s.hi_open && v >= s.hi)) return false;

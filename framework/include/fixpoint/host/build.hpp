@@ -60,4 +60,8 @@ CNode resolved(const TObject& t);
 std::string format_real(double v);
 std::string format_float(float v);
 
+/// A parameter's declared range as interval text, "[0, 1)" or "(0, inf)"; "(-inf, inf)" when
+/// it has none.
+std::string declared_range(const ParamSpec& s);
+
 } // namespace fp::host
