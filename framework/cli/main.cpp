@@ -1,7 +1,8 @@
 // The `fixpoint` command line.
 //
 // Exit codes: 0 success, 2 bad input (config, parameters, command line), 1 internal
-// failure, 130 interrupted. Every error is one line on stderr.
+// failure or a check's "no" (`symmetry --group G`: G is not kept), 130 interrupted. Every
+// error is one line on stderr.
 #include <fixpoint/fixpoint.hpp>
 #include <fixpoint/host/animate.hpp>
 #include <fixpoint/host/build.hpp>
@@ -350,6 +351,17 @@ int cmd_render(const Options& o, bool validate_only) {
     const Pipeline p = told(load_for_print(reg, o.config, o.sets, o.print));
     const unsigned threads = o.threads ? o.threads : hardware_threads();
     check_memory(p, threads);
+    if (const Repeat r = parse_repeat(o.print); r.across * r.down > 1) {
+        // The repeated image is made after the render, beside the tile: check both now.
+        const std::uint64_t repeated = std::uint64_t(p.renderer->width()) * std::uint64_t(r.across) *
+                                       std::uint64_t(p.renderer->height()) * std::uint64_t(r.down) * 3 *
+                                       sizeof(float);
+        const std::uint64_t need = p.renderer->memory_bytes(threads) + repeated, have = available_memory();
+        if (need > have)
+            throw InputError("--repeat " + o.print.repeat + ": the tile and its repeated image need " +
+                             format_bytes(need) + " of memory; this machine has " + format_bytes(have) +
+                             " available");
+    }
     const Output output = resolve_output(o, p);
     const std::string& out = output.path;
     check_output_for(output, o);
@@ -653,6 +665,15 @@ int cmd_symmetry(const Options& o) {
             throw InputError("cannot read " + quote(f, 200) + ": " +
                              (fs::exists(f, ec) ? "not a file" : "no such file"));
     }
+    // Every config checked, its memory too, before the first render: a bad second config must
+    // not stop the run with the first one's report already printed.
+    for (const auto& f : files) {
+        if (!is_config(f)) continue;
+        if (!reg) reg = std::make_unique<Registry>(make_registry(o));
+        const bool is_against = !o.against.empty() && &f == &files.back();
+        check_memory(load_pipeline(*reg, f, is_against ? std::vector<std::string>{} : o.sets),
+                     o.threads ? o.threads : hardware_threads());
+    }
     std::optional<std::pair<Image, PixelFrame>> against;
     if (!o.against.empty()) against = load(o.against, {}, "--against", std::nullopt);
     bool all_kept = true;
@@ -919,11 +940,9 @@ int main(int argc, char** argv) {
         "picture at g(p) (bilinear, or one of the four "
         "pixels around g(p): edges seldom fall on pixel centres). Kept: score >= --threshold. An operation "
         "that keeps fewer than 100 pixels inside the picture is n/a, and groups that need it are undecided.\n"
-        "The hexagonal maps are reduced mod 2 pi on the square lattice, which their 3- and 6-fold rotations "
-        "do "
-        "not preserve: those rotations hold for about 96 % of a pattern's pixels; the default threshold "
-        "allows "
-        "it.\n"
+        "With the paper's reduction (fmod, on the square lattice) the hexagonal maps keep their 3- and "
+        "6-fold rotations for about 97 % of a pattern's pixels (the default threshold allows it); with "
+        "reduction: hexagonal the rotations score 0.999.\n"
         "Largest group: the kept group with the most operations per unit area; the point group is the "
         "largest rosette (C1 ... D6) about the origin.\n"
         "Exit: 0; with --group 0 when every image keeps it, 1 when one does not; 2 bad input.\n"

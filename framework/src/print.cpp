@@ -87,7 +87,16 @@ Pipeline load_for_print(const Registry& reg, const std::string& config, std::vec
                                  ": " + what + " of " + format_real(n) + " pixels (1 to 65536)");
             return std::to_string(static_cast<long long>(n));
         };
-        sets.push_back("renderer.width=" + pixels(size.width, "a width"));
+        const std::string width = pixels(size.width, "a width");
+        if (size.height == 0 && !req.tile) {
+            // The width alone: the height follows in proportion, so that the pixels keep their
+            // shape over the renderer's view (a tile's height follows from its width anyway).
+            const Pipeline before = load_pipeline(reg, config, sets);
+            const double h = std::round(double(before.renderer->height()) * std::stod(width) /
+                                        double(before.renderer->width()));
+            sets.push_back("renderer.height=" + pixels(h / req.dpi, "a height (in proportion to the width)"));
+        }
+        sets.push_back("renderer.width=" + width);
         if (size.height > 0) sets.push_back("renderer.height=" + pixels(size.height, "a height"));
     } else if (!req.print_size.empty()) {
         parse_print_size(req.print_size); // checked before the render
@@ -106,8 +115,8 @@ Pipeline load_for_print(const Registry& reg, const std::string& config, std::vec
     try {
         Pipeline p = load_pipeline(reg, config, sets);
         const Repeat r = parse_repeat(req);
-        if (std::int64_t(p.renderer->width()) * r.across > 65536 ||
-            std::int64_t(p.renderer->height()) * r.down > 65536)
+        if (r.across * r.down > 1 && (std::int64_t(p.renderer->width()) * r.across > 65536 ||
+                                      std::int64_t(p.renderer->height()) * r.down > 65536))
             throw InputError("--repeat " + req.repeat + ": the " + std::to_string(p.renderer->width()) + "x" +
                              std::to_string(p.renderer->height()) +
                              " tile repeated would be wider or taller than 65536 pixels");

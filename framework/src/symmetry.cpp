@@ -286,6 +286,11 @@ PixelFrame frame_from_recipe(const std::string& recipe, int width, int height, c
     const CNode* r = root.is_map() ? root.find("renderer") : nullptr;
     if (!r || !r->is_map())
         throw InputError(source + ": its recipe has no renderer; give the region with --area");
+    // A tile (render --tile) shows one period about the area's centre, not the area: its frame
+    // is not in the recipe's numbers.
+    if (const CNode* t = r->find("tile"); t && t->is_scalar() && t->scalar == "true")
+        throw InputError(source + ": a tile (render --tile) shows one period, not its recipe's area; render "
+                                  "the pattern without --tile to measure it");
     PixelFrame f;
     f.width = width, f.height = height;
     const CNode* reg = r->find("area");

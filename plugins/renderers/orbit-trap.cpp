@@ -290,6 +290,10 @@ void OrbitTrap::set_tile() {
                                      "this iteration also uses the point itself, so a translation by a "
                                      "period does not cancel");
     const double h = std::max(1.0, std::round(double(frame_.width) * cell->height / cell->width));
+    if (h > 65536)
+        throw fp::ParamError("tile", "the tile would be " + std::to_string(frame_.width) + "x" +
+                                         std::to_string(std::int64_t(h)) +
+                                         " pixels, taller than 65536: give a smaller width");
     if (double(frame_.width) * h >= 4294967295.0)
         throw fp::ParamError("tile", "the tile is too large: width * height must be below 4294967295 pixels");
     frame_.height = int(h);

@@ -43,7 +43,7 @@
 // does: the cell is invariant under R6 and both mirrors and f is L-periodic, so the reduced
 // orbit of R p is R times the reduced orbit of p (up to rounding, and except where a point of the
 // orbit falls on a cell's boundary). The square groups' f is not L-periodic: `hexagonal` is
-// refused for them ("reduction: hexagonal is for the hexagonal groups (p3, p3m1, p31m, p6, p6m),
+// refused for them ("hexagonal is for the hexagonal groups (p3, p3m1, p31m, p6, p6m),
 // whose lattice of periods is hexagonal; p4m's is the square lattice 2 pi Z^2 (use fmod,
 // centred, floor or none)").
 //
@@ -113,7 +113,7 @@ wp::Reduction reduction_of(const fp::ParamBag& p) {
     const std::string& group = p.string("group");
     const wp::Reduction r = reduction_of(p.string("reduction"));
     if (r == wp::Reduction::hexagonal && !wp::is_hexagonal(group))
-        throw fp::ParamError("reduction", "reduction: hexagonal is for the hexagonal groups (p3, p3m1, p31m, "
+        throw fp::ParamError("reduction", "hexagonal is for the hexagonal groups (p3, p3m1, p31m, "
                                           "p6, p6m), whose lattice of periods is hexagonal; " +
                                               group +
                                               "'s is the square lattice 2 pi Z^2 (use fmod, centred, floor "

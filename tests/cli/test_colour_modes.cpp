@@ -108,6 +108,22 @@ TEST(FlameModes, LastAmongChainsIsTheLargestStepThenChain) {
     EXPECT_GT(std::abs(c2[1] - want[1]) + std::abs(c2[2] - want[2]), 1e-3);
 }
 
+TEST(FlameModes, LastIsMergedAcrossWorkersByStepThenChain) {
+    // 3000 chains (six blocks and more, so 2 and 3 threads split them over their workers) and
+    // 5999 points: chains 0-2998 plot 2 points, chain 2999 one. Every worker's bin holds its own
+    // last (step, chain); the merge must pick (step 1, chain 2998) whichever worker had it.
+    const std::string lines = "  chains: 3000\n  points: 5999\n  skip: 0\n  start: [0.1, 0.1]\n"
+                              "  colourer: {type: flame, gamma: 1, mode: last}\n" +
+                              red_map;
+    const auto want = after(start_colour(7, 2998), {1, 0, 0}, 2);
+    for (int threads : {1, 2, 3}) {
+        const fp::Image img = render("last_merge_" + std::to_string(threads), lines, threads);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(at(img, 1, 0, k), want[k], 1e-6) << threads << " " << k;
+    }
+    const auto c2999 = after(start_colour(7, 2999), {1, 0, 0}, 1);
+    EXPECT_GT(std::abs(c2999[1] - want[1]) + std::abs(c2999[2] - want[2]), 1e-3);
+}
+
 TEST(FlameModes, SetColourShowsOneSetsColourNeverAMix) {
     // Two maps onto the same point, red and blue: the mean mixes them, set-colour shows the
     // colour of the set that produced the last point, exactly.

@@ -388,7 +388,37 @@ TEST(Tile, RefusedWithOneLine) {
     one_line({"render", "--quiet", dir + "/c.yaml", "--tile", "--repeat", "16x2", "--set",
               "renderer.width=5000", "-o", dir + "/x.png"},
              "--repeat 16x2: the 5000x5000 tile repeated would be wider or taller than 65536 pixels");
+    // A hexagonal tile is sqrt(3) times as tall as wide: too tall, said as such (no --repeat given).
+    write_file(dir + "/h.yaml", p3m1);
+    one_line({"render", "--quiet", dir + "/h.yaml", "--tile", "--set", "renderer.width=40000", "-o",
+              dir + "/x.png"},
+             "--tile: the tile would be 40000x69282 pixels, taller than 65536: give a smaller width");
     EXPECT_FALSE(std::filesystem::exists(dir + "/x.png"));
+}
+
+// --print-size with a width only, without --tile: the height follows in proportion, so the
+// pixels keep their shape (a 40 x 20 render printed 4 cm wide at 50.8 dpi: 80 x 40).
+TEST(Tile, PrintWidthKeepsTheAspect) {
+    const std::string dir = scratch_dir("tile_print_aspect");
+    write_file(dir + "/c.yaml", fp::test::replace_once(cmm, "  height: 40\n", "  height: 20\n"));
+    const auto r = run_cli(
+        {"render", "--quiet", dir + "/c.yaml", "--dpi", "50.8", "--print-size", "4cm", "-o", dir + "/p.png"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const std::string png = read_file(dir + "/p.png");
+    const std::size_t at = png.find("IHDR");
+    EXPECT_EQ(be32(png, at + 4), 80u);
+    EXPECT_EQ(be32(png, at + 8), 40u);
+}
+
+// `fixpoint symmetry` cannot place a tile by its recipe's area: it says so.
+TEST(Tile, SymmetryRefusesATile) {
+    const std::string dir = scratch_dir("tile_symmetry");
+    write_file(dir + "/c.yaml", cmm);
+    ASSERT_EQ(run_cli({"render", "--quiet", dir + "/c.yaml", "--tile", "-o", dir + "/t.png"}).rc, 0);
+    const auto r = run_cli({"symmetry", dir + "/t.png"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, dir + "/t.png: a tile (render --tile) shows one period, not its recipe's area; render "
+                           "the pattern without --tile to measure it\n");
 }
 
 } // namespace

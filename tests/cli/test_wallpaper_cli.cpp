@@ -70,7 +70,7 @@ std::vector<Case> cases() {
          "bad.yaml:10:18: renderer.maps[0].reduction: must be one of 'fmod', 'centred', 'floor', 'none' or "
          "'hexagonal', got 'mod'"},
         {"hexagonal_on_square", "      group: p4m\n      seed: 1\n      reduction: hexagonal\n",
-         "bad.yaml:10:18: renderer.maps[0].reduction: reduction: hexagonal is for the hexagonal groups (p3, "
+         "bad.yaml:10:18: renderer.maps[0].reduction: hexagonal is for the hexagonal groups (p3, "
          "p3m1, p31m, p6, p6m), whose lattice of periods is hexagonal; p4m's is the square lattice 2 pi Z^2 "
          "(use fmod, centred, floor or none)"},
     };

@@ -184,7 +184,7 @@ TEST(WallpaperHexagonal, SquareGroupsRefuseIt) {
     };
     EXPECT_EQ(
         error_of("{type: wallpaper, group: p4m, seed: 1, reduction: hexagonal}"),
-        "transform.reduction: reduction: hexagonal is for the hexagonal groups (p3, p3m1, p31m, p6, p6m), "
+        "transform.reduction: hexagonal is for the hexagonal groups (p3, p3m1, p31m, p6, p6m), "
         "whose lattice of periods is hexagonal; p4m's is the square lattice 2 pi Z^2 (use fmod, centred, "
         "floor or none)");
     for (const char* g : hex_groups)
