@@ -1,0 +1,1 @@
+// The preview page (docs/serve-api.md): being written.
