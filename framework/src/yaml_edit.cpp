@@ -208,9 +208,18 @@ struct Edit {
     std::string text;
 };
 
-std::string apply(std::string t, std::vector<Edit> edits) {
+// The text with `edits` made (back to front); a text whose extents were misread (edits out
+// of order) is refused like one that would read differently.
+std::string apply(std::string t, std::vector<Edit> edits, const std::string& path) {
     std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) { return a.begin > b.begin; });
-    for (const Edit& e : edits) t.replace(e.begin, e.end - e.begin, e.text);
+    std::size_t limit = t.size();
+    for (const Edit& e : edits) {
+        if (e.begin > e.end || e.end > limit)
+            throw InputError(path +
+                             ": cannot edit this text in place (its layout is not one this edit reads)");
+        t.replace(e.begin, e.end - e.begin, e.text);
+        limit = e.begin;
+    }
     return t;
 }
 
@@ -399,8 +408,8 @@ void check(const std::string& out, const std::string& source, const CNode& expec
         ok = false;
     }
     if (!ok)
-        throw InputError(path + ": cannot " + what +
-                         " in place: the text would read differently (quote the value?)");
+        throw InputError(path + ": cannot " + what + " in place: the text would read differently" +
+                         (what.rfind("remove", 0) == 0 ? "" : " (quote the value?)"));
 }
 
 CNode& walk(CNode& root, const std::vector<Hop>& hops, std::size_t n) {
@@ -434,7 +443,7 @@ std::string edit_set(const std::string& text, const std::string& source, const s
         else
             edits = replace(L, deepest, "{" + loc.missing[0] + ": " + nested + "}", parse_value(path, "{}"));
     }
-    std::string out = apply(text, edits);
+    std::string out = apply(text, edits, path);
     CNode expected = root;
     override_target(expected, path, path, v.mark) = v;
     check(out, source, expected, path, "write " + quote(value));
@@ -468,7 +477,7 @@ std::string edit_remove(const std::string& text, const std::string& source, cons
         const int first = L.line_of(dash), last = L.line_of(extent(L, *item.node, false).end);
         edits = {{L.start(first), L.next(last), ""}};
     }
-    std::string out = apply(text, edits);
+    std::string out = apply(text, edits, path);
     CNode expected = root;
     CNode& s = walk(expected, loc.hops, loc.hops.size() - 1);
     s.items.erase(s.items.begin() + long(i));
@@ -511,7 +520,7 @@ std::string edit_append(const std::string& text, const std::string& source, cons
         }
         e = {s.end, s.end, L.eol() + spaces(col) + item};
     }
-    std::string out = apply(text, {e});
+    std::string out = apply(text, {e}, path);
     CNode expected = root;
     walk(expected, loc.hops, loc.hops.size()).items.push_back(v);
     check(out, source, expected, path, "append " + quote(value));

@@ -214,6 +214,8 @@ TEST(YamlEdit, ValuesAndTextsThatDoNotParseAreRefused) {
     EXPECT_EQ(error_of([] { set(block, "renderer.maps[0].shape.radius", "1, 2"); }),
               "renderer.maps[0].shape.radius: cannot write '1, 2' in place: the text would read differently "
               "(quote the value?)");
+    EXPECT_EQ(error_of([] { remove("a:\n- - 1\n  - 2\n", "a[0][0]"); }),
+              "a[0][0]: cannot remove the item in place: the text would read differently");
     EXPECT_EQ(error_of([] { set("a: b\n  c\n", "a", "1"); }),
               "a: cannot write '1' in place: the text would read differently (quote the value?)");
 }
