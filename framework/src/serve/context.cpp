@@ -87,7 +87,22 @@ std::string Context::inside(const std::string& rel, const std::string& what, con
         if (part == "..") throw HttpError{403, pre + "'..' is refused: paths stay inside the served folder"};
     std::error_code ec;
     // The real path, symlinks followed, of the part that exists.
-    const fs::path real = fs::weakly_canonical(root / p, ec);
+    fs::path real = fs::weakly_canonical(root / p, ec);
+    // weakly_canonical stops at the first part that does not exist; a dangling symlink there
+    // would still be followed by a write, so its target is resolved in turn.
+    for (int hops = 0; !ec; ++hops) {
+        fs::path head;
+        std::error_code missing; // (set for a part that does not exist: that is the question)
+        auto part = real.begin();
+        for (; part != real.end(); ++part)
+            if (head /= *part; !fs::exists(fs::status(head, missing))) break;
+        if (part == real.end() || !fs::is_symlink(fs::symlink_status(head, missing))) break;
+        if (hops == 40) throw HttpError{403, pre + "too many levels of symbolic links"};
+        fs::path target = fs::read_symlink(head, ec);
+        if (target.is_relative()) target = head.parent_path() / target;
+        for (++part; part != real.end(); ++part) target /= *part;
+        real = fs::weakly_canonical(target, ec);
+    }
     if (ec) throw HttpError{403, pre + "cannot resolve it: " + ec.message()};
     if (!is_within(real, root))
         throw HttpError{403, pre + "leaves the served folder through a symbolic link (to " +
