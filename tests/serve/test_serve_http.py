@@ -140,10 +140,11 @@ def test_state_is_the_config_and_the_version(srv):
 
 
 def test_without_a_config_the_page_gets_a_starter_that_checks(tmp_path):
-    s = Server(tmp_path)
+    s = Server(tmp_path, "--threads", "3")
     try:
         state = s.api("api/state")
         assert state["path"] == ""
+        assert state["threads"] == 3
         assert s.api("api/check", {"text": state["text"], "path": ""}) == {
             "ok": True, "renderer": "chaos-game", "width": 512, "height": 512, "warnings": []}
     finally:
