@@ -547,11 +547,19 @@ int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& s
     const std::string url =
         "http://" + shown + ":" + std::to_string(c.port) + "/" + (c.token.empty() ? "" : "?token=" + c.token);
     std::thread listener([&srv] { srv.listen_after_bind(); });
-    if (o.on_listen) o.on_listen(url);
+    const auto finish = [&] {
+        preview.shutdown(); // wakes the long polls, so that the pool's threads end
+        srv.stop();
+        listener.join();
+    };
+    try {
+        if (o.on_listen) o.on_listen(url);
+    } catch (...) {
+        finish();
+        throw;
+    }
     while (!stop.load()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    preview.shutdown(); // wakes the long polls, so that the pool's threads end
-    srv.stop();
-    listener.join();
+    finish();
     return 0;
 }
 

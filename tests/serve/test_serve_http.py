@@ -409,6 +409,17 @@ def test_save_writes_the_text(srv):
         assert f.read() == "# x\n"
 
 
+def test_save_keeps_unicode_sent_as_escapes(srv):
+    text = "# caf\u00e9, \U0001F600, \u4e2d\n" + fig4a_text()
+    body = json.dumps({"text": text, "path": "unicode.yaml"}).encode()  # ASCII: \\u escapes, a surrogate pair
+    assert b"\\ud83d\\ude00" in body
+    status, _, data = srv.post("api/save", body)
+    assert (status, json.loads(data)) == (200, {"ok": True, "path": "unicode.yaml"})
+    with open(os.path.join(srv.root, "unicode.yaml"), encoding="utf-8") as f:
+        assert f.read() == text
+    assert srv.api("api/check", {"text": text, "path": "unicode.yaml"})["ok"] is True
+
+
 @pytest.mark.parametrize("path", ["saved.png", "saved.txt", "saved", "fig4a.yaml.bak"])
 def test_save_writes_only_yaml(srv, path):
     status, _, data = srv.post("api/save", {"text": "# x\n", "path": path})
