@@ -546,9 +546,16 @@ int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& s
     const std::string shown = o.host.find(':') != std::string::npos ? "[" + o.host + "]" : o.host;
     const std::string url =
         "http://" + shown + ":" + std::to_string(c.port) + "/" + (c.token.empty() ? "" : "?token=" + c.token);
-    std::thread listener([&srv] { srv.listen_after_bind(); });
+    std::atomic<bool> listened{false};
+    std::thread listener([&srv, &listened] {
+        srv.listen_after_bind();
+        listened.store(true);
+    });
     const auto finish = [&] {
         preview.shutdown(); // wakes the long polls, so that the pool's threads end
+        // httplib's stop() does nothing before the listener runs: wait for it to start (or fail).
+        while (!srv.is_running() && !listened.load())
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
         srv.stop();
         listener.join();
     };
