@@ -612,6 +612,20 @@ def test_edit_sets_a_value_in_place(srv):
     assert got == {"ok": True, "text": text.replace("centre: [1, 1], radius: 1}", "centre: [1, 1], radius: 0.7}")}
 
 
+LAST_MAP = '    - {type: inversion, shape: {type: circle, centre: [0, -0.30667], radius: 0.21685}, colour: "#ff9ff3"}\n'
+NEW_MAP = "{type: inversion, shape: {type: circle, centre: [0, 0], radius: 0.1}}"
+
+
+def test_edit_removes_and_appends_items_of_maps(srv):
+    text = fig4a_text()
+    assert text.endswith(LAST_MAP)
+    got = srv.api("api/edit", {"text": text, "path": "fig4a.yaml", "op": "remove", "target": "renderer.maps[7]"})
+    assert got == {"ok": True, "text": text[: -len(LAST_MAP)]}
+    got = srv.api("api/edit", {"text": text, "path": "fig4a.yaml", "op": "append", "target": "renderer.maps",
+                               "value": NEW_MAP})
+    assert got == {"ok": True, "text": text + "    - " + NEW_MAP + "\n"}
+
+
 def test_edit_refusals(srv):
     status, _, data = srv.post("api/edit", {"text": fig4a_text(), "op": "rename", "target": "renderer"})
     assert status == 400
