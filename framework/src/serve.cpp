@@ -199,7 +199,7 @@ void api_params(const Context& c, const httplib::Request& req, httplib::Response
         o.set("value", e.value);
         o.set("written", e.written);
         o.set("required", e.required);
-        o.set("default", e.default_value);
+        o.set("default_value", e.default_value);
         o.set("min", number_or_null(e.min));
         o.set("max", number_or_null(e.max));
         o.set("min_open", e.min_open);

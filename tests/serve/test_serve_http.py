@@ -596,7 +596,7 @@ def test_params_of_the_config(srv):
         "renderer", "plugin", "renderer", "chaos-game")
     radius = next(p for p in got["params"] if p["path"] == "renderer.maps[0].shape.radius")
     assert (radius["kind"], radius["value"], radius["written"], radius["owner"]) == ("real", "1", True, "circle")
-    assert set(first) == {"path", "name", "owner", "kind", "value", "written", "required", "default", "min", "max",
+    assert set(first) == {"path", "name", "owner", "kind", "value", "written", "required", "default_value", "min", "max",
                           "min_open", "max_open", "choices", "plugin_kind", "description", "depth", "count"}
 
 
