@@ -18,6 +18,7 @@
 
 #include <httplib.h>
 
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -503,6 +504,13 @@ int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& s
     // Long polls hold a thread each for up to 10 s: a pool larger than the default 8.
     srv.new_task_queue = [] { return new httplib::ThreadPool(32); };
     srv.set_payload_max_length(max_image_body);
+    // httplib's default is SO_REUSEPORT, which lets a second server (of the same user) bind
+    // the same port and share its requests: SO_REUSEADDR only, so that a port in use is refused
+    // and a restart still binds while old connections wait in TIME_WAIT.
+    srv.set_socket_options([](socket_t sock) {
+        int yes = 1;
+        ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
     srv.set_keep_alive_timeout(2); // so that a stop does not wait long for idle connections
     srv.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
         if (!res.body.empty()) return;

@@ -663,3 +663,10 @@ def test_sigint_stops_the_server_during_a_preview_with_exit_0(tmp_path):
     waiter.join(timeout=30)
     assert s.proc.stdout.read() == ""
     assert s.proc.stderr.read() == ""
+
+
+def test_a_port_in_use_is_refused(srv, tmp_path):
+    r = subprocess.run([BIN, "serve", "--port", str(srv.port), "--root", str(tmp_path)],
+                       capture_output=True, text=True, timeout=60)
+    assert (r.returncode, r.stdout) == (2, "")
+    assert r.stderr == f"--host '127.0.0.1' --port {srv.port}: cannot listen there (is the port in use?)\n"
