@@ -16,6 +16,7 @@
 #include <fixpoint/host/progress.hpp>
 #include <fixpoint/host/registry.hpp>
 #include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/serve.hpp>
 #include <fixpoint/host/symmetry.hpp>
 #include <fixpoint/host/watch.hpp>
 #include <fixpoint/host/where.hpp>
@@ -1041,6 +1042,20 @@ int main(int argc, char** argv) {
     symmetry->add_flag("--json", o.json, "Print the scores and groups as JSON");
     symmetry->add_flag("-q,--quiet", o.quiet, "No progress bar while a config renders");
 
+    ServeOptions so;
+    auto* serve_cmd = app.add_subcommand("serve", "Serve the live preview page: edit a config, see it render "
+                                                  "(docs/serve-api.md)");
+    serve_cmd->add_option("config", so.config, "Pipeline file (YAML) the page opens, inside --root");
+    serve_cmd->add_option("--port", so.port, "Port (default 8420; 0: any free port)")
+        ->check(CLI::Range(0, 65535));
+    serve_cmd->add_option("--host", so.host,
+                          "Address to listen on (default 127.0.0.1); any other needs the token printed in "
+                          "the address");
+    serve_cmd->add_option("--root", so.root,
+                          "The only folder the page reads and writes (default: the current one)");
+    serve_cmd->add_option("--threads", so.threads, "Render threads (default: all cores)")
+        ->check(CLI::Range(1u, 4096u));
+
     auto* conformance = app.add_subcommand("conformance", "Run the plugin conformance suite");
     conformance->add_option("files", o.files, "Plugin files or names (default: every plugin found)");
     conformance->add_flag("-v,--verbose", o.verbose, "List every check run and its result");
@@ -1082,6 +1097,15 @@ int main(int argc, char** argv) {
         if (*addresses) return cmd_addresses(o);
         if (*to_sub) return cmd_to_subdivision(o);
         if (*symmetry) return cmd_symmetry(o);
+        if (*serve_cmd) {
+            install_sigint(); // Ctrl-C stops the server: serve() polls the flag
+            so.plugin_dirs = o.plugin_dirs;
+            so.on_listen = [](const std::string& url) {
+                std::printf("fixpoint serve: open %s\n", url.c_str());
+                std::fflush(stdout);
+            };
+            return serve(make_registry(o), so, g_interrupted);
+        }
         if (*explore) {
             install_sigint();
             ex.cancel = &g_interrupted;
