@@ -31,6 +31,7 @@ packages=(
     libcairo2-dev libhwy-dev
     python3-dev pybind11-dev python3-numpy
     ffmpeg # fixpoint animate --video (and ffprobe for its test)
+    libcpp-httplib-dev # fixpoint serve (used header-only)
 )
 quick=${FIXPOINT_QUICK:-}
 if [ -n "$quick" ] && [ -n "${CI:-}" ]; then
@@ -40,6 +41,8 @@ fi
 sanitize=
 # The Python tests: pytest, and Pillow to read the PNGs the CLI writes.
 [ "$mode" = test ] && packages+=(python3-pytest python3-pil)
+# The preview page's tests in a real browser: headless Chromium driven by Selenium.
+[ "$mode" = test ] && packages+=(chromium chromium-driver python3-selenium)
 if [ "$mode" = test ] && [ -z "$quick" ]; then
     sanitize=1
     # The sanitizer build: clang 14 with its runtimes (ASan, UBSan, libFuzzer).

@@ -8,6 +8,7 @@
 #include <fixpoint/host/build.hpp>
 #include <fixpoint/host/conformance.hpp>
 #include <fixpoint/host/converse.hpp>
+#include <fixpoint/host/draft.hpp>
 #include <fixpoint/host/explore.hpp>
 #include <fixpoint/host/image_io.hpp>
 #include <fixpoint/host/pipeline.hpp>
@@ -15,7 +16,9 @@
 #include <fixpoint/host/progress.hpp>
 #include <fixpoint/host/registry.hpp>
 #include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/serve.hpp>
 #include <fixpoint/host/symmetry.hpp>
+#include <fixpoint/host/watch.hpp>
 #include <fixpoint/host/where.hpp>
 #include <fixpoint/simd.hpp>
 #include <fixpoint/version.hpp>
@@ -65,7 +68,7 @@ struct Options {
     std::string vary, example, points;
     int columns = 0;
     unsigned threads = 0;
-    bool quiet = false, force = false, check = false, verbose = false;
+    bool quiet = false, force = false, check = false, verbose = false, draft = false, no_draft = false;
     std::string steps = "1";
     long long level = -1;
     // symmetry
@@ -110,10 +113,26 @@ struct Output {
     const Mark* mark = nullptr; // output.path of the config, for messages
 };
 
+// A draft's name beside the full render's: fig4a.png -> fig4a-draft.png.
+std::string draft_name(const std::string& path) {
+    const fs::path p(path);
+    return (p.parent_path() / (p.stem().string() + "-draft" + p.extension().string())).string();
+}
+
 Output resolve_output(const Options& o, const Pipeline& p) {
     if (!o.out.empty()) return {o.out, true, nullptr};
-    if (!p.output_path.empty()) return {p.output_path, false, &p.output_mark};
-    return {default_output(o.config), false, nullptr};
+    if (!p.output_path.empty())
+        return {o.draft ? draft_name(p.output_path) : p.output_path, false, &p.output_mark};
+    const std::string d = default_output(o.config);
+    return {o.draft ? draft_name(d) : d, false, nullptr};
+}
+
+// --draft: `sets` and the assignments that make the draft of the pipeline they give
+// (host/draft.hpp); unchanged without --draft.
+std::vector<std::string> with_draft(const Options& o, std::vector<std::string> sets, const Pipeline& full) {
+    if (o.draft)
+        for (auto& s : draft_overrides(full, draft_factor)) sets.push_back(std::move(s));
+    return sets;
 }
 
 // check_output, plus the promises about existing files: the config itself is never written
@@ -288,7 +307,11 @@ int cmd_collection(const Options& o, bool validate_only) {
     const Registry reg = make_registry(o);
     const auto [path, values] = parse_vary(o.vary);
     std::vector<Pipeline> pipes;
-    for (const auto& v : values) pipes.push_back(load_pipeline(reg, o.config, o.sets, path + "=" + v));
+    for (const auto& v : values) {
+        pipes.push_back(load_pipeline(reg, o.config, o.sets, path + "=" + v));
+        if (o.draft)
+            pipes.back() = load_pipeline(reg, o.config, with_draft(o, o.sets, pipes.back()), path + "=" + v);
+    }
     told(pipes[0]); // (every child has the same plugins: told once)
     const unsigned threads = o.threads ? o.threads : hardware_threads();
     for (const auto& p : pipes) check_memory(p, threads);
@@ -347,8 +370,12 @@ int cmd_render(const Options& o, bool validate_only) {
     if (!o.vary.empty() && o.print.any())
         throw InputError("--tile, --repeat, --dpi and --print-size make one image: not with --vary");
     if (!o.vary.empty()) return cmd_collection(o, validate_only);
+    if (o.draft && (o.print.dpi > 0 || !o.print.print_size.empty()))
+        throw InputError("--draft: a quick small image: not with --dpi or --print-size");
     const Registry reg = make_registry(o);
-    const Pipeline p = told(load_for_print(reg, o.config, o.sets, o.print));
+    Pipeline p = load_for_print(reg, o.config, o.sets, o.print);
+    if (o.draft) p = load_for_print(reg, o.config, with_draft(o, o.sets, p), o.print);
+    told(p);
     const unsigned threads = o.threads ? o.threads : hardware_threads();
     check_memory(p, threads);
     if (const Repeat r = parse_repeat(o.print); r.across * r.down > 1) {
@@ -433,6 +460,23 @@ int cmd_animate(const Options& o, AnimateOptions ao) {
 }
 
 constexpr long long max_eval_steps = 1'000'000'000'000;
+
+// watch: the lines go to stderr like render's; an error keeps the last good image.
+int cmd_watch(const Options& o) {
+    install_sigint();
+    WatchOptions w;
+    w.config = o.config;
+    w.out = o.out;
+    w.sets = o.sets;
+    w.threads = o.threads ? o.threads : hardware_threads();
+    w.no_draft = o.no_draft;
+    const bool quiet = o.quiet;
+    w.info = [quiet](const std::string& l) {
+        if (!quiet) spdlog::info("{}", l);
+    };
+    w.error = [](const std::string& l) { spdlog::error("{}", l); };
+    return watch(make_registry(o), w, g_interrupted);
+}
 
 std::string range_of(const ParamSpec& s) {
     return std::isfinite(s.lo) || std::isfinite(s.hi) ? declared_range(s) : "";
@@ -788,6 +832,9 @@ int main(int argc, char** argv) {
     render->add_flag("--force", o.force,
                      "Replace an existing output that was not named with -o (the config's output.path or "
                      "the default name)");
+    render->add_flag("--draft", o.draft,
+                     "A quick draft of the same recipe: width and height / 4, points / 16 (orbit-trap: 1 "
+                     "sample per pixel); written to <output>-draft.png unless -o names the file");
     render->add_option("--vary", o.vary,
                        "Render a collection: one child per value (path.to.param=V1,V2,... or A..B), each to "
                        "OUT-<k>.png, and a contact sheet with captions to OUT");
@@ -885,6 +932,16 @@ int main(int argc, char** argv) {
     animate_cmd->add_flag("-q,--quiet", o.quiet, "No progress bar, no log");
     animate_cmd->add_flag("--force", o.force,
                           "Replace frame files made with another recipe, and an existing video");
+
+    auto* watch_cmd = app.add_subcommand(
+        "watch", "Render a config again each time it is saved: a draft, then the full image (Ctrl-C stops)");
+    watch_cmd->add_option("config", o.config, "Pipeline file (YAML)")->required();
+    watch_cmd->add_option("-o,--output", o.out, "The image written (replaced at each save)")->required();
+    watch_cmd->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
+    watch_cmd->add_option("--threads", o.threads, "Worker threads (default: all cores)")
+        ->check(CLI::Range(1u, 4096u));
+    watch_cmd->add_flag("--no-draft", o.no_draft, "The full image only, no draft first");
+    watch_cmd->add_flag("-q,--quiet", o.quiet, "Print only errors");
 
     auto* plugins = app.add_subcommand("plugins", "List the plugins found");
     plugins->add_option("--kind", o.kind, "Only this kind (shape, transform, iteration-scheme, ...)");
@@ -985,6 +1042,20 @@ int main(int argc, char** argv) {
     symmetry->add_flag("--json", o.json, "Print the scores and groups as JSON");
     symmetry->add_flag("-q,--quiet", o.quiet, "No progress bar while a config renders");
 
+    ServeOptions so;
+    auto* serve_cmd = app.add_subcommand("serve", "Serve the live preview page: edit a config, see it render "
+                                                  "(docs/serve-api.md)");
+    serve_cmd->add_option("config", so.config, "Pipeline file (YAML) the page opens, inside --root");
+    serve_cmd->add_option("--port", so.port, "Port (default 8420; 0: any free port)")
+        ->check(CLI::Range(0, 65535));
+    serve_cmd->add_option("--host", so.host,
+                          "Address to listen on (default 127.0.0.1); any other needs the token printed in "
+                          "the address");
+    serve_cmd->add_option("--root", so.root,
+                          "The only folder the page reads and writes (default: the current one)");
+    serve_cmd->add_option("--threads", so.threads, "Render threads (default: all cores)")
+        ->check(CLI::Range(1u, 4096u));
+
     auto* conformance = app.add_subcommand("conformance", "Run the plugin conformance suite");
     conformance->add_option("files", o.files, "Plugin files or names (default: every plugin found)");
     conformance->add_flag("-v,--verbose", o.verbose, "List every check run and its result");
@@ -1017,6 +1088,7 @@ int main(int argc, char** argv) {
         if (*render) return cmd_render(o, false);
         if (*validate_cmd) return cmd_validate(o);
         if (*animate_cmd) return cmd_animate(o, ao);
+        if (*watch_cmd) return cmd_watch(o);
         if (*plugins) return cmd_plugins(o);
         if (*describe) return cmd_describe(o);
         if (*eval) return cmd_eval(o);
@@ -1025,6 +1097,15 @@ int main(int argc, char** argv) {
         if (*addresses) return cmd_addresses(o);
         if (*to_sub) return cmd_to_subdivision(o);
         if (*symmetry) return cmd_symmetry(o);
+        if (*serve_cmd) {
+            install_sigint(); // Ctrl-C stops the server: serve() polls the flag
+            so.plugin_dirs = o.plugin_dirs;
+            so.on_listen = [](const std::string& url) {
+                std::printf("fixpoint serve: open %s\n", url.c_str());
+                std::fflush(stdout);
+            };
+            return serve(make_registry(o), so, g_interrupted);
+        }
         if (*explore) {
             install_sigint();
             ex.cancel = &g_interrupted;

@@ -25,6 +25,8 @@ struct ServeOptions {
 
 /// Runs the server until `stop` becomes true (SIGINT). Returns the exit code; throws
 /// fp::InputError for bad options (a config outside the root, a port in use, ...).
+/// While it runs the process works in `root` (its current folder, restored after), so that a
+/// config reads what it names (a picture, a script) as `fixpoint render` run there would.
 int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& stop);
 
 } // namespace fp::host

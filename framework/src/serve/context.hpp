@@ -1,0 +1,78 @@
+// What the handlers of `fixpoint serve` share: the options resolved at start, the rules every
+// request passes (Host header, token, content type, size), the paths inside the root, and the
+// config checks of `fixpoint render`.
+#pragma once
+
+#include "json.hpp"
+#include "preview.hpp"
+
+#include <fixpoint/host/config.hpp>
+#include <fixpoint/host/pipeline.hpp>
+#include <fixpoint/host/registry.hpp>
+
+#include <atomic>
+#include <cstddef>
+#include <filesystem>
+#include <string>
+
+namespace httplib {
+struct Request;
+struct Response;
+} // namespace httplib
+
+namespace fp::host::serve_detail {
+
+/// A request refused in itself: answered with `status` and {"error": message}.
+struct HttpError {
+    int status;
+    std::string message;
+};
+
+constexpr std::size_t max_json_body = 4u << 20;
+constexpr std::size_t max_image_body = 64u << 20;
+
+enum class Body { None, Json, Bytes };
+
+struct Context {
+    const Registry* reg = nullptr;
+    std::filesystem::path root; ///< canonical; the process works in it while serving
+    std::string config;         ///< relative to root; may be empty
+    std::string host;
+    int port = 0;
+    bool loopback = true;
+    std::string token; ///< empty on loopback
+    unsigned threads = 1;
+    std::filesystem::path scratch; ///< a private temporary folder
+    const std::atomic<bool>* stop = nullptr;
+    Previewer* preview = nullptr;
+
+    /// The rules every request passes before its handler: throws HttpError (403, 415, 413).
+    void admit(const httplib::Request& req, Body body) const;
+
+    /// `rel` checked as a path inside the root (relative, no '..', not out through a
+    /// symlink): returned as given, for the process works in the root. Throws HttpError 403;
+    /// `mark`, when given, prefixes the message (a path from the config).
+    std::string inside(const std::string& rel, const std::string& what, const std::string& mark = "") const;
+};
+
+/// The body as a JSON object (HttpError 400 otherwise).
+json::Value parse_body(const httplib::Request& req);
+/// A string member; a missing one is HttpError 400 when `required`, else "".
+std::string field(const json::Value& body, const std::string& key, bool required);
+/// A boolean member (false when absent).
+bool flag(const json::Value& body, const std::string& key);
+
+void send_json(httplib::Response& res, int status, const json::Value& v);
+/// {"ok": false, "error": TEXT, "line": L, "column": C}: L and C from "file:L:C:" in TEXT.
+json::Value refusal(const std::string& text);
+
+/// The config `text`, named `source` in messages, parsed as `fixpoint render` reads a file (an
+/// empty text is an empty mapping). Throws fp::InputError.
+CNode parse_config(const std::string& text, const std::string& source);
+/// The config loaded and checked as `fixpoint render` checks it before rendering (the memory
+/// check included). Throws fp::InputError.
+Pipeline load_checked(const Context& c, const CNode& root);
+/// The name of an unsaved text in messages.
+std::string source_name(const std::string& path);
+
+} // namespace fp::host::serve_detail

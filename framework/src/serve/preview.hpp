@@ -1,0 +1,79 @@
+// The preview of `fixpoint serve`: one worker thread renders the stages of one job at a time
+// (drafts, then the full render) and keeps each stage's PNG for /api/frame. A new job cancels
+// the running one through its Runtime's cancel flag.
+#pragma once
+
+#include <fixpoint/host/pipeline.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace fp::host::serve_detail {
+
+/// One finished stage: the PNG's bytes, as write_image writes them, and its caption.
+struct Frame {
+    std::string png;
+    int width = 0, height = 0;
+    double samples_per_pixel = 0, seconds = 0;
+};
+
+class Previewer {
+public:
+    /// `threads` render threads; stage files are written in `scratch` (a private folder).
+    Previewer(unsigned threads, std::filesystem::path scratch);
+    ~Previewer();
+    Previewer(const Previewer&) = delete;
+    Previewer& operator=(const Previewer&) = delete;
+
+    /// Start a job rendering `stages` in order (the last one the full render); the job running
+    /// or waiting is cancelled. Returns the job's id (1, 2, ...).
+    std::uint64_t start(std::vector<Pipeline> stages);
+
+    enum class Wait { Frame, Timeout, Cancelled, Failed, Unknown };
+    struct Answer {
+        Wait what = Wait::Timeout;
+        int stage = 0, stages = 0;
+        std::shared_ptr<const Frame> frame;
+        std::string error; ///< Failed: the error's line
+    };
+    /// The first stage of job `id` after stage `after` (-1: the first stage), waiting up to
+    /// `timeout` for it.
+    Answer wait(std::uint64_t id, int after, std::chrono::milliseconds timeout);
+
+    /// Cancel everything and wake every waiting request (the server is stopping).
+    void shutdown();
+
+private:
+    struct Job {
+        std::uint64_t id = 0;
+        std::vector<Pipeline> stages;
+        std::vector<std::shared_ptr<const Frame>> frames;
+        enum class State { Waiting, Running, Done, Failed, Cancelled } state = State::Waiting;
+        std::string error;
+        std::atomic<bool> cancel{false};
+    };
+
+    void run();
+    void render(Job& job);
+
+    unsigned threads_;
+    std::filesystem::path scratch_;
+    std::mutex mu_;
+    std::condition_variable work_cv_, frame_cv_;
+    std::deque<std::shared_ptr<Job>> jobs_; ///< the newest last; only a few kept
+    std::shared_ptr<Job> next_;             ///< the job the worker takes next
+    std::uint64_t last_id_ = 0;
+    bool stopping_ = false;
+    std::thread worker_;
+};
+
+} // namespace fp::host::serve_detail

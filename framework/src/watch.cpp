@@ -1,0 +1,142 @@
+// `fixpoint watch` (see fixpoint/host/watch.hpp).
+//
+// The file is read every poll_ms and compared by its contents (an editor's save may keep the
+// size and, within the file system's resolution, the time). A render runs on this thread; a
+// second thread reads the file meanwhile and cancels the render when the contents change or
+// the user stops, so that a save during a long full render starts the new draft at once.
+#include <fixpoint/errors.hpp>
+#include <fixpoint/host/draft.hpp>
+#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/pipeline.hpp>
+#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/watch.hpp>
+#include <fixpoint/text.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <thread>
+
+namespace fs = std::filesystem;
+
+namespace fp::host {
+
+namespace {
+
+// The file's contents; nullopt while it cannot be read (an editor between deleting and
+// writing it anew), which is not a change.
+std::optional<std::string> contents(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return std::nullopt;
+    std::ostringstream s;
+    s << in.rdbuf();
+    if (in.bad()) return std::nullopt;
+    return s.str();
+}
+
+std::string format_seconds(double s) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.2f", s);
+    return b;
+}
+
+} // namespace
+
+int watch(const Registry& reg, const WatchOptions& o, const std::atomic<bool>& stop) {
+    std::error_code ec;
+    if (fs::equivalent(o.out, o.config, ec))
+        throw InputError("cannot write " + quote(o.out, 200) + ": it is the config being watched");
+    check_output(o.out);
+    if (!contents(o.config)) throw InputError(quote(o.config, 200) + ": cannot read it");
+
+    // `rendering`: the contents being rendered, read by the watcher thread to tell a change.
+    std::mutex m;
+    std::string rendering;
+    std::atomic<bool> cancel{false}, done{false};
+    std::thread watcher([&] {
+        while (!done.load()) {
+            if (stop.load()) cancel.store(true);
+            if (const auto now = contents(o.config)) {
+                std::lock_guard<std::mutex> lock(m);
+                if (*now != rendering) cancel.store(true);
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(o.poll_ms));
+        }
+    });
+    struct Join {
+        std::atomic<bool>& done;
+        std::thread& t;
+        ~Join() {
+            done.store(true);
+            t.join();
+        }
+    } join{done, watcher};
+
+    // One version of the file: its draft, then its full image; false when a change or the
+    // user cancelled it (the loop reads the file again).
+    const auto render_version = [&](const CNode& root) {
+        const Pipeline full = load_pipeline(reg, root);
+        std::vector<std::pair<Pipeline, const char*>> passes;
+        if (!o.no_draft) {
+            CNode small = root;
+            for (const auto& s : draft_overrides(full, draft_factor)) apply_override(small, s);
+            passes.emplace_back(load_pipeline(reg, std::move(small)), "draft");
+        }
+        passes.emplace_back(full, "full");
+        for (const auto& [p, what] : passes) {
+            check_memory(p, o.threads);
+            Runtime rt(o.threads, &cancel);
+            RenderStats stats;
+            const auto t0 = std::chrono::steady_clock::now();
+            Image img;
+            try {
+                img = p.renderer->render(rt, stats);
+            } catch (const InputError& e) {
+                throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
+            }
+            if (cancel.load()) return false;
+            check_drawn(p, stats);
+            write_image(img, o.out, p.bit_depth, p.recipe);
+            const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            o.info(o.out + ": " + what + " " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                   ", " + std::to_string(stats.samples) + " " + stats.unit + " in " + format_seconds(secs) +
+                   " s");
+        }
+        return true;
+    };
+
+    std::optional<std::string> seen; // the contents last dealt with (rendered, or refused)
+    o.info("watching " + o.config + " (Ctrl-C to stop)");
+    while (!stop.load()) {
+        const auto now = contents(o.config);
+        if (!now || now == seen) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(o.poll_ms));
+            continue;
+        }
+        {
+            std::lock_guard<std::mutex> lock(m);
+            rendering = *now;
+            cancel.store(false);
+        }
+        seen = now;
+        try {
+            // Loaded from the text just read (not the file again, which may already be
+            // another version), under the file's name for the messages.
+            CNode root = parse_yaml(*now, o.config);
+            if (root.type == CNode::Type::Null)
+                root = map_node(), root.mark = Mark{std::make_shared<const std::string>(o.config), 1, 1};
+            for (const auto& s : o.sets) apply_override(root, s);
+            if (!render_version(root) && !stop.load()) seen.reset(); // changed meanwhile: read again
+        } catch (const InputError& e) {
+            o.error(e.what()); // the last good image stays
+        }
+    }
+    return 0;
+}
+
+} // namespace fp::host

@@ -1,0 +1,160 @@
+// `render --draft` and `fixpoint watch`: a draft is the same recipe made small (its image
+// renders again to the same bytes), and watch renders a draft, then the full image, at each
+// save, and keeps the last good image when a save is refused.
+#include "cli.hpp"
+
+#include <fixpoint/host/draft.hpp>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <fcntl.h>
+#include <filesystem>
+#include <functional>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+using fp::test::read_file;
+using fp::test::run_cli;
+using fp::test::scratch_dir;
+using fp::test::write_file;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Three circles at 256 x 128: a draft is 64 x 32 with 1/16 of the points.
+const std::string config = R"(# three circles
+renderer:
+  type: chaos-game
+  width: 256
+  height: 128
+  view: [-3.2, 3.2, -1.6, 1.6]
+  points: 160000
+  chains: 16
+  seed: 5
+  maps:
+    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.9}, colour: [1, 0.4, 0.2]}
+    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.9}, colour: [0.2, 1, 0.4]}
+    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.9}, colour: [0.3, 0.4, 1]}
+)";
+
+std::string recipe_of(const std::string& image) {
+    const auto r = run_cli({"recipe", image});
+    return r.rc == 0 ? r.out : "";
+}
+
+// Wait (up to 60 s: the sanitizer build is slow) for `ok`; false when it never held.
+bool eventually(const std::function<bool()>& ok) {
+    for (int i = 0; i < 600; ++i) {
+        if (ok()) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return false;
+}
+
+} // namespace
+
+TEST(Draft, FactorsOfThePreview) {
+    EXPECT_EQ(fp::host::preview_factors(512, 512), (std::vector<int>{8, 4, 2, 1}));
+    EXPECT_EQ(fp::host::preview_factors(100, 300), (std::vector<int>{8, 4, 2, 1}));
+    EXPECT_EQ(fp::host::preview_factors(100, 100), (std::vector<int>{2, 1}));
+    EXPECT_EQ(fp::host::preview_factors(40, 30), (std::vector<int>{1}));
+}
+
+TEST(Draft, SmallerSameRecipeAndItsBytesAgain) {
+    const std::string dir = scratch_dir("draft_render");
+    write_file(dir + "/c.yaml", config);
+    const auto r = run_cli({"render", "--quiet", "--draft", dir + "/c.yaml", "-o", dir + "/d.png"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const std::string recipe = recipe_of(dir + "/d.png");
+    EXPECT_NE(recipe.find("width: 64\n"), std::string::npos) << recipe;
+    EXPECT_NE(recipe.find("height: 32\n"), std::string::npos) << recipe;
+    EXPECT_NE(recipe.find("points: 10000\n"), std::string::npos) << recipe; // 160000 / 16
+    EXPECT_NE(recipe.find("chains: 16\n"), std::string::npos) << recipe;
+    // The draft is an ordinary recipe: rendering its image gives it again, byte for byte.
+    ASSERT_EQ(run_cli({"render", "--quiet", dir + "/d.png", "-o", dir + "/again.png"}).rc, 0);
+    EXPECT_EQ(read_file(dir + "/d.png"), read_file(dir + "/again.png"));
+}
+
+TEST(Draft, NamedBesideTheFullRender) {
+    const std::string dir = scratch_dir("draft_name");
+    write_file(dir + "/c.yaml", config + "output: {path: " + dir + "/full.png}\n");
+    ASSERT_EQ(run_cli({"render", "--quiet", "--draft", dir + "/c.yaml"}).rc, 0);
+    EXPECT_TRUE(fs::exists(dir + "/full-draft.png"));
+    EXPECT_FALSE(fs::exists(dir + "/full.png"));
+}
+
+TEST(Draft, OrbitTrapTakesOneSample) {
+    const std::string dir = scratch_dir("draft_orbit_trap");
+    const auto r = run_cli({"render", "--quiet", "--draft",
+                            fp::test::source_dir() + "/configs/orbit-trap/fig5a.yaml", "-o", dir + "/d.png"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const std::string recipe = recipe_of(dir + "/d.png");
+    EXPECT_NE(recipe.find("samples: 1\n"), std::string::npos) << recipe;
+    EXPECT_NE(recipe.find("width: 200\n"), std::string::npos) << recipe; // 800 / 4
+}
+
+TEST(Draft, NotForPrint) {
+    const std::string dir = scratch_dir("draft_print");
+    write_file(dir + "/c.yaml", config);
+    const auto r = run_cli({"render", "--draft", "--dpi", "300", dir + "/c.yaml", "-o", dir + "/d.png"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "--draft: a quick small image: not with --dpi or --print-size\n");
+    EXPECT_FALSE(fs::exists(dir + "/d.png"));
+}
+
+// watch: a draft then the full image at start; a save renders the new version; a refused
+// save prints the CLI's line and leaves the last good image; SIGINT ends it with 0.
+TEST(Watch, RendersEachSaveAndKeepsTheLastGoodImage) {
+    const std::string dir = scratch_dir("watch");
+    const std::string cfg = dir + "/c.yaml", out = dir + "/w.png", log = dir + "/log.txt";
+    write_file(cfg, config);
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        ::dup2(fd, 2);
+        ::execl(FIXPOINT_BIN, FIXPOINT_BIN, "watch", cfg.c_str(), "-o", out.c_str(), "--threads", "1",
+                static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    const auto has = [&](const std::string& needle) {
+        return [&, needle] { return read_file(log).find(needle) != std::string::npos; };
+    };
+    ASSERT_TRUE(eventually(has("w.png: full 256x128"))) << read_file(log);
+    EXPECT_NE(read_file(log).find("w.png: draft 64x32, 10000 points"), std::string::npos) << read_file(log);
+    const std::string first = read_file(out);
+
+    // A new radius: the full image of the new version, the same bytes as render gives.
+    write_file(cfg, fp::test::replace_once(config, "radius: 0.9}, colour: [1", "radius: 0.8}, colour: [1"));
+    ASSERT_TRUE(eventually([&] {
+        return recipe_of(out).find("radius: 0.8") != std::string::npos &&
+               recipe_of(out).find("width: 256") != std::string::npos;
+    })) << read_file(log);
+    ASSERT_EQ(run_cli({"render", "--quiet", cfg, "-o", dir + "/cli.png"}).rc, 0);
+    EXPECT_EQ(read_file(out), read_file(dir + "/cli.png"));
+    EXPECT_NE(read_file(out), first);
+
+    // A typo: the CLI's error line, and the image stays.
+    const std::string good = read_file(out);
+    write_file(cfg, fp::test::replace_once(config, "  seed: 5", "  sede: 5"));
+    ASSERT_TRUE(eventually(has("c.yaml:9:3: renderer: unknown parameter 'sede' for chaos-game")))
+        << read_file(log);
+    EXPECT_EQ(read_file(out), good);
+
+    ::kill(pid, SIGINT);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0) << read_file(log);
+}
+
+TEST(Watch, RefusesToWriteOverTheConfig) {
+    const std::string dir = scratch_dir("watch_self");
+    write_file(dir + "/c.yaml", config);
+    const auto r = run_cli({"watch", dir + "/c.yaml", "-o", dir + "/c.yaml"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, "cannot write '" + dir + "/c.yaml': it is the config being watched\n");
+}

@@ -1,0 +1,630 @@
+"""`fixpoint serve` over HTTP (docs/serve-api.md): every endpoint, bad requests, the token,
+path escapes, the preview's stages against `fixpoint render`, a cancelled preview.
+
+Run by CTest (tests/serve/CMakeLists.txt) with FIXPOINT_BIN and FIXPOINT_SOURCE set. Each
+server is a subprocess with --port 0 and a temporary --root; it prints its address first."""
+
+import http.client
+import io
+import json
+import os
+import re
+import shutil
+import signal
+import subprocess
+import threading
+import time
+import urllib.error
+import urllib.parse
+import urllib.request
+
+import pytest
+from PIL import Image
+
+BIN = os.environ["FIXPOINT_BIN"]
+SOURCE = os.environ["FIXPOINT_SOURCE"]
+FIG4A = os.path.join(SOURCE, "configs", "inversion", "fig4a.yaml")
+
+
+class Server:
+    def __init__(self, root, *args):
+        self.root = str(root)
+        self.proc = subprocess.Popen([BIN, "serve", *args, "--port", "0", "--root", self.root],
+                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        line = self.proc.stdout.readline()
+        m = re.fullmatch(r"fixpoint serve: open (http://[^/]+/)(\?token=([0-9a-f]{32}))?\n", line)
+        assert m, (line, self.proc.stderr.read() if self.proc.poll() is not None else "")
+        self.url, self.token = m.group(1), m.group(3)
+        self.port = int(self.url.rsplit(":", 1)[1].rstrip("/"))
+
+    def stop(self):
+        """SIGINT, as Ctrl-C: the server's exit code."""
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGINT)
+        try:
+            return self.proc.wait(timeout=20)
+        finally:
+            if self.proc.poll() is None:
+                self.proc.kill()
+
+    def request(self, method, path, body=None, ctype="application/json", headers=None, base=None):
+        """(status, headers, bytes); a dict body is sent as JSON."""
+        data = json.dumps(body).encode() if isinstance(body, dict) else body
+        h = dict(headers or {})
+        if data is not None and ctype is not None:
+            h["Content-Type"] = ctype
+        req = urllib.request.Request((base or self.url) + path.lstrip("/"), data=data, method=method, headers=h)
+        try:
+            with urllib.request.urlopen(req, timeout=60) as r:
+                return r.status, r.headers, r.read()
+        except urllib.error.HTTPError as e:
+            return e.code, e.headers, e.read()
+
+    def get(self, path, **kw):
+        return self.request("GET", path, **kw)
+
+    def post(self, path, body, **kw):
+        return self.request("POST", path, body, **kw)
+
+    def api(self, path, body=None, expect=200):
+        """The JSON answer of a request that must answer `expect`."""
+        status, _, data = self.get(path) if body is None else self.post(path, body)
+        assert status == expect, (status, data)
+        return json.loads(data)
+
+
+@pytest.fixture(scope="module")
+def root(tmp_path_factory):
+    r = tmp_path_factory.mktemp("root")
+    shutil.copy(FIG4A, r / "fig4a.yaml")
+    return r
+
+
+@pytest.fixture(scope="module")
+def srv(root):
+    s = Server(root, "fig4a.yaml")
+    yield s
+    assert s.stop() == 0
+
+
+def fig4a_text():
+    with open(FIG4A) as f:
+        return f.read()
+
+
+def cli(*args, cwd):
+    """`fixpoint ARGS` run in `cwd`: (exit code, stdout, stderr)."""
+    r = subprocess.run([BIN, *args], cwd=cwd, capture_output=True, text=True, timeout=600)
+    return r.returncode, r.stdout, r.stderr
+
+
+def position(line):
+    m = re.search(r":(\d+):(\d+):", line)
+    return (int(m.group(1)), int(m.group(2))) if m else (0, 0)
+
+
+def frames(s, job, after=-1):
+    """Every stage of a job, in order: [(headers, png bytes)]."""
+    out = []
+    while True:
+        status, h, data = s.get(f"api/frame?job={job}&after={after}")
+        assert status == 200, (status, data)
+        out.append((h, data))
+        after = int(h["X-Stage"])
+        if h["X-Done"] == "1":
+            return out
+
+
+# ------------------------------------------------------------------ the page and the state
+@pytest.mark.parametrize("path,name,ctype", [
+    ("", "index.html", "text/html; charset=utf-8"),
+    ("index.html", "index.html", "text/html; charset=utf-8"),
+    ("app.js", "app.js", "text/javascript; charset=utf-8"),
+    ("style.css", "style.css", "text/css; charset=utf-8"),
+])
+def test_page_files_come_from_the_binary(srv, path, name, ctype):
+    status, h, data = srv.get(path)
+    assert status == 200
+    assert h["Content-Type"] == ctype
+    with open(os.path.join(SOURCE, "web", name), "rb") as f:
+        assert data == f.read()
+
+
+def test_state_is_the_config_and_the_version(srv):
+    _, out, _ = cli("--version", cwd=srv.root)
+    state = srv.api("api/state")
+    assert state["path"] == "fig4a.yaml"
+    assert state["text"] == fig4a_text()
+    assert state["version"] == out.split()[-1]
+    assert state["threads"] == os.cpu_count()
+
+
+def test_without_a_config_the_page_gets_a_starter_that_checks(tmp_path):
+    s = Server(tmp_path)
+    try:
+        state = s.api("api/state")
+        assert state["path"] == ""
+        assert s.api("api/check", {"text": state["text"], "path": ""}) == {
+            "ok": True, "renderer": "chaos-game", "width": 512, "height": 512, "warnings": []}
+    finally:
+        assert s.stop() == 0
+
+
+def test_plugins_by_kind_as_the_cli_lists_them(srv):
+    _, out, _ = cli("plugins", cwd=srv.root)
+    want = {}
+    for line in out.splitlines():
+        kind, name = line.split()[:2]
+        want.setdefault(kind, []).append(name)
+    assert srv.api("api/plugins") == want
+
+
+def test_an_unknown_page_is_404(srv):
+    status, _, data = srv.get("nothing-here")
+    assert status == 404
+    assert json.loads(data) == {"error": "no such page: '/nothing-here'"}
+
+
+# ------------------------------------------------------------------ check, and refusals as the CLI's
+def test_check_of_a_good_config(srv):
+    assert srv.api("api/check", {"text": fig4a_text(), "path": "fig4a.yaml"}) == {
+        "ok": True, "renderer": "chaos-game", "width": 1024, "height": 1024, "warnings": []}
+
+
+BAD = {
+    "typo": fig4a_text().replace("points:", "pionts:"),
+    "range": fig4a_text().replace("radius: 0.21685}, colour: \"#c56cf0\"", "radius: -1}, colour: \"#c56cf0\""),
+    "yaml": fig4a_text().replace("view: [-1.75, 1.75, -1.75, 1.75]", "view: [-1.75, 1.75, -1.75, 1.75"),
+    "memory": fig4a_text().replace("width: 1024", "width: 65536").replace("height: 1024", "height: 65536"),
+    "empty": "",
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_a_config_the_cli_refuses_is_refused_with_its_text_and_never_previewed(srv, case):
+    name = f"bad-{case}.yaml"
+    with open(os.path.join(srv.root, name), "w") as f:
+        f.write(BAD[case])
+    rc, _, err = cli("render", name, "-o", f"bad-{case}.png", "-q", cwd=srv.root)
+    assert rc == 2
+    line = err.strip()
+    assert "\n" not in line
+    want = {"ok": False, "error": line, "line": position(line)[0], "column": position(line)[1]}
+    if case != "empty":
+        assert want["line"] > 0
+    body = {"text": BAD[case], "path": name}
+    assert srv.api("api/check", body) == want
+    assert srv.api("api/preview", body) == want  # no "job": nothing started
+    assert not os.path.exists(os.path.join(srv.root, f"bad-{case}.png"))
+
+
+def test_a_refusal_of_an_unsaved_text_names_it_config(srv):
+    got = srv.api("api/check", {"text": "renderer: {type: chaos-gam}", "path": ""})
+    assert got["ok"] is False
+    assert got["error"] == "<config>:1:18: renderer.type: unknown renderer 'chaos-gam' (did you mean 'chaos-game'?)"
+    assert (got["line"], got["column"]) == (1, 18)
+
+
+# ------------------------------------------------------------------ bad requests
+@pytest.mark.parametrize("body,message", [
+    (b"{", "bad JSON: expected a key in quotes at byte 1"),
+    (b'{"text": "a"} x', "bad JSON: text after the value at byte 14"),
+    (b"[1, 2]", "the body must be a JSON object"),
+    (b'{"path": "fig4a.yaml"}', "missing field 'text' (a string)"),
+    (b'{"text": 5}', "field 'text': expected a string"),
+    (b'{"text": "a", "path": ["x"]}', "field 'path': expected a string"),
+])
+def test_bad_json_and_missing_fields_are_400(srv, body, message):
+    status, _, data = srv.post("api/check", body)
+    assert status == 400
+    assert json.loads(data) == {"error": message}
+
+
+# What a form of another site can post without a CORS preflight, and no type at all.
+FORM = b'--x\r\nContent-Disposition: form-data; name="text"\r\n\r\nrenderer: {}\r\n--x--\r\n'
+
+
+@pytest.mark.parametrize("ctype,body,shown", [
+    (None, b'{"text": ""}', "none"),
+    ("text/plain", b'{"text": ""}', "'text/plain'"),
+    ("application/x-www-form-urlencoded", b"text=renderer", "'application/x-www-form-urlencoded'"),
+    ("multipart/form-data; boundary=x", FORM, "'multipart/form-data'"),
+])
+def test_a_post_that_is_not_json_is_415(srv, ctype, body, shown):
+    c = http.client.HTTPConnection("127.0.0.1", srv.port, timeout=30)
+    c.request("POST", "/api/check", body=body, headers={"Content-Type": ctype} if ctype else {})
+    r = c.getresponse()
+    data = r.read()
+    c.close()
+    assert r.status == 415
+    assert json.loads(data) == {"error": f"POST /api/check takes Content-Type: application/json, not {shown}"}
+
+
+def test_json_with_a_charset_is_json(srv):
+    status, _, _ = srv.post("api/check", {"text": fig4a_text()}, ctype="application/json; charset=utf-8")
+    assert status == 200
+
+
+def test_a_body_above_4_mib_is_413(srv):
+    body = json.dumps({"text": "#" * (4 << 20)}).encode()
+    status, _, data = srv.post("api/check", body)
+    assert status == 413
+    assert json.loads(data) == {"error": f"POST /api/check: a body of {len(body)} bytes; at most {4 << 20}"}
+
+
+def test_a_recipe_body_above_64_mib_is_413(srv):
+    status, _, data = srv.post("api/recipe", b"\0" * ((64 << 20) + 1), ctype="application/octet-stream")
+    assert status == 413
+    assert json.loads(data) == {"error": f"the body is larger than {64 << 20} bytes"}
+
+
+@pytest.mark.parametrize("query,status,message", [
+    ("after=-1", 400, "missing query parameter 'job'"),
+    ("job=1", 400, "missing query parameter 'after'"),
+    ("job=x&after=-1", 400, "query parameter 'job': expected a whole number, not 'x'"),
+    ("job=0&after=-1", 400, "query parameter 'job': expected a job's id (1, 2, ...)"),
+    ("job=1&after=-2", 400, "query parameter 'after': expected -1 or a stage"),
+    ("job=999999&after=-1", 404, "no job 999999"),
+])
+def test_bad_frame_queries(srv, query, status, message):
+    got, _, data = srv.get("api/frame?" + query)
+    assert got == status
+    assert json.loads(data) == {"error": message}
+
+
+def test_a_foreign_host_header_is_403(srv):
+    # DNS rebinding: a page of evil.example that resolves to 127.0.0.1 sends its own name.
+    for host, want in [("evil.example:%d", 403), ("127.0.0.1:%d", 200), ("localhost:%d", 200),
+                       ("[::1]:%d", 200), ("127.0.0.1:1", 403)]:
+        c = http.client.HTTPConnection("127.0.0.1", srv.port, timeout=30)
+        c.putrequest("GET", "/api/state", skip_host=True)
+        c.putheader("Host", host % srv.port if "%d" in host else host)
+        c.endheaders()
+        r = c.getresponse()
+        data = r.read()
+        c.close()
+        assert r.status == want, (host, data)
+        if want == 403:
+            assert json.loads(data)["error"].startswith(
+                f"this server answers only requests to http://127.0.0.1:{srv.port}/")
+
+
+# ------------------------------------------------------------------ the token
+def test_another_host_needs_the_token(tmp_path):
+    shutil.copy(FIG4A, tmp_path / "fig4a.yaml")
+    s = Server(tmp_path, "fig4a.yaml", "--host", "0.0.0.0")
+    try:
+        assert s.token and s.url == f"http://0.0.0.0:{s.port}/"
+        base = f"http://127.0.0.1:{s.port}/"
+        need = "this server needs its token: open the address it printed, with its ?token=, or send " \
+               "the header X-Fixpoint-Token"
+        for path in ["", "app.js", "style.css", "api/state", "api/plugins"]:
+            status, _, data = s.get(path, base=base)
+            assert status == 403
+            assert json.loads(data) == {"error": need}
+            status, _, _ = s.get(path + "?token=" + s.token, base=base)
+            assert status == 200
+            status, _, _ = s.get(path, base=base, headers={"X-Fixpoint-Token": s.token})
+            assert status == 200
+            status, _, _ = s.get(path + "?token=" + "0" * 32, base=base)
+            assert status == 403
+        status, _, data = s.post("api/check", {"text": fig4a_text()}, base=base)
+        assert status == 403
+        status, _, data = s.post("api/check", {"text": fig4a_text()}, base=base,
+                                 headers={"X-Fixpoint-Token": s.token})
+        assert status == 200 and json.loads(data)["ok"] is True
+        # The page links its own files with the token.
+        _, _, page = s.get("?token=" + s.token, base=base)
+        assert f'src="app.js?token={s.token}"'.encode() in page
+        assert f'href="style.css?token={s.token}"'.encode() in page
+        # Any Host: the token is the guard off loopback.
+        c = http.client.HTTPConnection("127.0.0.1", s.port, timeout=30)
+        c.request("GET", "/api/state?token=" + s.token, headers={"Host": "example.org"})
+        assert c.getresponse().status == 200
+        c.close()
+    finally:
+        assert s.stop() == 0
+
+
+def test_loopback_needs_no_token(srv):
+    assert srv.token is None
+    assert srv.get("api/state")[0] == 200
+
+
+# ------------------------------------------------------------------ paths
+@pytest.fixture(scope="module")
+def escapes(root, tmp_path_factory):
+    outside = tmp_path_factory.mktemp("outside")
+    (outside / "x.yaml").write_text(fig4a_text())
+    os.symlink(outside, root / "out-dir")
+    os.symlink(outside / "x.yaml", root / "out-link.yaml")
+    os.symlink(outside / "new.yaml", root / "dangling.yaml")
+    (outside / "x.png").write_bytes(b"not an image")
+    os.symlink(outside / "x.png", root / "out-link.png")
+    os.symlink(outside / "new.png", root / "dangling.png")
+    return outside
+
+
+ESCAPES = {
+    "../x.yaml": "'..' is refused: paths stay inside the served folder",
+    "a/../../x.yaml": "'..' is refused: paths stay inside the served folder",
+    "/etc/passwd.yaml": "an absolute path; paths are relative to the served folder",
+    "out-dir/x.yaml": "leaves the served folder through a symbolic link",
+    "out-link.yaml": "leaves the served folder through a symbolic link",
+    "dangling.yaml": "leaves the served folder through a symbolic link",
+}
+
+
+@pytest.mark.parametrize("path", sorted(ESCAPES))
+@pytest.mark.parametrize("endpoint", ["api/check", "api/preview", "api/save", "api/render"])
+def test_paths_that_leave_the_root_are_403(srv, escapes, endpoint, path):
+    status, _, data = srv.post(endpoint, {"text": fig4a_text(), "path": path, "output": "esc.png"})
+    assert status == 403
+    message = json.loads(data)["error"]
+    assert message.startswith(f"path '{path}': {ESCAPES[path]}")
+    assert (escapes / "x.yaml").read_text() == fig4a_text()
+    assert sorted(os.listdir(escapes)) == ["x.png", "x.yaml"]
+
+
+@pytest.mark.parametrize("path", sorted(ESCAPES))
+def test_outputs_that_leave_the_root_are_403(srv, escapes, path):
+    out = path.replace(".yaml", ".png")
+    status, _, data = srv.post("api/render", {"text": fig4a_text(), "path": "fig4a.yaml", "output": out,
+                                              "force": True})
+    assert status == 403
+    assert json.loads(data)["error"].startswith(f"output '{out}': {ESCAPES[path]}")
+    assert sorted(os.listdir(escapes)) == ["x.png", "x.yaml"]
+    assert (escapes / "x.png").read_bytes() == b"not an image"
+
+
+def test_an_output_path_in_the_config_that_leaves_the_root_is_403(srv):
+    text = fig4a_text().replace("renderer:", "output: {path: ../away.png}\nrenderer:", 1)
+    status, _, data = srv.post("api/render", {"text": text, "path": "fig4a.yaml"})
+    assert status == 403
+    assert json.loads(data) == {"error": "fig4a.yaml:15:16: output '../away.png': '..' is refused: paths stay "
+                                         "inside the served folder"}
+
+
+def test_a_config_outside_the_root_does_not_start(tmp_path):
+    r = subprocess.run([BIN, "serve", "../fig4a.yaml", "--port", "0", "--root", str(tmp_path)],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2
+    assert r.stderr == "CONFIG '../fig4a.yaml': '..' is refused: paths stay inside the served folder\n"
+    r = subprocess.run([BIN, "serve", "none.yaml", "--port", "0", "--root", str(tmp_path)],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2
+    assert r.stderr == f"CONFIG: 'none.yaml' is not a file in '{os.path.realpath(tmp_path)}'\n"
+
+
+# ------------------------------------------------------------------ save
+def test_save_writes_the_text(srv):
+    text = fig4a_text().replace("radius: 1}", "radius: 0.9}")
+    assert srv.api("api/save", {"text": text, "path": "saved.yaml"}) == {"ok": True, "path": "saved.yaml"}
+    with open(os.path.join(srv.root, "saved.yaml")) as f:
+        assert f.read() == text
+    # Saving again replaces it: saving is what the page is for.
+    assert srv.api("api/save", {"text": "# x\n", "path": "saved.yaml"})["ok"] is True
+    with open(os.path.join(srv.root, "saved.yaml")) as f:
+        assert f.read() == "# x\n"
+
+
+@pytest.mark.parametrize("path", ["saved.png", "saved.txt", "saved", "fig4a.yaml.bak"])
+def test_save_writes_only_yaml(srv, path):
+    status, _, data = srv.post("api/save", {"text": "# x\n", "path": path})
+    assert status == 400
+    assert json.loads(data) == {"error": f"save: '{path}': a config is saved as .yaml or .yml"}
+    assert not os.path.exists(os.path.join(srv.root, path))
+
+
+def test_save_needs_a_path(srv):
+    status, _, data = srv.post("api/save", {"text": "# x\n", "path": ""})
+    assert status == 400
+
+
+# ------------------------------------------------------------------ the preview
+def test_the_preview_stages_shrink_by_the_factors_and_end_with_the_cli_render(srv):
+    text = fig4a_text().replace("points: 40000000", "points: 4000000")
+    started = srv.api("api/preview", {"text": text, "path": "same.yaml"})
+    assert started["ok"] is True and started["stages"] == 4
+    got = frames(srv, started["job"])
+    assert [int(h["X-Stage"]) for h, _ in got] == [0, 1, 2, 3]
+    assert [h["X-Done"] for h, _ in got] == ["0", "0", "0", "1"]
+    assert {h["X-Stages"] for h, _ in got} == {"4"}
+    assert [(int(h["X-Width"]), int(h["X-Height"])) for h, _ in got] == [(128, 128), (256, 256), (512, 512),
+                                                                         (1024, 1024)]
+    for h, png in got:
+        assert h["Content-Type"] == "image/png"
+        w, hh = int(h["X-Width"]), int(h["X-Height"])
+        assert Image.open(io.BytesIO(png)).size == (w, hh)
+        # chaos-game: the points divided by the factor squared, as many per pixel.
+        assert float(h["X-Samples-Per-Pixel"]) == 4000000 / (1024 * 1024)
+        assert float(h["X-Seconds"]) > 0
+
+    # The last stage is the image `fixpoint render` writes for the same text, saved.
+    assert srv.api("api/save", {"text": text, "path": "same.yaml"})["ok"] is True
+    rc, _, err = cli("render", "same.yaml", "-o", "same-cli.png", "-q", cwd=srv.root)
+    assert rc == 0, err
+    with open(os.path.join(srv.root, "same-cli.png"), "rb") as f:
+        cli_png = f.read()
+    last = got[-1][1]
+    a, b = Image.open(io.BytesIO(last)), Image.open(io.BytesIO(cli_png))
+    assert a.mode == b.mode and a.size == b.size
+    assert a.tobytes() == b.tobytes()
+    assert last == cli_png
+    _, recipe, _ = cli("recipe", "same-cli.png", cwd=srv.root)
+    status, _, data = srv.post("api/recipe", last, ctype="application/octet-stream")
+    assert (status, json.loads(data)) == (200, {"ok": True, "text": recipe})
+
+    # The stage of factor 4 is `fixpoint render --draft`'s image.
+    rc, _, err = cli("render", "same.yaml", "--draft", "-o", "same-draft.png", "-q", cwd=srv.root)
+    assert rc == 0, err
+    with open(os.path.join(srv.root, "same-draft.png"), "rb") as f:
+        assert got[1][1] == f.read()
+
+
+def test_a_new_preview_cancels_the_running_one(srv):
+    slow = fig4a_text().replace("points: 40000000", "points: 2e9")
+    first = srv.api("api/preview", {"text": slow, "path": "fig4a.yaml"})
+    # Its first stage (factor 8: 2e9 / 64 points), then a wait for the second, which is
+    # rendering (2e9 / 16 points) when the second preview arrives.
+    status, h, _ = srv.get(f"api/frame?job={first['job']}&after=-1")
+    assert status == 200 and h["X-Stage"] == "0"
+    answer = {}
+
+    def wait_second_stage():
+        answer["status"], _, answer["body"] = srv.get(f"api/frame?job={first['job']}&after=0")
+        answer["at"] = time.monotonic()
+
+    waiter = threading.Thread(target=wait_second_stage)
+    waiter.start()
+    time.sleep(0.3)
+    assert "status" not in answer  # still rendering
+    posted = time.monotonic()
+    second = srv.api("api/preview", {"text": fig4a_text(), "path": "fig4a.yaml"})
+    waiter.join(timeout=30)
+    assert second["job"] == first["job"] + 1
+    assert answer["status"] == 410
+    assert json.loads(answer["body"]) == {"error": "cancelled"}
+    latency = answer["at"] - posted
+    print(f"cancellation latency: {latency * 1000:.0f} ms")
+    assert latency < 2.0
+    status, h, _ = srv.get(f"api/frame?job={second['job']}&after=-1")
+    assert status == 200 and h["X-Stage"] == "0"
+    # The cancelled job's later stages never come.
+    assert srv.get(f"api/frame?job={first['job']}&after=1")[0] == 410
+
+
+def test_a_render_that_fails_answers_422_with_the_cli_text(srv):
+    # Checks pass; the render draws nothing inside the view, which `fixpoint render` refuses.
+    # The first stage finds it: the draft of factor 8, rendered by the CLI with its --set.
+    text = fig4a_text().replace("view: [-1.75, 1.75, -1.75, 1.75]", "view: [100, 101, 100, 101]")
+    with open(os.path.join(srv.root, "empty-view.yaml"), "w") as f:
+        f.write(text)
+    rc, _, err = cli("render", "empty-view.yaml", "-o", "empty-view.png", "-q", "--set", "renderer.width=128",
+                     "--set", "renderer.height=128", "--set", "renderer.points=625000", cwd=srv.root)
+    assert rc == 2
+    line = err.strip()
+    started = srv.api("api/preview", {"text": text, "path": "empty-view.yaml"})
+    status, _, data = srv.get(f"api/frame?job={started['job']}&after=-1")
+    assert status == 422
+    assert json.loads(data) == {"error": line, "line": position(line)[0], "column": position(line)[1]}
+
+
+def test_a_frame_after_the_last_is_204(srv):
+    started = srv.api("api/preview", {"text": fig4a_text().replace("points: 40000000", "points: 400000"),
+                                      "path": "fig4a.yaml"})
+    frames(srv, started["job"])
+    status, _, data = srv.get(f"api/frame?job={started['job']}&after=3")
+    assert status == 204 and data == b""
+
+
+# ------------------------------------------------------------------ render and recipe
+def test_render_writes_the_cli_bytes_and_keeps_existing_files(srv):
+    text = fig4a_text().replace("points: 40000000", "points: 3000000")
+    assert srv.api("api/save", {"text": text, "path": "r.yaml"})["ok"] is True
+    rc, _, err = cli("render", "r.yaml", "-o", "r-cli.png", "-q", cwd=srv.root)
+    assert rc == 0, err
+    got = srv.api("api/render", {"text": text, "path": "r.yaml", "output": "r.png"})
+    assert got["ok"] is True and got["output"] == "r.png" and got["seconds"] > 0
+    assert got["summary"].startswith("r.png: 3000000 points in ")
+    with open(os.path.join(srv.root, "r.png"), "rb") as f, open(os.path.join(srv.root, "r-cli.png"), "rb") as g:
+        assert f.read() == g.read()
+    # An existing output: refused without force, replaced with it.
+    before = os.stat(os.path.join(srv.root, "r.png")).st_mtime_ns
+    assert srv.api("api/render", {"text": text, "path": "r.yaml", "output": "r.png"}) == {
+        "ok": False, "error": "'r.png' exists: render with \"force\": true to replace it", "line": 0, "column": 0}
+    assert os.stat(os.path.join(srv.root, "r.png")).st_mtime_ns == before
+    assert srv.api("api/render", {"text": text, "path": "r.yaml", "output": "r.png", "force": True})["ok"] is True
+    # The config itself is never written over, force or not.
+    assert srv.api("api/render", {"text": text, "path": "r.yaml", "output": "r.yaml", "force": True}) == {
+        "ok": False, "error": "cannot write 'r.yaml': it is the config being rendered", "line": 0, "column": 0}
+    with open(os.path.join(srv.root, "r.yaml")) as f:
+        assert f.read() == text
+
+
+def test_render_takes_the_config_output_path_then_its_name(srv):
+    text = fig4a_text().replace("points: 40000000", "points: 300000")
+    got = srv.api("api/render", {"text": text, "path": "named.yaml"})
+    assert got["output"] == "named.png"
+    with_path = text.replace("renderer:", "output: {path: from-config.png}\nrenderer:", 1)
+    assert srv.api("api/render", {"text": with_path, "path": "named.yaml"})["output"] == "from-config.png"
+    status, _, data = srv.post("api/render", {"text": text, "path": ""})
+    assert status == 400
+    assert json.loads(data) == {"error": "render: name the output (field 'output'): the text has no output.path"}
+
+
+def test_recipe_of_an_image_and_of_other_bytes(srv):
+    text = fig4a_text().replace("points: 40000000", "points: 300000")
+    assert srv.api("api/render", {"text": text, "path": "fig4a.yaml", "output": "rec.png", "force": True})["ok"]
+    _, recipe, _ = cli("recipe", "rec.png", cwd=srv.root)
+    with open(os.path.join(srv.root, "rec.png"), "rb") as f:
+        png = f.read()
+    status, _, data = srv.post("api/recipe", png, ctype="application/octet-stream")
+    assert status == 200
+    assert json.loads(data) == {"ok": True, "text": recipe}
+    status, _, data = srv.post("api/recipe", b"hello", ctype="application/octet-stream")
+    assert json.loads(data) == {"ok": False, "error": "the dropped file is not an image fixpoint writes (PNG, EXR, "
+                                                      "TIFF, SVG)", "line": 0, "column": 0}
+    # A PNG fixpoint did not write.
+    buf = io.BytesIO()
+    Image.new("RGB", (4, 4)).save(buf, "PNG")
+    status, _, data = srv.post("api/recipe", buf.getvalue(), ctype="application/octet-stream")
+    assert json.loads(data) == {"ok": False, "error": "'the image' holds no fixpoint recipe (it was not written by "
+                                                      "fixpoint)", "line": 0, "column": 0}
+    status, _, _ = srv.post("api/recipe", png, ctype="application/json")
+    assert status == 415
+
+
+# ------------------------------------------------------------------ params and edit (host/param_list.hpp, host/yaml_edit.hpp)
+def test_params_of_the_config(srv):
+    got = srv.api("api/params", {"text": fig4a_text(), "path": "fig4a.yaml"})
+    assert got["ok"] is True
+    first = got["params"][0]
+    assert (first["path"], first["kind"], first["plugin_kind"], first["value"]) == (
+        "renderer", "plugin", "renderer", "chaos-game")
+    radius = next(p for p in got["params"] if p["path"] == "renderer.maps[0].shape.radius")
+    assert (radius["kind"], radius["value"], radius["written"], radius["owner"]) == ("real", "1", True, "circle")
+    assert set(first) == {"path", "name", "owner", "kind", "value", "written", "required", "default", "min", "max",
+                          "min_open", "max_open", "choices", "plugin_kind", "description", "depth", "count"}
+
+
+def test_params_of_yaml_that_does_not_parse_is_a_refusal(srv):
+    got = srv.api("api/params", {"text": "renderer: [1, 2\n", "path": "x.yaml"})
+    assert got["ok"] is False and got["error"].startswith("x.yaml:") and got["line"] >= 1
+
+
+def test_edit_sets_a_value_in_place(srv):
+    text = fig4a_text()
+    got = srv.api("api/edit", {"text": text, "path": "fig4a.yaml", "op": "set",
+                               "target": "renderer.maps[0].shape.radius", "value": "0.7"})
+    assert got == {"ok": True, "text": text.replace("centre: [1, 1], radius: 1}", "centre: [1, 1], radius: 0.7}")}
+
+
+def test_edit_refusals(srv):
+    status, _, data = srv.post("api/edit", {"text": fig4a_text(), "op": "rename", "target": "renderer"})
+    assert status == 400
+    assert json.loads(data) == {"error": "field 'op': expected \"set\", \"remove\" or \"append\", not 'rename'"}
+    status, _, data = srv.post("api/edit", {"text": fig4a_text(), "op": "set", "target": "renderer.width"})
+    assert status == 400
+    assert json.loads(data) == {"error": "missing field 'value' (a string)"}
+    got = srv.api("api/edit", {"text": fig4a_text(), "path": "fig4a.yaml", "op": "remove",
+                               "target": "renderer.maps[99]"})
+    assert got["ok"] is False
+
+
+# ------------------------------------------------------------------ stopping
+def test_sigint_stops_the_server_during_a_preview_with_exit_0(tmp_path):
+    shutil.copy(FIG4A, tmp_path / "fig4a.yaml")
+    s = Server(tmp_path, "fig4a.yaml")
+    started = s.api("api/preview", {"text": fig4a_text().replace("points: 40000000", "points: 2e9"),
+                                    "path": "fig4a.yaml"})
+    assert started["ok"] is True
+    waiter = threading.Thread(target=lambda: s.get(f"api/frame?job={started['job']}&after=2"))
+    waiter.start()
+    time.sleep(0.3)
+    t0 = time.monotonic()
+    assert s.stop() == 0
+    print(f"stopped in {(time.monotonic() - t0) * 1000:.0f} ms")
+    waiter.join(timeout=30)
+    assert s.proc.stdout.read() == ""
+    assert s.proc.stderr.read() == ""
