@@ -474,11 +474,12 @@ function niceStep(span, isInt) {
 }
 
 // The slider's span: the declared range when it is finite, else one around the value (a
-// quarter to four times it, or -10..10 about zero) cut by the declared bound. The number
-// field beside it takes any value.
+// quarter to four times it, or -10..10 about zero) cut by the declared bound. A positive range
+// of three decades or more (a width of 1..65536, a count of points) slides on a log scale, so
+// that each decade gets its share of the slider. The number field beside it takes any value.
 function sliderSpan(e, v) {
   const kept = S.spans.get(e.path);
-  if (kept && v >= kept[0] && v <= kept[1]) return kept;
+  if (kept && v >= kept.lo && v <= kept.hi) return kept;
   const isInt = e.kind === 'int';
   const min = e.min == null ? -Infinity : e.min, max = e.max == null ? Infinity : e.max;
   let lo, hi;
@@ -493,12 +494,13 @@ function sliderSpan(e, v) {
     hi = Math.min(hi, max);
     if (!(lo < hi)) [lo, hi] = isFinite(min) ? [min, min + 10] : [max - 10, max];
   }
+  const log = lo > 0 && hi / lo >= 1000;
   const step = niceStep(hi - lo, isInt);
-  if (!isFinite(min) || !isFinite(max)) {
+  if (!log && (!isFinite(min) || !isFinite(max))) {
     lo = Math.max(min, Math.floor(lo / step) * step);
     hi = Math.min(max, Math.ceil(hi / step) * step);
   }
-  const span = [lo, hi, step];
+  const span = { lo, hi, step, log };
   S.spans.set(e.path, span);
   return span;
 }
@@ -514,47 +516,62 @@ function el(tag, props = {}, ...kids) {
   return n;
 }
 
+// The declared default (docs/serve-api.md names it default_value, as ParamEntry does; a server
+// that says "default" is read too).
+const dflt = (e) => e.default_value ?? e.default ?? '';
+
 function row(e, control, cls = '') {
   const label = el('label', { textContent: e.name, title: e.description || e.name });
   const r = el('div', { className: 'prow' + (cls ? ' ' + cls : '') + (e.written ? '' : ' default') },
                label, control);
   r.style.paddingLeft = `${e.depth * 12}px`;
   r.dataset.path = e.path;
-  r.title = `${e.path}: ${e.description || ''}${e.default_value ? ` (default ${e.default_value})` : ''}`;
+  r.title = `${e.path}: ${e.description || ''}${dflt(e) ? ` (default ${dflt(e)})` : ''}`;
   return r;
 }
 
 function numberControl(e) {
   const isInt = e.kind === 'int';
-  const v = e.value === '' ? NaN : Number(e.value);
-  const [lo, hi, step] = sliderSpan(e, v);
-  const slider = el('input', { type: 'range', min: lo, max: hi, step });
-  slider.value = isFinite(v) ? v : lo;
+  const slider = el('input', { type: 'range' });
   slider.dataset.path = e.path;
   const field = el('input', { type: 'number', value: e.value, step: isInt ? 1 : 'any' });
   field.dataset.path = e.path;
   if (e.min != null) field.min = e.min;
   if (e.max != null) field.max = e.max;
-  const write = (x) => (isInt ? String(Math.round(x)) : String(Number(Number(x).toFixed(decimals(step)))));
+  let span = null;
+  const place = (x, n) => {
+    span = sliderSpan(x, n);
+    if (span.log) Object.assign(slider, { min: Math.log(span.lo), max: Math.log(span.hi), step: 'any' });
+    else Object.assign(slider, { min: span.lo, max: span.hi, step: span.step });
+    slider.value = !isFinite(n) ? slider.min : span.log ? Math.log(n) : n;
+  };
+  place(e, e.value === '' ? NaN : Number(e.value));
+  // The slider's position as the value written into the YAML: a multiple of the step, or on a
+  // log scale three significant digits.
+  const read = () => {
+    const s = Number(slider.value);
+    if (span.log) {
+      const x = Number(Math.exp(s).toPrecision(3));
+      return String(isInt ? Math.round(x) : x);
+    }
+    return isInt ? String(Math.round(s)) : String(Number(s.toFixed(decimals(span.step))));
+  };
   slider.addEventListener('input', () => {
-    field.value = write(slider.value);
-    setParam(e.path, write(slider.value));
+    field.value = read();
+    setParam(e.path, read());
   });
-  slider.addEventListener('change', () => setParam(e.path, write(slider.value)));
+  slider.addEventListener('change', () => setParam(e.path, read()));
   field.addEventListener('change', () => {
-    if (field.value.trim() === '') return;
-    if (Number(field.value) >= lo && Number(field.value) <= hi) slider.value = field.value;
-    setParam(e.path, field.value.trim());
+    const t = field.value.trim();
+    if (t === '' || !isFinite(Number(t))) return;
+    place(e, Number(t));
+    setParam(e.path, t);
   });
   const c = el('div', { className: 'ctl' }, slider, field);
   c.update = (x) => {
     const n = Number(x.value);
     if (document.activeElement !== field) field.value = x.value;
-    if (document.activeElement !== slider && isFinite(n)) {
-      const [l2, h2, s2] = sliderSpan(x, n);
-      Object.assign(slider, { min: l2, max: h2, step: s2 });
-      slider.value = n;
-    }
+    if (document.activeElement !== slider && x.value !== '' && isFinite(n)) place(x, n);
   };
   return c;
 }

@@ -5,9 +5,10 @@ opens a dropped image's recipe. Each test leaves screenshots in its tmp folder (
 
 import math
 import re
+import shutil
 
 import pytest
-from conftest import Page, Server, pixels, run_cli
+from conftest import SOURCE, Page, Server, pixels, run_cli
 
 # fig4a.yaml's lines (1-based) that the tests change.
 MAP0 = 24  # - {type: inversion, shape: {type: circle, centre: [1, 1], radius: 1}, colour: "#ff6b6b"}
@@ -221,5 +222,77 @@ def test_token_is_sent_with_every_request(browser, root, tmp_path):
         # Without it the server refuses, and the page says so.
         browser.get(base)
         assert "token" in browser.page_source
+    finally:
+        assert s.stop() == 0
+
+
+def test_colour_and_plugin_controls_write_their_lines(page):
+    first = page.wait_done()
+    text = page.text()
+    page.js("""const c = document.querySelector('input[type=color][data-path="renderer.maps[0].colour"]');
+               c.value = '#00ff80'; c.dispatchEvent(new Event('input', {bubbles: true}));""")
+    page.wait(lambda: page.text() != text, what="the new colour")
+    new = page.text()
+    assert changed_lines(text, new) == [MAP0]
+    assert new.split("\n")[MAP0 - 1] == text.split("\n")[MAP0 - 1].replace('"#ff6b6b"', '"#00ff80"')
+    # A plugin slot: the colourer becomes density, written as {type: density}.
+    page.js("""const s = document.querySelector('select[data-path="renderer.colourer"]');
+               s.value = 'density'; s.dispatchEvent(new Event('change', {bubbles: true}));""")
+    page.wait(lambda: "colourer: {type: density}" in page.text(), what="the new colourer")
+    assert changed_lines(new, page.text()) == [21]
+    page.wait_done(other_than=first)
+    assert page.js("return document.getElementById('error').hidden") is True
+    page.shot("controls")
+
+
+def test_maps_remove_and_add(page):
+    page.wait_done()
+    text = page.text()
+    lines = text.split("\n")
+    page.js("document.querySelector('button[data-path=\"renderer.maps[7]\"]').click()")
+    page.wait(lambda: page.text() != text, what="the item removed")
+    removed = page.text()
+    assert removed.split("\n") == lines[:31] + lines[32:]
+    page.wait(lambda: page.js("return document.querySelector('button[data-path=\"renderer.maps[7]\"]')") is None,
+              what="the panel without maps[7]")
+    # "add" appends a copy of the last item (now maps[6]) from its written values.
+    page.js("document.querySelector('button[data-path=\"renderer.maps\"]').click()")
+    page.wait(lambda: page.text() != removed, what="the item added")
+    added = page.text().split("\n")
+    assert added[:31] == lines[:31]
+    assert added[31] == ('    - {type: inversion, shape: {type: circle, centre: [-0.30667, 0], radius: 0.21685}, '
+                         'colour: "#48dbfb"}')
+    page.wait(lambda: page.js("return document.querySelector('button[data-path=\"renderer.maps[7]\"]')") is not None,
+              what="the panel with maps[7] again")
+
+
+def test_orbit_trap_wheel_zooms_its_area(browser, tmp_path):
+    # orbit-trap samples pixel i at xmin + i (xmax - xmin) / (W - 1), row 0 at ymax.
+    root = tmp_path / "ot"
+    root.mkdir()
+    shutil.copy(SOURCE / "configs" / "orbit-trap" / "fig5b.yaml", root / "fig5b.yaml")
+    s = Server(root, "fig5b.yaml")
+    try:
+        shots = tmp_path / "shots"
+        shots.mkdir()
+        page = Page(browser, s.url, shots)
+        first = page.wait_done()
+        text = page.text()
+        u, v = page.js("""const b = document.getElementById('imgbox').getBoundingClientRect();
+                   const x = Math.round(b.left + 0.7 * b.width), y = Math.round(b.top + 0.4 * b.height);
+                   document.getElementById('frame').dispatchEvent(new WheelEvent('wheel', {
+                     deltaY: 100, clientX: x, clientY: y, bubbles: true, cancelable: true}));
+                   return [(x - b.left) / b.width, (y - b.top) / b.height];""")
+        page.wait(lambda: page.text() != text, what="the new area")
+        line = [x for x in page.text().split("\n") if x.startswith("  area:")][0]
+        assert line.endswith("]   # [-2 pi, 2 pi]^2")  # the comment stays
+        a = 2 * math.pi
+        x = -a + (u * 800 - 0.5) / 799 * 2 * a
+        y = a - (v * 800 - 0.5) / 799 * 2 * a
+        f = math.exp(0.2)  # zoomed out
+        want = [x + (-a - x) * f, x + (a - x) * f, y + (-a - y) * f, y + (a - y) * f]
+        assert numbers(line.split("#")[0]) == pytest.approx(want, rel=1e-9)
+        page.wait_done(other_than=first)
+        page.shot("orbit-trap")
     finally:
         assert s.stop() == 0
