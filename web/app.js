@@ -520,10 +520,17 @@ function el(tag, props = {}, ...kids) {
 // that says "default" is read too).
 const dflt = (e) => e.default_value ?? e.default ?? '';
 
+// Unwritten values show the default in grey; optional parameters without one are hidden
+// unless "show unset parameters" is ticked.
+function mark(r, e) {
+  r.classList.toggle('default', !e.written);
+  r.classList.toggle('unset', !e.written && !e.required && e.value === '');
+}
+
 function row(e, control, cls = '') {
   const label = el('label', { textContent: e.name, title: e.description || e.name });
-  const r = el('div', { className: 'prow' + (cls ? ' ' + cls : '') + (e.written ? '' : ' default') },
-               label, control);
+  const r = el('div', { className: 'prow' + (cls ? ' ' + cls : '') }, label, control);
+  mark(r, e);
   r.style.paddingLeft = `${e.depth * 12}px`;
   r.dataset.path = e.path;
   r.title = `${e.path}: ${e.description || ''}${dflt(e) ? ` (default ${dflt(e)})` : ''}`;
@@ -735,7 +742,7 @@ function buildPanel(entries) {
   S.renderer = top ? unquote(top.value) : '';
   const reg = entries.find((p) => p.path === 'renderer.view' || p.path === 'renderer.area');
   S.regionParam = reg ? reg.path : '';
-  imgbox.classList.toggle('fixed', !S.regionParam);
+  imgbox.classList.toggle('fixed', !regionOf(entries));
   // The same parameters as before: update the controls in place, so that a slider being
   // dragged is not replaced under the pointer.
   const sig = entries.map((e) => `${e.path}|${e.kind}|${(e.choices || []).join(',')}|${e.count}`).join('\n');
@@ -743,7 +750,7 @@ function buildPanel(entries) {
   if (sig === S.signature && rows.length === entries.length) {
     entries.forEach((e, i) => {
       const r = rows[i];
-      r.classList.toggle('default', !e.written);
+      mark(r, e);
       const c = r.querySelector('.ctl');
       if (c && c.update) c.update(e);
     });
@@ -858,6 +865,7 @@ window.addEventListener('drop', (e) => {
 });
 
 $('save').addEventListener('click', save);
+$('show-unset').addEventListener('change', (e) => panel.classList.toggle('all', e.target.checked));
 $('render').addEventListener('click', render);
 
 // ------------------------------------------------------------------ start

@@ -33,12 +33,12 @@ def run_cli(*args, cwd=None):
 
 
 class Server:
-    """`fixpoint serve --port 0 --root ROOT CONFIG`, stopped with SIGINT as a user would."""
+    """`fixpoint serve --port 0 --root ROOT [CONFIG]`, stopped with SIGINT as a user would."""
 
     def __init__(self, root, config, *extra):
         self.root = pathlib.Path(root)
         self.proc = subprocess.Popen(
-            [CLI, "serve", "--port", "0", "--root", str(root), *extra, config],
+            [CLI, "serve", "--port", "0", "--root", str(root), *extra, *([config] if config else [])],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         line = self.proc.stdout.readline()
         prefix = "fixpoint serve: open "

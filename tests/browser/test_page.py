@@ -296,3 +296,29 @@ def test_orbit_trap_wheel_zooms_its_area(browser, tmp_path):
         page.shot("orbit-trap")
     finally:
         assert s.stop() == 0
+
+
+def test_without_a_config_save_asks_for_a_name(browser, tmp_path):
+    root = tmp_path / "empty"
+    root.mkdir()
+    s = Server(root, None)
+    try:
+        shots = tmp_path / "shots"
+        shots.mkdir()
+        page = Page(browser, s.url, shots)
+        assert page.js("return document.getElementById('path').textContent") == "(unsaved)"
+        page.wait_done()  # the starter config renders
+        # A name the server refuses: its reason in the status line, nothing written.
+        page.js("document.getElementById('save').click()")
+        prompt_answer(page, "notes.txt")
+        page.wait(lambda: "a config is saved as .yaml or .yml" in status(page), what="the refusal")
+        assert list(root.iterdir()) == []
+        # Asked again (still no path), and saved.
+        page.js("document.getElementById('save').click()")
+        prompt_answer(page, "mine.yaml")
+        page.wait(lambda: status(page) == "saved mine.yaml", what="the save")
+        assert (root / "mine.yaml").read_text() == page.text()
+        assert page.js("return document.getElementById('path').textContent") == "mine.yaml"
+        page.shot("no-config")
+    finally:
+        assert s.stop() == 0
