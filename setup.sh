@@ -31,7 +31,7 @@ packages=(
     libcairo2-dev libhwy-dev
     python3-dev pybind11-dev python3-numpy
     ffmpeg # fixpoint animate --video (and ffprobe for its test)
-    libcpp-httplib-dev # fixpoint serve (used header-only)
+    libcpp-httplib-dev # fixpoint serve (a compiled library, linked with its pkg-config flags)
 )
 quick=${FIXPOINT_QUICK:-}
 if [ -n "$quick" ] && [ -n "${CI:-}" ]; then

@@ -199,7 +199,7 @@ void api_params(const Context& c, const httplib::Request& req, httplib::Response
         o.set("value", e.value);
         o.set("written", e.written);
         o.set("required", e.required);
-        o.set("default", e.default_value);
+        o.set("default_value", e.default_value);
         o.set("min", number_or_null(e.min));
         o.set("max", number_or_null(e.max));
         o.set("min_open", e.min_open);
@@ -546,12 +546,27 @@ int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& s
     const std::string shown = o.host.find(':') != std::string::npos ? "[" + o.host + "]" : o.host;
     const std::string url =
         "http://" + shown + ":" + std::to_string(c.port) + "/" + (c.token.empty() ? "" : "?token=" + c.token);
-    std::thread listener([&srv] { srv.listen_after_bind(); });
-    if (o.on_listen) o.on_listen(url);
+    std::atomic<bool> listened{false};
+    std::thread listener([&srv, &listened] {
+        srv.listen_after_bind();
+        listened.store(true);
+    });
+    const auto finish = [&] {
+        preview.shutdown(); // wakes the long polls, so that the pool's threads end
+        // httplib's stop() does nothing before the listener runs: wait for it to start (or fail).
+        while (!srv.is_running() && !listened.load())
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        srv.stop();
+        listener.join();
+    };
+    try {
+        if (o.on_listen) o.on_listen(url);
+    } catch (...) {
+        finish();
+        throw;
+    }
     while (!stop.load()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    preview.shutdown(); // wakes the long polls, so that the pool's threads end
-    srv.stop();
-    listener.join();
+    finish();
     return 0;
 }
 

@@ -103,11 +103,20 @@ def position(line):
     return (int(m.group(1)), int(m.group(2))) if m else (0, 0)
 
 
+def frame(s, job, after):
+    """/api/frame, asked again while it answers 204 (a slow build: a stage past 10 s)."""
+    for _ in range(60):
+        got = s.get(f"api/frame?job={job}&after={after}")
+        if got[0] != 204:
+            return got
+    return got
+
+
 def frames(s, job, after=-1):
     """Every stage of a job, in order: [(headers, png bytes)]."""
     out = []
     while True:
-        status, h, data = s.get(f"api/frame?job={job}&after={after}")
+        status, h, data = frame(s, job, after)
         assert status == 200, (status, data)
         out.append((h, data))
         after = int(h["X-Stage"])
@@ -140,10 +149,11 @@ def test_state_is_the_config_and_the_version(srv):
 
 
 def test_without_a_config_the_page_gets_a_starter_that_checks(tmp_path):
-    s = Server(tmp_path)
+    s = Server(tmp_path, "--threads", "3")
     try:
         state = s.api("api/state")
         assert state["path"] == ""
+        assert state["threads"] == 3
         assert s.api("api/check", {"text": state["text"], "path": ""}) == {
             "ok": True, "renderer": "chaos-game", "width": 512, "height": 512, "warnings": []}
     finally:
@@ -408,6 +418,17 @@ def test_save_writes_the_text(srv):
         assert f.read() == "# x\n"
 
 
+def test_save_keeps_unicode_sent_as_escapes(srv):
+    text = "# caf\u00e9, \U0001F600, \u4e2d\n" + fig4a_text()
+    body = json.dumps({"text": text, "path": "unicode.yaml"}).encode()  # ASCII: \\u escapes, a surrogate pair
+    assert b"\\ud83d\\ude00" in body
+    status, _, data = srv.post("api/save", body)
+    assert (status, json.loads(data)) == (200, {"ok": True, "path": "unicode.yaml"})
+    with open(os.path.join(srv.root, "unicode.yaml"), encoding="utf-8") as f:
+        assert f.read() == text
+    assert srv.api("api/check", {"text": text, "path": "unicode.yaml"})["ok"] is True
+
+
 @pytest.mark.parametrize("path", ["saved.png", "saved.txt", "saved", "fig4a.yaml.bak"])
 def test_save_writes_only_yaml(srv, path):
     status, _, data = srv.post("api/save", {"text": "# x\n", "path": path})
@@ -465,17 +486,17 @@ def test_the_preview_stages_shrink_by_the_factors_and_end_with_the_cli_render(sr
 def test_a_new_preview_cancels_the_running_one(srv):
     slow = fig4a_text().replace("points: 40000000", "points: 2e9")
     first = srv.api("api/preview", {"text": slow, "path": "fig4a.yaml"})
-    # Its first stage (factor 8: 2e9 / 64 points), then a wait for the second, which is
-    # rendering (2e9 / 16 points) when the second preview arrives.
-    status, h, _ = srv.get(f"api/frame?job={first['job']}&after=-1")
+    # Its first stage (factor 8: 2e9 / 64 points), then a wait for its last (the full render,
+    # 2e9 points): a draft is rendering when the second preview arrives.
+    status, h, _ = frame(srv, first["job"], -1)
     assert status == 200 and h["X-Stage"] == "0"
     answer = {}
 
-    def wait_second_stage():
-        answer["status"], _, answer["body"] = srv.get(f"api/frame?job={first['job']}&after=0")
+    def wait_last_stage():
+        answer["status"], _, answer["body"] = srv.get(f"api/frame?job={first['job']}&after=2")
         answer["at"] = time.monotonic()
 
-    waiter = threading.Thread(target=wait_second_stage)
+    waiter = threading.Thread(target=wait_last_stage)
     waiter.start()
     time.sleep(0.3)
     assert "status" not in answer  # still rendering
@@ -488,10 +509,10 @@ def test_a_new_preview_cancels_the_running_one(srv):
     latency = answer["at"] - posted
     print(f"cancellation latency: {latency * 1000:.0f} ms")
     assert latency < 2.0
-    status, h, _ = srv.get(f"api/frame?job={second['job']}&after=-1")
+    status, h, _ = frame(srv, second["job"], -1)
     assert status == 200 and h["X-Stage"] == "0"
-    # The cancelled job's later stages never come.
-    assert srv.get(f"api/frame?job={first['job']}&after=1")[0] == 410
+    # The cancelled job's last stage never comes.
+    assert srv.get(f"api/frame?job={first['job']}&after=2")[0] == 410
 
 
 def test_a_render_that_fails_answers_422_with_the_cli_text(srv):
@@ -505,7 +526,7 @@ def test_a_render_that_fails_answers_422_with_the_cli_text(srv):
     assert rc == 2
     line = err.strip()
     started = srv.api("api/preview", {"text": text, "path": "empty-view.yaml"})
-    status, _, data = srv.get(f"api/frame?job={started['job']}&after=-1")
+    status, _, data = frame(srv, started["job"], -1)
     assert status == 422
     assert json.loads(data) == {"error": line, "line": position(line)[0], "column": position(line)[1]}
 
@@ -584,8 +605,8 @@ def test_params_of_the_config(srv):
         "renderer", "plugin", "renderer", "chaos-game")
     radius = next(p for p in got["params"] if p["path"] == "renderer.maps[0].shape.radius")
     assert (radius["kind"], radius["value"], radius["written"], radius["owner"]) == ("real", "1", True, "circle")
-    assert set(first) == {"path", "name", "owner", "kind", "value", "written", "required", "default", "min", "max",
-                          "min_open", "max_open", "choices", "plugin_kind", "description", "depth", "count"}
+    assert set(first) == {"path", "name", "owner", "kind", "value", "written", "required", "default_value", "min",
+                          "max", "min_open", "max_open", "choices", "plugin_kind", "description", "depth", "count"}
 
 
 def test_params_of_yaml_that_does_not_parse_is_a_refusal(srv):
@@ -598,6 +619,20 @@ def test_edit_sets_a_value_in_place(srv):
     got = srv.api("api/edit", {"text": text, "path": "fig4a.yaml", "op": "set",
                                "target": "renderer.maps[0].shape.radius", "value": "0.7"})
     assert got == {"ok": True, "text": text.replace("centre: [1, 1], radius: 1}", "centre: [1, 1], radius: 0.7}")}
+
+
+LAST_MAP = '    - {type: inversion, shape: {type: circle, centre: [0, -0.30667], radius: 0.21685}, colour: "#ff9ff3"}\n'
+NEW_MAP = "{type: inversion, shape: {type: circle, centre: [0, 0], radius: 0.1}}"
+
+
+def test_edit_removes_and_appends_items_of_maps(srv):
+    text = fig4a_text()
+    assert text.endswith(LAST_MAP)
+    got = srv.api("api/edit", {"text": text, "path": "fig4a.yaml", "op": "remove", "target": "renderer.maps[7]"})
+    assert got == {"ok": True, "text": text[: -len(LAST_MAP)]}
+    got = srv.api("api/edit", {"text": text, "path": "fig4a.yaml", "op": "append", "target": "renderer.maps",
+                               "value": NEW_MAP})
+    assert got == {"ok": True, "text": text + "    - " + NEW_MAP + "\n"}
 
 
 def test_edit_refusals(srv):
