@@ -516,10 +516,6 @@ function el(tag, props = {}, ...kids) {
   return n;
 }
 
-// The declared default (docs/serve-api.md names it default_value, as ParamEntry does; a server
-// that says "default" is read too).
-const dflt = (e) => e.default_value ?? e.default ?? '';
-
 // Unwritten values show the default in grey; optional parameters without one are hidden
 // unless "show unset parameters" is ticked.
 function mark(r, e) {
@@ -533,7 +529,7 @@ function row(e, control, cls = '') {
   mark(r, e);
   r.style.paddingLeft = `${e.depth * 12}px`;
   r.dataset.path = e.path;
-  r.title = `${e.path}: ${e.description || ''}${dflt(e) ? ` (default ${dflt(e)})` : ''}`;
+  r.title = `${e.path}: ${e.description || ''}${e.default_value ? ` (default ${e.default_value})` : ''}`;
   return r;
 }
 
