@@ -1,0 +1,324 @@
+"""The preview page of `fixpoint serve` in headless Chromium: it shows the config's image as
+it refines, changes the YAML through its controls (a slider, the wheel, a drag), shows a
+refused config at its line with the CLI's text, saves, renders the bytes the CLI renders, and
+opens a dropped image's recipe. Each test leaves screenshots in its tmp folder (shots/)."""
+
+import math
+import re
+import shutil
+
+import pytest
+from conftest import SOURCE, Page, Server, pixels, run_cli
+
+# fig4a.yaml's lines (1-based) that the tests change.
+MAP0 = 24  # - {type: inversion, shape: {type: circle, centre: [1, 1], radius: 1}, colour: "#ff6b6b"}
+MAP4 = 29  # - {..., centre: [0.30667, 0], radius: 0.21685}, colour: "#ff9f43"}
+VIEW = 20  # view: [-1.75, 1.75, -1.75, 1.75]
+
+
+def changed_lines(a, b):
+    la, lb = a.split("\n"), b.split("\n")
+    assert len(la) == len(lb)
+    return [i + 1 for i, (x, y) in enumerate(zip(la, lb)) if x != y]
+
+
+def numbers(line):
+    return [float(x) for x in re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", line)]
+
+
+def slide(page, path, value):
+    """Move the slider of `path` to `value` as a user's drag does: input, then change."""
+    page.js("""const s = document.querySelector(`input[type=range][data-path="${arguments[0]}"]`);
+               s.value = arguments[1];
+               s.dispatchEvent(new Event('input', {bubbles: true}));
+               s.dispatchEvent(new Event('change', {bubbles: true}));""", path, value)
+
+
+def status(page):
+    return page.js("return document.getElementById('status').textContent")
+
+
+def test_first_image_refines_to_the_cli_render(page, root):
+    assert page.text() == (root / "fig4a.yaml").read_text()
+    page.wait_done()
+    png = page.image_bytes()
+    im = pixels(png).convert("RGB")
+    assert im.size == (1024, 1024)
+    assert len(im.getcolors(1 << 24)) > 100  # an image, not a blank canvas
+    # The last stage is the full render: the pixels `fixpoint render` makes of the same file.
+    assert run_cli("render", "fig4a.yaml", "-o", "cli.png", "-q", cwd=root).returncode == 0
+    assert pixels((root / "cli.png").read_bytes()).convert("RGB").tobytes() == im.tobytes()
+    caption = page.js("return document.getElementById('caption').textContent")
+    assert re.fullmatch(r"stage (\d+)/\1 · 1024×1024 · [0-9.]+ samples/px · [0-9.]+ s", caption), caption
+    # Shown at the config's aspect (square), inside the pane.
+    w, h = page.js("const b = document.getElementById('imgbox'); return [b.clientWidth, b.clientHeight]")
+    assert w == h and w > 300
+    # The panel has the parameters of the config, values as written.
+    assert page.js("return document.querySelector('input[type=number][data-path=\"renderer.width\"]').value") == "1024"
+    assert page.js("return document.querySelector('button[data-path=\"renderer.maps\"]').textContent") == "add"
+    page.shot("first")
+
+
+def test_slider_changes_that_line_and_the_image(page):
+    first = page.wait_done()
+    before = page.image_bytes()
+    text = page.text()
+    slide(page, "renderer.maps[4].shape.radius", "0.3")
+    page.wait(lambda: page.text() != text, what="the edited text")
+    new = page.text()
+    assert changed_lines(text, new) == [MAP4]
+    assert new.split("\n")[MAP4 - 1] == text.split("\n")[MAP4 - 1].replace("radius: 0.21685", "radius: 0.3")
+    page.wait_done(other_than=first)
+    after = page.image_bytes()
+    assert pixels(after).convert("RGB").tobytes() != pixels(before).convert("RGB").tobytes()
+    assert page.js("return document.querySelector('input[type=number][data-path=\"renderer.maps[4].shape.radius\"]')"
+                   ".value") == "0.3"
+    page.shot("slider")
+
+
+def test_typo_shows_the_cli_error_at_its_line(page, tmp_path):
+    page.wait_done()
+    src = page.js("return document.getElementById('frame').src")
+    text = page.text()
+    bad = text.replace('radius: 1}, colour: "#ffd93d"', 'raduis: 1}, colour: "#ffd93d"')
+    assert bad != text
+    page.set_text(bad)
+    shown = page.wait(lambda: page.js("const e = document.getElementById('error'); return !e.hidden && e.textContent"),
+                      what="the error")
+    # The CLI's line for the same file.
+    cli = tmp_path / "cli"
+    cli.mkdir()
+    (cli / "fig4a.yaml").write_text(bad)
+    r = run_cli("render", "fig4a.yaml", "-o", "x.png", cwd=cli)
+    assert r.returncode == 2
+    assert shown == r.stderr.decode().strip()
+    assert shown.startswith("fig4a.yaml:25:")
+    assert page.js("return [...document.querySelectorAll('#gutter .error')].map((e) => e.textContent)") == ["25"]
+    assert page.js("return document.getElementById('error-band').hidden") is False
+    # The last good image stays.
+    assert page.js("return document.getElementById('frame').src") == src
+    page.shot("typo")
+    page.set_text(text)
+    page.wait(lambda: page.js("return document.getElementById('error').hidden"), what="the error to clear")
+    assert page.js("return document.querySelectorAll('#gutter .error').length") == 0
+
+
+def test_wheel_zooms_about_the_cursor(page):
+    first = page.wait_done()
+    text = page.text()
+    # Chromium keeps a mouse event's clientX and clientY as integers: aim at whole pixels.
+    u, v = page.js("""const b = document.getElementById('imgbox').getBoundingClientRect();
+               const x = Math.round(b.left + 0.25 * b.width), y = Math.round(b.top + 0.25 * b.height);
+               document.getElementById('frame').dispatchEvent(new WheelEvent('wheel', {
+                 deltaY: -100, clientX: x, clientY: y, bubbles: true, cancelable: true}));
+               return [(x - b.left) / b.width, (y - b.top) / b.height];""")
+    page.wait(lambda: page.text() != text, what="the new view")
+    new = page.text()
+    assert changed_lines(text, new) == [VIEW]
+    line = new.split("\n")[VIEW - 1]
+    assert line.startswith("  view: [")
+    # The plane point under the cursor stays; the view shrinks by e^-0.2 about it.
+    f = math.exp(-0.2)
+    x, y = -1.75 + u * 3.5, 1.75 - v * 3.5
+    want = [x + (-1.75 - x) * f, x + (1.75 - x) * f, y + (-1.75 - y) * f, y + (1.75 - y) * f]
+    assert numbers(line) == pytest.approx(want, rel=1e-9)
+    page.wait_done(other_than=first)
+    assert page.js("return document.getElementById('frame').style.transform") == ""
+    page.shot("wheel")
+
+
+def test_drag_pans(page):
+    first = page.wait_done()
+    text = page.text()
+    w = page.js("""const b = document.getElementById('imgbox').getBoundingClientRect();
+                   const f = document.getElementById('frame');
+                   const at = (type, dx, dy) => f.dispatchEvent(new MouseEvent(type, {button: 0, bubbles: true,
+                     clientX: b.left + b.width / 2 + dx, clientY: b.top + b.height / 2 + dy}));
+                   at('mousedown', 0, 0); at('mousemove', 50, 20); at('mousemove', 100, 40); at('mouseup', 100, 40);
+                   return b.width;""")
+    page.wait(lambda: page.text() != text, what="the new view")
+    new = page.text()
+    assert changed_lines(text, new) == [VIEW]
+    # Dragged right and down: the view moves left and up (y grows upward).
+    dx, dy = 100 / w * 3.5, 40 / w * 3.5
+    assert numbers(new.split("\n")[VIEW - 1]) == pytest.approx([-1.75 - dx, 1.75 - dx, -1.75 + dy, 1.75 + dy], rel=1e-9)
+    page.wait_done(other_than=first)
+    page.shot("drag")
+
+
+def prompt_answer(page, text):
+    a = page.wait(lambda: _alert(page), what="a prompt")
+    if text is not None:
+        a.send_keys(text)
+    a.accept()
+
+
+def _alert(page):
+    try:
+        return page.d.switch_to.alert
+    except Exception:
+        return None
+
+
+def test_save_then_render_gives_the_cli_bytes(page, root):
+    first = page.wait_done()
+    text = page.text()
+    slide(page, "renderer.maps[0].shape.radius", "0.9")
+    page.wait(lambda: page.text() != text, what="the edited text")
+    assert changed_lines(text, page.text()) == [MAP0]
+    page.wait_done(other_than=first)
+    page.js("document.getElementById('save').click()")
+    page.wait(lambda: status(page) == "saved fig4a.yaml", what="the save")
+    assert (root / "fig4a.yaml").read_text() == page.text()
+
+    page.js("document.getElementById('render').click()")
+    prompt_answer(page, "page.png")
+    page.wait(lambda: status(page).startswith("wrote page.png in "), what="the render")
+    assert page.js("return document.getElementById('log').hidden") is False
+    # Again: the file exists, the page asks, and replaces it.
+    page.js("document.getElementById('render').click()")
+    prompt_answer(page, "page.png")
+    prompt_answer(page, None)  # "... Replace it?"
+    page.wait(lambda: status(page).startswith("wrote page.png in "), what="the second render")
+
+    r = run_cli("render", "fig4a.yaml", "-o", "cli.png", "-q", cwd=root)
+    assert r.returncode == 0, r.stderr
+    assert (root / "page.png").read_bytes() == (root / "cli.png").read_bytes()
+    page.shot("render")
+
+
+def test_dropped_image_opens_its_recipe(page, root):
+    first = page.wait_done()
+    r = run_cli("render", "fig4a.yaml", "-o", "other.png", "-q", "--set", "renderer.maps[0].shape.radius=0.8",
+                cwd=root)
+    assert r.returncode == 0
+    recipe = run_cli("recipe", "other.png", cwd=root)
+    assert recipe.returncode == 0
+    data = (root / "other.png").read_bytes()
+    page.js("""const bytes = Uint8Array.from(atob(arguments[0]), (c) => c.charCodeAt(0));
+               const dt = new DataTransfer();
+               dt.items.add(new File([bytes], 'other.png', {type: 'image/png'}));
+               document.getElementById('image-pane').dispatchEvent(
+                 new DragEvent('drop', {dataTransfer: dt, bubbles: true, cancelable: true}));""",
+            __import__("base64").b64encode(data).decode())
+    page.wait(lambda: page.text().strip() == recipe.stdout.decode().strip(), what="the recipe in the editor")
+    assert page.js("return document.getElementById('path').textContent") == "(unsaved)"
+    page.wait_done(other_than=first)
+    page.shot("drop")
+
+
+def test_token_is_sent_with_every_request(browser, root, tmp_path):
+    s = Server(root, "fig4a.yaml", "--host", "0.0.0.0")
+    try:
+        m = re.fullmatch(r"http://[^/]+:(\d+)/\?token=([0-9a-f]{32})", s.url)
+        assert m, s.url
+        base = f"http://127.0.0.1:{m.group(1)}/"
+        shots = tmp_path / "shots"
+        shots.mkdir()
+        page = Page(browser, f"{base}?token={m.group(2)}", shots)
+        page.wait_done()
+        assert page.text() == (root / "fig4a.yaml").read_text()
+        page.shot("token")
+        # Without it the server refuses, and the page says so.
+        browser.get(base)
+        assert "token" in browser.page_source
+    finally:
+        assert s.stop() == 0
+
+
+def test_colour_and_plugin_controls_write_their_lines(page):
+    first = page.wait_done()
+    text = page.text()
+    page.js("""const c = document.querySelector('input[type=color][data-path="renderer.maps[0].colour"]');
+               c.value = '#00ff80'; c.dispatchEvent(new Event('input', {bubbles: true}));""")
+    page.wait(lambda: page.text() != text, what="the new colour")
+    new = page.text()
+    assert changed_lines(text, new) == [MAP0]
+    assert new.split("\n")[MAP0 - 1] == text.split("\n")[MAP0 - 1].replace('"#ff6b6b"', '"#00ff80"')
+    # A plugin slot: the colourer becomes density, written as {type: density}.
+    page.js("""const s = document.querySelector('select[data-path="renderer.colourer"]');
+               s.value = 'density'; s.dispatchEvent(new Event('change', {bubbles: true}));""")
+    page.wait(lambda: "colourer: {type: density}" in page.text(), what="the new colourer")
+    assert changed_lines(new, page.text()) == [21]
+    page.wait_done(other_than=first)
+    assert page.js("return document.getElementById('error').hidden") is True
+    page.shot("controls")
+
+
+def test_maps_remove_and_add(page):
+    page.wait_done()
+    text = page.text()
+    lines = text.split("\n")
+    page.js("document.querySelector('button[data-path=\"renderer.maps[7]\"]').click()")
+    page.wait(lambda: page.text() != text, what="the item removed")
+    removed = page.text()
+    assert removed.split("\n") == lines[:31] + lines[32:]
+    page.wait(lambda: page.js("return document.querySelector('button[data-path=\"renderer.maps[7]\"]')") is None,
+              what="the panel without maps[7]")
+    # "add" appends a copy of the last item (now maps[6]) from its written values.
+    page.js("document.querySelector('button[data-path=\"renderer.maps\"]').click()")
+    page.wait(lambda: page.text() != removed, what="the item added")
+    added = page.text().split("\n")
+    assert added[:31] == lines[:31]
+    assert added[31] == ('    - {type: inversion, shape: {type: circle, centre: [-0.30667, 0], radius: 0.21685}, '
+                         'colour: "#48dbfb"}')
+    page.wait(lambda: page.js("return document.querySelector('button[data-path=\"renderer.maps[7]\"]')") is not None,
+              what="the panel with maps[7] again")
+
+
+def test_orbit_trap_wheel_zooms_its_area(browser, tmp_path):
+    # orbit-trap samples pixel i at xmin + i (xmax - xmin) / (W - 1), row 0 at ymax.
+    root = tmp_path / "ot"
+    root.mkdir()
+    shutil.copy(SOURCE / "configs" / "orbit-trap" / "fig5b.yaml", root / "fig5b.yaml")
+    s = Server(root, "fig5b.yaml")
+    try:
+        shots = tmp_path / "shots"
+        shots.mkdir()
+        page = Page(browser, s.url, shots)
+        first = page.wait_done()
+        text = page.text()
+        u, v = page.js("""const b = document.getElementById('imgbox').getBoundingClientRect();
+                   const x = Math.round(b.left + 0.7 * b.width), y = Math.round(b.top + 0.4 * b.height);
+                   document.getElementById('frame').dispatchEvent(new WheelEvent('wheel', {
+                     deltaY: 100, clientX: x, clientY: y, bubbles: true, cancelable: true}));
+                   return [(x - b.left) / b.width, (y - b.top) / b.height];""")
+        page.wait(lambda: page.text() != text, what="the new area")
+        line = [x for x in page.text().split("\n") if x.startswith("  area:")][0]
+        assert line.endswith("]   # [-2 pi, 2 pi]^2")  # the comment stays
+        a = 2 * math.pi
+        x = -a + (u * 800 - 0.5) / 799 * 2 * a
+        y = a - (v * 800 - 0.5) / 799 * 2 * a
+        f = math.exp(0.2)  # zoomed out
+        want = [x + (-a - x) * f, x + (a - x) * f, y + (-a - y) * f, y + (a - y) * f]
+        assert numbers(line.split("#")[0]) == pytest.approx(want, rel=1e-9)
+        page.wait_done(other_than=first)
+        page.shot("orbit-trap")
+    finally:
+        assert s.stop() == 0
+
+
+def test_without_a_config_save_asks_for_a_name(browser, tmp_path):
+    root = tmp_path / "empty"
+    root.mkdir()
+    s = Server(root, None)
+    try:
+        shots = tmp_path / "shots"
+        shots.mkdir()
+        page = Page(browser, s.url, shots)
+        assert page.js("return document.getElementById('path').textContent") == "(unsaved)"
+        page.wait_done()  # the starter config renders
+        # A name the server refuses: its reason in the status line, nothing written.
+        page.js("document.getElementById('save').click()")
+        prompt_answer(page, "notes.txt")
+        page.wait(lambda: "a config is saved as .yaml or .yml" in status(page), what="the refusal")
+        assert list(root.iterdir()) == []
+        # Asked again (still no path), and saved.
+        page.js("document.getElementById('save').click()")
+        prompt_answer(page, "mine.yaml")
+        page.wait(lambda: status(page) == "saved mine.yaml", what="the save")
+        assert (root / "mine.yaml").read_text() == page.text()
+        assert page.js("return document.getElementById('path').textContent") == "mine.yaml"
+        page.shot("no-config")
+    finally:
+        assert s.stop() == 0
