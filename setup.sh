@@ -32,6 +32,7 @@ packages=(
     python3-dev pybind11-dev python3-numpy
     ffmpeg # fixpoint animate --video (and ffprobe for its test)
     libcpp-httplib-dev # fixpoint serve (a compiled library, linked with its pkg-config flags)
+    nlohmann-json3-dev # fixpoint serve's JSON requests and answers (header-only)
 )
 quick=${FIXPOINT_QUICK:-}
 if [ -n "$quick" ] && [ -n "${CI:-}" ]; then

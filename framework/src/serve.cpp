@@ -4,7 +4,6 @@
 #include <fixpoint/host/serve.hpp>
 
 #include "serve/context.hpp"
-#include "serve/json.hpp"
 #include "serve/preview.hpp"
 #include "serve/web_assets.hpp"
 
@@ -88,15 +87,15 @@ std::string read_text(const std::string& path) {
     return text;
 }
 
-json::Value ok() {
-    json::Value v = json::Value::object();
-    v.set("ok", true);
+Json ok() {
+    Json v = Json::object();
+    v["ok"] = true;
     return v;
 }
 
-json::Value error_body(const std::string& message) {
-    json::Value v = json::Value::object();
-    v.set("error", message);
+Json error_body(const std::string& message) {
+    Json v = Json::object();
+    v["error"] = message;
     return v;
 }
 
@@ -127,7 +126,7 @@ httplib::Server::Handler guarded(const Context& c, Body body, F f) {
 }
 
 /// The "path" of a request: "" (an unsaved text) or a path inside the root.
-std::string request_path(const Context& c, const json::Value& body) {
+std::string request_path(const Context& c, const Json& body) {
     const std::string p = field(body, "path", false);
     return p.empty() ? p : c.inside(p, "path");
 }
@@ -151,76 +150,74 @@ void serve_asset(const Context& c, const WebAsset& a, httplib::Response& res) {
 
 // ---------------------------------------------------------------- the API
 void api_state(const Context& c, const httplib::Request&, httplib::Response& res) {
-    json::Value v = json::Value::object();
-    v.set("path", c.config);
-    v.set("text", c.config.empty() ? std::string(starter_config) : read_text(c.config));
-    v.set("version", FIXPOINT_VERSION);
-    v.set("threads", c.threads);
+    Json v = Json::object();
+    v["path"] = c.config;
+    v["text"] = c.config.empty() ? std::string(starter_config) : read_text(c.config);
+    v["version"] = FIXPOINT_VERSION;
+    v["threads"] = c.threads;
     send_json(res, 200, v);
 }
 
 void api_plugins(const Context& c, const httplib::Request&, httplib::Response& res) {
-    json::Value v = json::Value::object();
+    Json v = Json::object();
     for (const PluginEntry* e : c.reg->all()) {
         const std::string kind(kind_name(e->desc->kind));
-        json::Value list = v.find(kind) ? *v.find(kind) : json::Value::array();
-        list.push(e->desc->name);
-        v.set(kind, std::move(list));
+        v[kind].push_back(e->desc->name); // a null member becomes a list
     }
     send_json(res, 200, v);
 }
 
 void api_check(const Context& c, const httplib::Request& req, httplib::Response& res) {
-    const json::Value body = parse_body(req);
+    const Json body = parse_body(req);
     const std::string text = field(body, "text", true), path = request_path(c, body);
     const Pipeline p = load_checked(c, parse_config(text, source_name(path)));
-    json::Value v = ok();
-    v.set("renderer", p.renderer_type);
-    v.set("width", p.renderer->width());
-    v.set("height", p.renderer->height());
-    json::Value warnings = json::Value::array();
-    for (const auto& w : p.warnings) warnings.push(w);
-    v.set("warnings", warnings);
+    Json v = ok();
+    v["renderer"] = p.renderer_type;
+    v["width"] = p.renderer->width();
+    v["height"] = p.renderer->height();
+    Json warnings = Json::array();
+    for (const auto& w : p.warnings) warnings.push_back(w);
+    v["warnings"] = warnings;
     send_json(res, 200, v);
 }
 
-json::Value number_or_null(const std::optional<double>& d) { return d ? json::Value(*d) : json::Value(); }
+Json number_or_null(const std::optional<double>& d) { return d ? Json(*d) : Json(); }
 
 void api_params(const Context& c, const httplib::Request& req, httplib::Response& res) {
-    const json::Value body = parse_body(req);
+    const Json body = parse_body(req);
     const std::string text = field(body, "text", true), path = request_path(c, body);
     const std::vector<ParamEntry> entries = list_params(*c.reg, parse_config(text, source_name(path)));
-    json::Value list = json::Value::array();
+    Json list = Json::array();
     for (const ParamEntry& e : entries) {
-        json::Value o = json::Value::object();
-        o.set("path", e.path);
-        o.set("name", e.name);
-        o.set("owner", e.owner);
-        o.set("kind", e.kind);
-        o.set("value", e.value);
-        o.set("written", e.written);
-        o.set("required", e.required);
-        o.set("default_value", e.default_value);
-        o.set("min", number_or_null(e.min));
-        o.set("max", number_or_null(e.max));
-        o.set("min_open", e.min_open);
-        o.set("max_open", e.max_open);
-        json::Value choices = json::Value::array();
-        for (const auto& ch : e.choices) choices.push(ch);
-        o.set("choices", choices);
-        o.set("plugin_kind", e.plugin_kind);
-        o.set("description", e.description);
-        o.set("depth", e.depth);
-        o.set("count", e.count);
-        list.push(std::move(o));
+        Json o = Json::object();
+        o["path"] = e.path;
+        o["name"] = e.name;
+        o["owner"] = e.owner;
+        o["kind"] = e.kind;
+        o["value"] = e.value;
+        o["written"] = e.written;
+        o["required"] = e.required;
+        o["default_value"] = e.default_value;
+        o["min"] = number_or_null(e.min);
+        o["max"] = number_or_null(e.max);
+        o["min_open"] = e.min_open;
+        o["max_open"] = e.max_open;
+        Json choices = Json::array();
+        for (const auto& ch : e.choices) choices.push_back(ch);
+        o["choices"] = choices;
+        o["plugin_kind"] = e.plugin_kind;
+        o["description"] = e.description;
+        o["depth"] = e.depth;
+        o["count"] = e.count;
+        list.push_back(std::move(o));
     }
-    json::Value v = ok();
-    v.set("params", list);
+    Json v = ok();
+    v["params"] = list;
     send_json(res, 200, v);
 }
 
 void api_edit(const Context& c, const httplib::Request& req, httplib::Response& res) {
-    const json::Value body = parse_body(req);
+    const Json body = parse_body(req);
     const std::string text = field(body, "text", true), path = request_path(c, body);
     const std::string op = field(body, "op", true), target = field(body, "target", true);
     const std::string source = source_name(path);
@@ -233,13 +230,13 @@ void api_edit(const Context& c, const httplib::Request& req, httplib::Response& 
         out = edit_remove(text, source, target);
     else
         throw HttpError{400, "field 'op': expected \"set\", \"remove\" or \"append\", not " + quote(op, 40)};
-    json::Value v = ok();
-    v.set("text", out);
+    Json v = ok();
+    v["text"] = out;
     send_json(res, 200, v);
 }
 
 void api_preview(const Context& c, const httplib::Request& req, httplib::Response& res) {
-    const json::Value body = parse_body(req);
+    const Json body = parse_body(req);
     const std::string text = field(body, "text", true), path = request_path(c, body);
     const CNode root = parse_config(text, source_name(path));
     Pipeline full = load_checked(c, root);
@@ -257,9 +254,9 @@ void api_preview(const Context& c, const httplib::Request& req, httplib::Respons
     }
     const int n = int(stages.size());
     const std::uint64_t id = c.preview->start(std::move(stages));
-    json::Value v = ok();
-    v.set("job", static_cast<unsigned long long>(id));
-    v.set("stages", n);
+    Json v = ok();
+    v["job"] = static_cast<unsigned long long>(id);
+    v["stages"] = n;
     send_json(res, 200, v);
 }
 
@@ -287,8 +284,8 @@ void api_frame(const Context& c, const httplib::Request& req, httplib::Response&
         res.set_header("X-Done", a.stage + 1 == a.stages ? "1" : "0");
         res.set_header("X-Width", std::to_string(a.frame->width));
         res.set_header("X-Height", std::to_string(a.frame->height));
-        res.set_header("X-Samples-Per-Pixel", json::dump(a.frame->samples_per_pixel));
-        res.set_header("X-Seconds", json::dump(a.frame->seconds));
+        res.set_header("X-Samples-Per-Pixel", Json(a.frame->samples_per_pixel).dump());
+        res.set_header("X-Seconds", Json(a.frame->seconds).dump());
         res.set_content(a.frame->png, "image/png");
         return;
     }
@@ -296,11 +293,8 @@ void api_frame(const Context& c, const httplib::Request& req, httplib::Response&
     case Previewer::Wait::Cancelled: return send_json(res, 410, error_body("cancelled"));
     case Previewer::Wait::Unknown: throw HttpError{404, "no job " + std::to_string(job)};
     case Previewer::Wait::Failed: {
-        json::Value v = refusal(a.error);
-        json::Value e = json::Value::object();
-        e.set("error", *v.find("error"));
-        e.set("line", *v.find("line"));
-        e.set("column", *v.find("column"));
+        Json e = refusal(a.error);
+        e.erase("ok");
         return send_json(res, 422, e);
     }
     }
@@ -313,7 +307,7 @@ bool has_yaml_extension(const std::string& path) {
 }
 
 void api_save(const Context& c, const httplib::Request& req, httplib::Response& res) {
-    const json::Value body = parse_body(req);
+    const Json body = parse_body(req);
     const std::string text = field(body, "text", true), path = field(body, "path", true);
     if (!has_yaml_extension(path))
         throw HttpError{400, "save: " + quote(path, 200) + ": a config is saved as .yaml or .yml"};
@@ -322,13 +316,13 @@ void api_save(const Context& c, const httplib::Request& req, httplib::Response& 
         throw InputError(path + ": more than " + std::to_string(max_yaml_bytes) +
                          " bytes: fixpoint would not read it");
     write_bytes(text, path);
-    json::Value v = ok();
-    v.set("path", path);
+    Json v = ok();
+    v["path"] = path;
     send_json(res, 200, v);
 }
 
 void api_render(const Context& c, const httplib::Request& req, httplib::Response& res) {
-    const json::Value body = parse_body(req);
+    const Json body = parse_body(req);
     const std::string text = field(body, "text", true), path = request_path(c, body);
     std::string out = field(body, "output", false);
     const bool force = flag(body, "force");
@@ -384,14 +378,14 @@ void api_render(const Context& c, const httplib::Request& req, httplib::Response
     std::snprintf(summary, sizeof summary, "%s: %llu %s in %.2f s, %llu restarted chain%s", out.c_str(),
                   static_cast<unsigned long long>(stats.samples), stats.unit.c_str(), secs,
                   static_cast<unsigned long long>(stats.restarts), stats.restarts == 1 ? "" : "s");
-    json::Value v = ok();
-    v.set("output", out);
-    v.set("seconds", secs);
-    v.set("summary", std::string(summary));
-    json::Value warnings = json::Value::array();
-    for (const auto& w : p.warnings) warnings.push(w);
-    if (!warning.empty()) warnings.push(warning);
-    v.set("warnings", warnings);
+    Json v = ok();
+    v["output"] = out;
+    v["seconds"] = secs;
+    v["summary"] = std::string(summary);
+    Json warnings = Json::array();
+    for (const auto& w : p.warnings) warnings.push_back(w);
+    if (!warning.empty()) warnings.push_back(warning);
+    v["warnings"] = warnings;
     send_json(res, 200, v);
 }
 
@@ -424,8 +418,8 @@ void api_recipe(const Context& c, const httplib::Request& req, httplib::Response
         throw InputError(m);
     }
     fs::remove(file);
-    json::Value v = ok();
-    v.set("text", recipe);
+    Json v = ok();
+    v["text"] = recipe;
     send_json(res, 200, v);
 }
 

@@ -148,6 +148,16 @@ def test_state_is_the_config_and_the_version(srv):
     assert state["threads"] == os.cpu_count()
 
 
+def test_bytes_of_the_config_that_are_not_utf8_are_sent_as_u_fffd(tmp_path):
+    with open(tmp_path / "latin1.yaml", "wb") as f:
+        f.write(b"# caf\xe9\n" + fig4a_text().encode())
+    s = Server(tmp_path, "latin1.yaml")
+    try:
+        assert s.api("api/state")["text"] == "# caf\ufffd\n" + fig4a_text()
+    finally:
+        assert s.stop() == 0
+
+
 def test_without_a_config_the_page_gets_a_starter_that_checks(tmp_path):
     s = Server(tmp_path, "--threads", "3")
     try:
@@ -217,8 +227,22 @@ def test_a_refusal_of_an_unsaved_text_names_it_config(srv):
 
 # ------------------------------------------------------------------ bad requests
 @pytest.mark.parametrize("body,message", [
-    (b"{", "bad JSON: expected a key in quotes at byte 1"),
-    (b'{"text": "a"} x', "bad JSON: text after the value at byte 14"),
+    (b"{", "bad JSON at line 1, column 2: syntax error while parsing object key - unexpected end of input; "
+           "expected string literal"),
+    (b'{"text": "a"} x', "bad JSON at line 1, column 15: syntax error while parsing value - invalid literal; "
+                         "last read: '\"a\"} x'; expected end of input"),
+    (b'{"text": "\\ud800"}', "bad JSON at line 1, column 17: syntax error while parsing value - invalid string: "
+                             "surrogate U+D800..U+DBFF must be followed by U+DC00..U+DFFF; last read: '\"\\ud800\"'"),
+    (b'{"text": 1e400}', "bad JSON: number overflow parsing '1e400'"),
+    # A byte that is not UTF-8 is refused, and quoted back as U+FFFD.
+    (b'{"text": "\xff"}', "bad JSON at line 1, column 11: syntax error while parsing value - invalid string: "
+                          "ill-formed UTF-8 byte; last read: '\"\ufffd'"),
+    # The token being read is quoted by its last 40 bytes only.
+    (b'{"text": "' + b"a" * 1000, "bad JSON at line 1, column 1011: syntax error while parsing value - "
+                                  "invalid string: missing closing quote; last read: '..." + "a" * 40 + "'"),
+    (b'{"text": 1' + b"0" * 1000 + b"}", "bad JSON: number overflow parsing '..." + "0" * 40 + "'"),
+    (b'{"text": ' + b"[" * 63 + b"]" * 63 + b"}", "field 'text': expected a string"),  # 64 levels
+    (b'{"text": ' + b"[" * 64 + b"]" * 64 + b"}", "bad JSON: nested more than 64 levels"),
     (b"[1, 2]", "the body must be a JSON object"),
     (b'{"path": "fig4a.yaml"}', "missing field 'text' (a string)"),
     (b'{"text": 5}', "field 'text': expected a string"),

@@ -110,50 +110,93 @@ std::string Context::inside(const std::string& rel, const std::string& what, con
     return rel;
 }
 
-json::Value parse_body(const httplib::Request& req) {
-    json::Value v;
+namespace {
+
+constexpr int max_depth = 64;
+
+// nlohmann's message, less its "[json.exception.parse_error.101] " id, as one line of ours:
+// "bad JSON at line 1, column 2: syntax error while parsing ...".
+std::string json_message(const nlohmann::json::exception& e) {
+    std::string m = e.what();
+    if (m.rfind("[json.exception.", 0) == 0 && m.find("] ") != std::string::npos)
+        m.erase(0, m.find("] ") + 2);
+    const std::string parse = "parse error ";
+    m = m.rfind(parse, 0) == 0 ? "bad JSON " + m.substr(parse.size()) : "bad JSON: " + m;
+    // It quotes the token it was reading ("last read: '...'", "number overflow parsing '...'"),
+    // which may be a whole string of the body: keep the token's end, where the error is.
+    std::size_t begin = std::string::npos;
+    for (const std::string lead : {"last read: '", "parsing '"}) {
+        if (const std::size_t at = m.find(lead); at != std::string::npos) {
+            begin = at + lead.size();
+            break;
+        }
+    }
+    if (begin == std::string::npos) return m;
+    std::size_t end = m.rfind("'; expected ");
+    if (end == std::string::npos || end < begin) end = m.size() - 1;
+    constexpr std::size_t keep = 40;
+    if (end <= begin + keep) return m;
+    std::size_t cut = end - keep;
+    while (cut < end && (static_cast<unsigned char>(m[cut]) & 0xC0) == 0x80) ++cut; // whole UTF-8
+    return m.substr(0, begin) + "..." + m.substr(cut);
+}
+
+} // namespace
+
+Json parse_body(const httplib::Request& req) {
+    // The page's bodies are flat objects: one nested more than 64 deep is no request of ours,
+    // and is refused while it is read (nlohmann's parser itself sets no limit).
+    const auto limit = [](int depth, Json::parse_event_t event, Json&) {
+        if ((event == Json::parse_event_t::object_start || event == Json::parse_event_t::array_start) &&
+            depth >= max_depth)
+            throw HttpError{400, "bad JSON: nested more than " + std::to_string(max_depth) + " levels"};
+        return true;
+    };
+    Json v;
     try {
-        v = json::parse(req.body);
-    } catch (const json::ParseError& e) {
-        throw HttpError{400, e.what()};
+        v = Json::parse(req.body, limit);
+    } catch (const nlohmann::json::exception& e) {
+        throw HttpError{400, json_message(e)};
     }
     if (!v.is_object()) throw HttpError{400, "the body must be a JSON object"};
     return v;
 }
 
-std::string field(const json::Value& body, const std::string& key, bool required) {
-    const json::Value* v = body.find(key);
-    if (!v || v->type() == json::Value::Type::Null) {
+std::string field(const Json& body, const std::string& key, bool required) {
+    const auto v = body.find(key);
+    if (v == body.end() || v->is_null()) {
         if (required) throw HttpError{400, "missing field '" + key + "' (a string)"};
         return "";
     }
     if (!v->is_string()) throw HttpError{400, "field '" + key + "': expected a string"};
-    return v->str();
+    return v->get<std::string>();
 }
 
-bool flag(const json::Value& body, const std::string& key) {
-    const json::Value* v = body.find(key);
-    if (!v || v->type() == json::Value::Type::Null) return false;
-    if (!v->is_bool()) throw HttpError{400, "field '" + key + "': expected true or false"};
-    return v->boolean();
+bool flag(const Json& body, const std::string& key) {
+    const auto v = body.find(key);
+    if (v == body.end() || v->is_null()) return false;
+    if (!v->is_boolean()) throw HttpError{400, "field '" + key + "': expected true or false"};
+    return v->get<bool>();
 }
 
-void send_json(httplib::Response& res, int status, const json::Value& v) {
+void send_json(httplib::Response& res, int status, const Json& v) {
     res.status = status;
     res.set_header("Cache-Control", "no-store");
-    res.set_content(json::dump(v), "application/json");
+    // Texts read from files may hold bytes that are not UTF-8: U+FFFD stands for each
+    // (dump would throw otherwise).
+    res.set_content(v.dump(-1, ' ', false, Json::error_handler_t::replace), "application/json");
 }
 
-json::Value refusal(const std::string& text) {
-    json::Value v = json::Value::object();
-    v.set("ok", false);
-    v.set("error", text);
+Json refusal(const std::string& text) {
+    Json v = Json::object();
+    v["ok"] = false;
+    v["error"] = text;
     // The first "file:L:C:" of the line (the file's name may hold anything but that).
     static const std::regex at(":([0-9]{1,9}):([0-9]{1,9}):");
     std::smatch m;
     const bool has = std::regex_search(text, m, at);
-    v.set("line", has ? std::stoi(m[1].str()) : 0);
-    v.set("column", has ? std::stoi(m[2].str()) : 0);
+    v["line"] = has ? std::stoi(m[1].str()) : 0;
+    v["column"] = has ? std::stoi(m[2].str()) : 0;
     return v;
 }
 

@@ -3,12 +3,13 @@
 // config checks of `fixpoint render`.
 #pragma once
 
-#include "json.hpp"
 #include "preview.hpp"
 
 #include <fixpoint/host/config.hpp>
 #include <fixpoint/host/pipeline.hpp>
 #include <fixpoint/host/registry.hpp>
+
+#include <nlohmann/json.hpp>
 
 #include <atomic>
 #include <cstddef>
@@ -27,6 +28,10 @@ struct HttpError {
     int status;
     std::string message;
 };
+
+/// A JSON value of a request or an answer (nlohmann/json, Debian's nlohmann-json3-dev): ordered,
+/// so that answers keep their members in the order the handlers set them.
+using Json = nlohmann::ordered_json;
 
 constexpr std::size_t max_json_body = 4u << 20;
 constexpr std::size_t max_image_body = 64u << 20;
@@ -55,16 +60,16 @@ struct Context {
     std::string inside(const std::string& rel, const std::string& what, const std::string& mark = "") const;
 };
 
-/// The body as a JSON object (HttpError 400 otherwise).
-json::Value parse_body(const httplib::Request& req);
+/// The body as a JSON object, at most 64 containers deep (HttpError 400 otherwise).
+Json parse_body(const httplib::Request& req);
 /// A string member; a missing one is HttpError 400 when `required`, else "".
-std::string field(const json::Value& body, const std::string& key, bool required);
+std::string field(const Json& body, const std::string& key, bool required);
 /// A boolean member (false when absent).
-bool flag(const json::Value& body, const std::string& key);
+bool flag(const Json& body, const std::string& key);
 
-void send_json(httplib::Response& res, int status, const json::Value& v);
+void send_json(httplib::Response& res, int status, const Json& v);
 /// {"ok": false, "error": TEXT, "line": L, "column": C}: L and C from "file:L:C:" in TEXT.
-json::Value refusal(const std::string& text);
+Json refusal(const std::string& text);
 
 /// The config `text`, named `source` in messages, parsed as `fixpoint render` reads a file (an
 /// empty text is an empty mapping). Throws fp::InputError.
