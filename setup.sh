@@ -114,12 +114,14 @@ CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DFIXPOIN
 cmake --build build-asan -j"$jobs"
 stage "sanitizer build (build-asan)"
 
-# Every test but the style check, the out-of-tree plugins and the guide's code blocks (nothing
-# sanitizer-specific in them).
+# Every test but the style check, the out-of-tree plugins, the guide's code blocks and the
+# preview page in the browser (nothing sanitizer-specific in them: the page's JavaScript is the
+# same, and the server under it is tested under the sanitizers by serve_http; its full-size
+# renders would take minutes in this build).
 # (No Python in this build: an interpreter not built with ASan under an ASan executable
 # reports its own allocator's habits; the Release build runs the Python tests.)
 started=$SECONDS
-ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -E '^(clang_format|external_plugin|external_scheme|doc_code_blocks)$'
+ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -E '^(clang_format|external_plugin|external_scheme|doc_code_blocks|browser_page)$'
 stage "tests (build-asan)"
 started=$SECONDS
 tests/fuzz/run.sh build-asan 60
