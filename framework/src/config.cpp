@@ -247,7 +247,9 @@ CNode parse_yaml(const std::string& text, const std::string& source) {
     }
 }
 
-CNode load_yaml_file(const std::string& path) {
+CNode load_yaml_file(const std::string& path) { return parse_yaml(read_yaml_text(path), path); }
+
+std::string read_yaml_text(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open file");
     std::string text;
@@ -258,7 +260,7 @@ CNode load_yaml_file(const std::string& path) {
             throw InputError(path + ": file too large (more than " + std::to_string(max_yaml_bytes) +
                              " bytes)");
     }
-    return parse_yaml(text, path);
+    return text;
 }
 
 // ------------------------------------------------------------------ overrides
@@ -343,7 +345,9 @@ CNode& override_target(CNode& root, const std::string& path, const std::string& 
 
 // ------------------------------------------------------------------ emission
 namespace {
-void emit(YAML::Emitter& out, const CNode& n) {
+// Block style, except short lists of scalars (they read best on one line); everything in flow
+// style below a node with `flow`.
+void emit(YAML::Emitter& out, const CNode& n, bool flow) {
     switch (n.type) {
     case CNode::Type::Null: out << YAML::Null; break;
     case CNode::Type::Scalar:
@@ -353,19 +357,20 @@ void emit(YAML::Emitter& out, const CNode& n) {
             out << n.scalar;
         break;
     case CNode::Type::Sequence: {
-        bool flat = true; // short lists of scalars read best on one line
+        bool flat = true;
         for (const auto& it : n.items) flat = flat && it.is_scalar();
-        if (flat) out << YAML::Flow;
+        if (flow || flat) out << YAML::Flow;
         out << YAML::BeginSeq;
-        for (const auto& it : n.items) emit(out, it);
+        for (const auto& it : n.items) emit(out, it, flow);
         out << YAML::EndSeq;
         break;
     }
     case CNode::Type::Map:
+        if (flow) out << YAML::Flow;
         out << YAML::BeginMap;
         for (const auto& [k, v] : n.keys) {
             out << YAML::Key << k << YAML::Value;
-            emit(out, v);
+            emit(out, v, flow);
         }
         out << YAML::EndMap;
         break;
@@ -375,8 +380,14 @@ void emit(YAML::Emitter& out, const CNode& n) {
 
 std::string emit_yaml(const CNode& n) {
     YAML::Emitter out;
-    emit(out, n);
+    emit(out, n, false);
     return std::string(out.c_str()) + "\n";
+}
+
+std::string emit_flow_yaml(const CNode& n) {
+    YAML::Emitter out;
+    emit(out, n, true);
+    return out.c_str();
 }
 
 } // namespace fp::host

@@ -4,50 +4,16 @@
 #include <fixpoint/errors.hpp>
 #include <fixpoint/host/param_list.hpp>
 
-#include <yaml-cpp/yaml.h>
-
 #include <cmath>
 
 namespace fp::host {
 
 namespace {
 
-void emit_flow(YAML::Emitter& out, const CNode& n) {
-    switch (n.type) {
-    case CNode::Type::Null: out << YAML::Null; break;
-    case CNode::Type::Scalar:
-        if (n.quoted)
-            out << YAML::DoubleQuoted << n.scalar;
-        else
-            out << n.scalar;
-        break;
-    case CNode::Type::Sequence:
-        out << YAML::Flow << YAML::BeginSeq;
-        for (const auto& it : n.items) emit_flow(out, it);
-        out << YAML::EndSeq;
-        break;
-    case CNode::Type::Map:
-        out << YAML::Flow << YAML::BeginMap;
-        for (const auto& [k, v] : n.keys) {
-            out << YAML::Key << k << YAML::Value;
-            emit_flow(out, v);
-        }
-        out << YAML::EndMap;
-        break;
-    }
-}
-
-// A node as flow YAML on one line ("[1, 0]", "{type: circle, radius: 1}", "\"#ff6b6b\"").
-std::string flow_text(const CNode& n) {
-    YAML::Emitter out;
-    emit_flow(out, n);
-    return out.c_str();
-}
-
 // The plugin named in an object slot's node: its `type:`, else (not a mapping) the node as
 // written, else nothing.
 std::string type_of(const CNode& n) {
-    if (!n.is_map()) return flow_text(n);
+    if (!n.is_map()) return emit_flow_yaml(n);
     const CNode* t = n.find("type");
     return t && t->is_scalar() ? t->scalar : "";
 }
@@ -121,7 +87,7 @@ public:
         p.written = v != nullptr;
         p.required = !s.default_yaml && !s.optional;
         p.default_value = s.default_yaml ? s.default_yaml : "";
-        p.value = v ? flow_text(*v) : p.default_value;
+        p.value = v ? emit_flow_yaml(*v) : p.default_value;
         if (s.type != ParamType::Bool && s.type != ParamType::String && s.type != ParamType::Colour &&
             s.type != ParamType::Object && s.type != ParamType::Objects) {
             if (std::isfinite(s.lo)) {

@@ -22,7 +22,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <iterator>
 #include <random>
 #include <thread>
@@ -71,20 +70,6 @@ std::string make_token() {
     static const char hex[] = "0123456789abcdef";
     for (int i = 0; i < 32; ++i) t += hex[rd() & 15];
     return t;
-}
-
-std::string read_text(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": cannot open file");
-    std::string text;
-    char buf[65536];
-    while (in.read(buf, sizeof buf) || in.gcount() > 0) {
-        text.append(buf, std::size_t(in.gcount()));
-        if (text.size() > max_yaml_bytes)
-            throw InputError(path + ": file too large (more than " + std::to_string(max_yaml_bytes) +
-                             " bytes)");
-    }
-    return text;
 }
 
 Json ok() {
@@ -152,7 +137,7 @@ void serve_asset(const Context& c, const WebAsset& a, httplib::Response& res) {
 void api_state(const Context& c, const httplib::Request&, httplib::Response& res) {
     Json v = Json::object();
     v["path"] = c.config;
-    v["text"] = c.config.empty() ? std::string(starter_config) : read_text(c.config);
+    v["text"] = c.config.empty() ? std::string(starter_config) : read_yaml_text(c.config);
     v["version"] = FIXPOINT_VERSION;
     v["threads"] = c.threads;
     send_json(res, 200, v);

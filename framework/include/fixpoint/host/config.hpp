@@ -55,6 +55,9 @@ constexpr int max_yaml_depth = 64;
 CNode parse_yaml(const std::string& text, const std::string& source);
 /// Read and parse a file (size checked first).
 CNode load_yaml_file(const std::string& path);
+/// A file's text, refused (fp::InputError "path: ...") when it cannot be read or is larger
+/// than max_yaml_bytes.
+std::string read_yaml_text(const std::string& path);
 
 /// Apply `path.to.param=value` (value is YAML) to `root`. Throws fp::InputError.
 /// `flag` names the option in messages (--set, --vary).
@@ -66,6 +69,8 @@ CNode& override_target(CNode& root, const std::string& path, const std::string& 
 
 /// Emit as block YAML (keys in stored order).
 std::string emit_yaml(const CNode& n);
+/// Emit as flow YAML on one line ("[1, 0]", "{type: circle, radius: 1}", "\"#ff6b6b\"").
+std::string emit_flow_yaml(const CNode& n);
 
 /// Build nodes programmatically (for resolved recipes).
 CNode scalar_node(std::string text, bool quoted = false);
