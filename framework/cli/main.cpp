@@ -392,10 +392,7 @@ int cmd_render(const Options& o, bool validate_only) {
     const Output output = resolve_output(o, p);
     const std::string& out = output.path;
     check_output_for(output, o);
-    const bool vector = is_vector(format_for(out));
-    if (vector && !p.renderer->has_vector_output())
-        throw InputError(p.renderer_mark.str() + ": renderer: this renderer has no vector output: write '" +
-                         out + "' as .png, .exr or .tif instead");
+    const bool vector = check_vector_output(p, out);
     if (g_interrupted.load()) throw Cancelled(); // during the checks above
     if (validate_only) {
         if (!o.quiet)

@@ -249,6 +249,13 @@ CNode parse_yaml(const std::string& text, const std::string& source) {
 
 CNode load_yaml_file(const std::string& path) { return parse_yaml(read_yaml_text(path), path); }
 
+CNode parse_config(const std::string& text, const std::string& source) {
+    CNode root = parse_yaml(text, source);
+    if (root.type == CNode::Type::Null)
+        root = map_node(), root.mark = Mark{std::make_shared<const std::string>(source), 1, 1};
+    return root;
+}
+
 std::string read_yaml_text(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open file");

@@ -49,6 +49,11 @@ static fs::path temp_path_for(const fs::path& target) {
 }
 
 void check_output(const std::string& path) {
+    // A NUL ends the name the system sees: "x.sh\0.png" would pass the checks below as a PNG
+    // and write "x.sh". Control characters are refused with it: no file name needs them.
+    for (const char ch : path)
+        if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f)
+            throw InputError("cannot write " + quote(path, 200) + ": the name holds a control character");
     format_for(path);
     const fs::path target(path);
     std::error_code ec;

@@ -56,9 +56,7 @@ void used_plugins(const TObject& t, std::map<std::string, const PluginEntry*>& o
 Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets,
                        const std::string& vary) {
     const bool image = is_recipe_image(path);
-    CNode root = image ? parse_yaml(read_recipe(path), path) : load_yaml_file(path);
-    if (root.type == CNode::Type::Null)
-        root = map_node(), root.mark = Mark{std::make_shared<const std::string>(path), 1, 1};
+    CNode root = parse_config(image ? read_recipe(path) : read_yaml_text(path), path);
     if (image)
         if (CNode* out = root.find("output"); out && out->is_map())
             for (std::size_t i = 0; i < out->keys.size(); ++i)
@@ -182,6 +180,14 @@ std::string check_drawn(const Pipeline& p, const RenderStats& st) {
         return "only " + std::to_string(st.drawn) + " of " + std::to_string(st.samples) + " " + st.unit +
                " " + st.drawn_means + why;
     return "";
+}
+
+bool check_vector_output(const Pipeline& p, const std::string& out) {
+    const bool vector = is_vector(format_for(out));
+    if (vector && !p.renderer->has_vector_output())
+        throw InputError(p.renderer_mark.str() + ": renderer: this renderer has no vector output: write '" +
+                         out + "' as .png, .exr or .tif instead");
+    return vector;
 }
 
 } // namespace fp::host

@@ -331,10 +331,7 @@ void api_render(const Context& c, const httplib::Request& req, httplib::Response
         if (mark) throw InputError(mark->str() + ": output.path: " + e.what());
         throw;
     }
-    const bool vector = is_vector(format_for(out));
-    if (vector && !p.renderer->has_vector_output())
-        throw InputError(p.renderer_mark.str() + ": renderer: this renderer has no vector output: write '" +
-                         out + "' as .png, .exr or .tif instead");
+    const bool vector = check_vector_output(p, out);
 
     // Rendered on this request's thread, as `fixpoint render` would, stopped by the server's
     // stop flag (Ctrl-C) only: the preview goes on beside it.

@@ -202,25 +202,19 @@ Json refusal(const std::string& text) {
 
 std::string source_name(const std::string& path) { return path.empty() ? "<config>" : path; }
 
-CNode parse_config(const std::string& text, const std::string& source) {
-    CNode root = parse_yaml(text, source);
-    // As load_pipeline(path) does for an empty file: an empty mapping, refused for its
-    // missing renderer at 1:1.
-    if (root.type == CNode::Type::Null)
-        root = map_node(), root.mark = Mark{std::make_shared<const std::string>(source), 1, 1};
-    return root;
-}
-
 Pipeline load_checked(const Context& c, const CNode& root) {
     Pipeline p = load_pipeline(*c.reg, root);
     check_memory(p, c.threads);
     // An output.path of a format fixpoint does not write is refused by `render` before the
     // render starts: the preview refuses it too, at the same place.
-    if (!p.output_path.empty()) try {
+    if (!p.output_path.empty()) {
+        try {
             format_for(p.output_path);
         } catch (const InputError& e) {
             throw InputError(p.output_mark.str() + ": output.path: " + e.what());
         }
+        check_vector_output(p, p.output_path); // (an SVG from a raster renderer, as render refuses it)
+    }
     return p;
 }
 

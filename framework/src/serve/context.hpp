@@ -71,9 +71,6 @@ void send_json(httplib::Response& res, int status, const Json& v);
 /// {"ok": false, "error": TEXT, "line": L, "column": C}: L and C from "file:L:C:" in TEXT.
 Json refusal(const std::string& text);
 
-/// The config `text`, named `source` in messages, parsed as `fixpoint render` reads a file (an
-/// empty text is an empty mapping). Throws fp::InputError.
-CNode parse_config(const std::string& text, const std::string& source);
 /// The config loaded and checked as `fixpoint render` checks it before rendering (the memory
 /// check included). Throws fp::InputError.
 Pipeline load_checked(const Context& c, const CNode& root);

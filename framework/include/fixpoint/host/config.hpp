@@ -53,6 +53,9 @@ constexpr int max_yaml_depth = 64;
 
 /// Parse YAML text named `source` (used in marks). Throws fp::InputError "source:l:c: msg".
 CNode parse_yaml(const std::string& text, const std::string& source);
+/// parse_yaml of a config: an empty text is an empty mapping at 1:1 (so that the message is
+/// about the missing renderer, not about a null document).
+CNode parse_config(const std::string& text, const std::string& source);
 /// Read and parse a file (size checked first).
 CNode load_yaml_file(const std::string& path);
 /// A file's text, refused (fp::InputError "path: ...") when it cannot be read or is larger

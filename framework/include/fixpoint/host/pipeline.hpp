@@ -43,6 +43,10 @@ Pipeline load_pipeline(const Registry& reg, CNode root);
 /// with `threads` workers (fp::InputError at the renderer).
 void check_memory(const Pipeline& p, unsigned threads);
 
+/// Refuse writing `out` as SVG or PDF from a renderer without vector output (fp::InputError
+/// at the renderer); returns whether `out` is a vector format.
+bool check_vector_output(const Pipeline& p, const std::string& out);
+
 /// Refuse a render that drew nothing rather than give a silent black image (fp::InputError at
 /// the renderer). Returns a warning (without a "warning: " prefix) for one that drew almost
 /// nothing, else an empty string.
