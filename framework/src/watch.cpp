@@ -15,11 +15,9 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <sstream>
 #include <thread>
 
 namespace fs = std::filesystem;
@@ -28,15 +26,17 @@ namespace fp::host {
 
 namespace {
 
-// The file's contents; nullopt while it cannot be read (an editor between deleting and
-// writing it anew), which is not a change.
-std::optional<std::string> contents(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return std::nullopt;
-    std::ostringstream s;
-    s << in.rdbuf();
-    if (in.bad()) return std::nullopt;
-    return s.str();
+// The file's contents (read as render reads a config: refused above max_yaml_bytes); nullopt
+// while it cannot be read (an editor between deleting and writing it anew), which is not a
+// change. `error`, when given, gets why a file that exists cannot be taken.
+std::optional<std::string> contents(const std::string& path, std::string* error = nullptr) {
+    try {
+        return read_yaml_text(path);
+    } catch (const InputError& e) {
+        std::error_code ec;
+        if (error && fs::exists(path, ec)) *error = e.what();
+        return std::nullopt;
+    }
 }
 
 std::string format_seconds(double s) {
@@ -52,6 +52,9 @@ int watch(const Registry& reg, const WatchOptions& o, const std::atomic<bool>& s
     if (fs::equivalent(o.out, o.config, ec))
         throw InputError("cannot write " + quote(o.out, 200) + ": it is the config being watched");
     check_output(o.out);
+    if (is_vector(format_for(o.out)))
+        throw InputError("cannot write " + quote(o.out, 200) +
+                         ": watch writes images (.png, .exr, .tif), not SVG or PDF");
     if (!contents(o.config)) throw InputError(quote(o.config, 200) + ": cannot read it");
 
     // `rendering`: the contents being rendered, read by the watcher thread to tell a change.
@@ -88,8 +91,10 @@ int watch(const Registry& reg, const WatchOptions& o, const std::atomic<bool>& s
             passes.emplace_back(load_pipeline(reg, std::move(small)), "draft");
         }
         passes.emplace_back(full, "full");
+        // Every pass checked before the first writes: a version refused for its full image
+        // leaves the last good image, not its draft.
+        for (const auto& pass : passes) check_memory(pass.first, o.threads);
         for (const auto& [p, what] : passes) {
-            check_memory(p, o.threads);
             Runtime rt(o.threads, &cancel);
             RenderStats stats;
             const auto t0 = std::chrono::steady_clock::now();
@@ -112,8 +117,12 @@ int watch(const Registry& reg, const WatchOptions& o, const std::atomic<bool>& s
 
     std::optional<std::string> seen; // the contents last dealt with (rendered, or refused)
     o.info("watching " + o.config + " (Ctrl-C to stop)");
+    std::string unreadable; // why the file cannot be taken, said once
     while (!stop.load()) {
-        const auto now = contents(o.config);
+        std::string why;
+        const auto now = contents(o.config, &why);
+        if (!why.empty() && why != unreadable) o.error(why);
+        unreadable = why;
         if (!now || now == seen) {
             std::this_thread::sleep_for(std::chrono::milliseconds(o.poll_ms));
             continue;
@@ -127,13 +136,15 @@ int watch(const Registry& reg, const WatchOptions& o, const std::atomic<bool>& s
         try {
             // Loaded from the text just read (not the file again, which may already be
             // another version), under the file's name for the messages.
-            CNode root = parse_yaml(*now, o.config);
-            if (root.type == CNode::Type::Null)
-                root = map_node(), root.mark = Mark{std::make_shared<const std::string>(o.config), 1, 1};
+            CNode root = parse_config(*now, o.config);
             for (const auto& s : o.sets) apply_override(root, s);
-            if (!render_version(root) && !stop.load()) seen.reset(); // changed meanwhile: read again
+            if (!render_version(root)) seen.reset(); // changed meanwhile: read again
         } catch (const InputError& e) {
             o.error(e.what()); // the last good image stays
+        } catch (const Cancelled&) {
+            // Some renderers (the tone mapping, superfractal, mfs) end a cancelled render by
+            // throwing: a change or Ctrl-C, as when render_version returns false.
+            seen.reset();
         }
     }
     return 0;

@@ -105,14 +105,9 @@ TEST(Draft, NotForPrint) {
     EXPECT_FALSE(fs::exists(dir + "/d.png"));
 }
 
-// watch: a draft then the full image at start; a save renders the new version; a refused
-// save prints the CLI's line and leaves the last good image; SIGINT ends it with 0.
-TEST(Watch, RendersEachSaveAndKeepsTheLastGoodImage) {
-    const std::string dir = scratch_dir("watch");
-    const std::string cfg = dir + "/c.yaml", out = dir + "/w.png", log = dir + "/log.txt";
-    write_file(cfg, config);
+// `fixpoint watch CFG -o OUT --threads 1` in the background, its stderr in LOG.
+pid_t start_watch(const std::string& cfg, const std::string& out, const std::string& log) {
     const pid_t pid = fork();
-    ASSERT_GE(pid, 0);
     if (pid == 0) {
         const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         ::dup2(fd, 2);
@@ -120,6 +115,45 @@ TEST(Watch, RendersEachSaveAndKeepsTheLastGoodImage) {
                 static_cast<char*>(nullptr));
         ::_exit(127);
     }
+    return pid;
+}
+
+// Kills a watch a failed assertion left running, so that it cannot outlive the test.
+struct Reaper {
+    pid_t& pid; // (-1 once interrupt() has reaped it)
+    ~Reaper() {
+        if (pid <= 0) return;
+        ::kill(pid, SIGKILL);
+        ::waitpid(pid, nullptr, 0);
+    }
+};
+
+// SIGINT, and the exit status (-1: did not exit normally).
+int interrupt(pid_t& pid) {
+    ::kill(pid, SIGINT);
+    int status = 0;
+    const bool ended = ::waitpid(pid, &status, 0) == pid;
+    if (ended) pid = -1;
+    if (!ended || !WIFEXITED(status)) return -1;
+    return WEXITSTATUS(status);
+}
+
+// How many times `needle` is in `text`.
+std::size_t count(const std::string& text, const std::string& needle) {
+    std::size_t n = 0;
+    for (auto at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1)) ++n;
+    return n;
+}
+
+// watch: a draft then the full image at start; a save renders the new version; a refused
+// save prints the CLI's line and leaves the last good image; SIGINT ends it with 0.
+TEST(Watch, RendersEachSaveAndKeepsTheLastGoodImage) {
+    const std::string dir = scratch_dir("watch");
+    const std::string cfg = dir + "/c.yaml", out = dir + "/w.png", log = dir + "/log.txt";
+    write_file(cfg, config);
+    pid_t pid = start_watch(cfg, out, log);
+    ASSERT_GE(pid, 0);
+    const Reaper reaper{pid};
     const auto has = [&](const std::string& needle) {
         return [&, needle] { return read_file(log).find(needle) != std::string::npos; };
     };
@@ -144,11 +178,50 @@ TEST(Watch, RendersEachSaveAndKeepsTheLastGoodImage) {
         << read_file(log);
     EXPECT_EQ(read_file(out), good);
 
-    ::kill(pid, SIGINT);
-    int status = 0;
-    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-    ASSERT_TRUE(WIFEXITED(status));
-    EXPECT_EQ(WEXITSTATUS(status), 0) << read_file(log);
+    // A version whose full image is refused (memory) before anything is written: not even its
+    // draft (which alone would fit) replaces the last good image.
+    write_file(cfg, fp::test::replace_once(fp::test::replace_once(config, "width: 256", "width: 60000"),
+                                           "height: 128", "height: 60000"));
+    ASSERT_TRUE(eventually(has("c.yaml:3:3: renderer: ")));
+    EXPECT_NE(read_file(log).find(" of memory with 1 thread"), std::string::npos) << read_file(log);
+    EXPECT_EQ(read_file(out), good);
+    EXPECT_EQ(read_file(log).find("draft 16384x16384"), std::string::npos) << read_file(log);
+
+    EXPECT_EQ(interrupt(pid), 0) << read_file(log);
+}
+
+// A save while a long render runs cancels it and renders the new version; Ctrl-C during a
+// render ends watch like Ctrl-C while it waits (exit 0, no "interrupted" line).
+TEST(Watch, ASaveDuringARenderStartsTheNewVersion) {
+    const std::string dir = scratch_dir("watch_during");
+    const std::string cfg = dir + "/c.yaml", out = dir + "/w.png", log = dir + "/log.txt";
+    const std::string slow = fp::test::replace_once(config, "points: 160000", "points: 4000000000");
+    write_file(cfg, slow);
+    pid_t pid = start_watch(cfg, out, log);
+    ASSERT_GE(pid, 0);
+    const Reaper reaper{pid};
+    ASSERT_TRUE(eventually([&] { return read_file(log).find("watching") != std::string::npos; }));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300)); // (the draft of 2.5e8 points runs)
+    write_file(cfg, config);
+    ASSERT_TRUE(eventually([&] {
+        return read_file(log).find("w.png: full 256x128, 160000 points") != std::string::npos;
+    })) << read_file(log);
+    EXPECT_EQ(count(read_file(log), "w.png: full"), 1u) << read_file(log); // the slow one never finished
+    EXPECT_EQ(recipe_of(out).find("points: 4000000000"), std::string::npos);
+
+    write_file(cfg, slow);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500)); // (its draft runs)
+    EXPECT_EQ(interrupt(pid), 0) << read_file(log);
+    EXPECT_EQ(read_file(log).find("interrupted"), std::string::npos) << read_file(log);
+}
+
+TEST(Watch, RefusesVectorOutput) {
+    const std::string dir = scratch_dir("watch_svg");
+    write_file(dir + "/c.yaml", config);
+    const auto r = run_cli({"watch", dir + "/c.yaml", "-o", dir + "/w.svg"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err,
+              "cannot write '" + dir + "/w.svg': watch writes images (.png, .exr, .tif), not SVG or PDF\n");
 }
 
 TEST(Watch, RefusesToWriteOverTheConfig) {
