@@ -1052,6 +1052,9 @@ int main(int argc, char** argv) {
                           "The only folder the page reads and writes (default: the current one)");
     serve_cmd->add_option("--threads", so.threads, "Render threads (default: all cores)")
         ->check(CLI::Range(1u, 4096u));
+    serve_cmd->add_flag("--allow-python", so.allow_python,
+                        "Accept configs with a python-scheme (its Python code runs when the page checks "
+                        "the config)");
 
     auto* conformance = app.add_subcommand("conformance", "Run the plugin conformance suite");
     conformance->add_option("files", o.files, "Plugin files or names (default: every plugin found)");

@@ -17,6 +17,8 @@
 
 #include <httplib.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -60,8 +62,16 @@ renderer:
 // How long /api/frame waits for a stage before answering 204.
 constexpr auto frame_wait = std::chrono::seconds(10);
 
+// An address of this machine only: 127.0.0.0/8, ::1 (or 127/8 mapped into IPv6), or the name
+// localhost. Any other name may resolve anywhere ("127.example.com" too).
 bool is_loopback(const std::string& host) {
-    return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+    if (host == "localhost") return true;
+    in_addr v4{};
+    if (::inet_pton(AF_INET, host.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+    in6_addr v6{};
+    if (::inet_pton(AF_INET6, host.c_str(), &v6) != 1) return false;
+    if (IN6_IS_ADDR_LOOPBACK(&v6)) return true;
+    return IN6_IS_ADDR_V4MAPPED(&v6) && v6.s6_addr[12] == 127;
 }
 
 std::string make_token() {
@@ -135,6 +145,8 @@ void serve_asset(const Context& c, const WebAsset& a, httplib::Response& res) {
 
 // ---------------------------------------------------------------- the API
 void api_state(const Context& c, const httplib::Request&, httplib::Response& res) {
+    // Checked again at every read: CONFIG may have become a symlink out since the start.
+    if (!c.config.empty()) c.inside(c.config, "CONFIG");
     Json v = Json::object();
     v["path"] = c.config;
     v["text"] = c.config.empty() ? std::string(starter_config) : read_yaml_text(c.config);
@@ -307,6 +319,10 @@ void api_save(const Context& c, const httplib::Request& req, httplib::Response& 
 }
 
 void api_render(const Context& c, const httplib::Request& req, httplib::Response& res) {
+    // A render takes every render thread (and the memory of a full image): two at once would
+    // halve each, and a page could start any number.
+    const std::unique_lock<std::mutex> lock(c.render_lock, std::try_to_lock);
+    if (!lock.owns_lock()) throw HttpError{409, "a render is running: wait for it to finish"};
     const Json body = parse_body(req);
     const std::string text = field(body, "text", true), path = request_path(c, body);
     std::string out = field(body, "output", false);
@@ -457,6 +473,7 @@ int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& s
     if (!c.loopback) c.token = make_token();
     c.threads = o.threads ? o.threads : hardware_threads();
     c.stop = &stop;
+    c.allow_python = o.allow_python;
     // Every path of a request is relative to the root, as the CLI's are to its folder: the
     // server works in the root, so that a config (and what it names: a picture, a script)
     // reads as `fixpoint render` run there would read it, and messages name paths alike.
@@ -495,6 +512,22 @@ int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& s
                               : res.status == 404 ? "no such page: " + quote(req.path, 200)
                                                   : "HTTP " + std::to_string(res.status);
         send_json(res, res.status, error_body(m));
+    });
+
+    // The Host, token, content type and size are checked before httplib reads a body (its
+    // pre-routing handler runs first), so that a client without them cannot make the server
+    // read one; the handlers check them again (guarded), with the size of what was read.
+    srv.set_pre_routing_handler([&c](const httplib::Request& req, httplib::Response& res) {
+        const Body body = req.method != "POST"        ? Body::None
+                          : req.path == "/api/recipe" ? Body::Bytes
+                                                      : Body::Json;
+        try {
+            c.admit_head(req, body);
+        } catch (const HttpError& e) {
+            send_json(res, e.status, error_body(e.message));
+            return httplib::Server::HandlerResponse::Handled;
+        }
+        return httplib::Server::HandlerResponse::Unhandled;
     });
 
     for (const WebAsset& a : web_assets()) {

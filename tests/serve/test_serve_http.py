@@ -282,17 +282,69 @@ def test_json_with_a_charset_is_json(srv):
     assert status == 200
 
 
+def head_only(s, method, path, headers):
+    """A request whose headers are sent and whose body never is: (status, JSON answer). The
+    answer comes only if the server answers before reading the body."""
+    c = http.client.HTTPConnection("127.0.0.1", s.port, timeout=30)
+    try:
+        c.putrequest(method, path, skip_host="Host" in headers)
+        for k, v in headers.items():
+            c.putheader(k, v)
+        c.endheaders()
+        r = c.getresponse()
+        return r.status, json.loads(r.read())
+    finally:
+        c.close()
+
+
 def test_a_body_above_4_mib_is_413(srv):
+    # Refused by its Content-Length, before it is read.
+    n = (4 << 20) + 1
+    assert head_only(srv, "POST", "/api/check", {"Content-Type": "application/json", "Content-Length": str(n)}) \
+        == (413, {"error": f"POST /api/check: a body of {n} bytes; at most {4 << 20}"})
+    # A chunked body has no Content-Length: refused once read.
     body = json.dumps({"text": "#" * (4 << 20)}).encode()
-    status, _, data = srv.post("api/check", body)
-    assert status == 413
-    assert json.loads(data) == {"error": f"POST /api/check: a body of {len(body)} bytes; at most {4 << 20}"}
+    c = http.client.HTTPConnection("127.0.0.1", srv.port, timeout=30)
+    c.request("POST", "/api/check", body=iter([body[:1 << 20], body[1 << 20:]]),
+              headers={"Content-Type": "application/json"}, encode_chunked=True)
+    r = c.getresponse()
+    assert (r.status, json.loads(r.read())) == (413, {"error": f"POST /api/check: a body of {len(body)} bytes; "
+                                                               f"at most {4 << 20}"})
+    c.close()
 
 
 def test_a_recipe_body_above_64_mib_is_413(srv):
-    status, _, data = srv.post("api/recipe", b"\0" * ((64 << 20) + 1), ctype="application/octet-stream")
-    assert status == 413
-    assert json.loads(data) == {"error": f"the body is larger than {64 << 20} bytes"}
+    n = (64 << 20) + 1
+    assert head_only(srv, "POST", "/api/recipe", {"Content-Type": "application/octet-stream",
+                                                  "Content-Length": str(n)}) \
+        == (413, {"error": f"POST /api/recipe: a body of {n} bytes; at most {64 << 20}"})
+
+
+def test_no_body_is_read_before_the_host_and_the_token(tmp_path):
+    # A client that may not use the server cannot make it read a body (up to 64 MiB): the
+    # answer comes with the headers, the body never sent.
+    n = 64 << 20
+    s = Server(tmp_path, "--host", "0.0.0.0")
+    try:
+        assert head_only(s, "POST", "/api/recipe", {"Content-Type": "application/octet-stream",
+                                                    "Content-Length": str(n)}) \
+            == (403, {"error": "this server needs its token: open the address it printed, with its ?token=, "
+                               "or send the header X-Fixpoint-Token"})
+    finally:
+        assert s.stop() == 0
+    s = Server(tmp_path)
+    try:
+        for path, ctype in [("/api/recipe", "application/octet-stream"), ("/api/save", "application/json")]:
+            status, answer = head_only(s, "POST", path, {"Host": "evil.example", "Content-Type": ctype,
+                                                         "Content-Length": str(n)})
+            assert status == 403
+            assert answer == {"error": f"this server answers only requests to http://127.0.0.1:{s.port}/ or "
+                                       f"http://localhost:{s.port}/ (the Host header was 'evil.example')"}
+        # The content type too.
+        assert head_only(s, "POST", "/api/save", {"Content-Type": "text/plain", "Content-Length": str(n)}) \
+            == (415, {"error": "POST /api/save takes Content-Type: application/json, not 'text/plain'"})
+    finally:
+        assert s.stop() == 0
 
 
 @pytest.mark.parametrize("query,status,message", [
@@ -311,8 +363,10 @@ def test_bad_frame_queries(srv, query, status, message):
 
 def test_a_foreign_host_header_is_403(srv):
     # DNS rebinding: a page of evil.example that resolves to 127.0.0.1 sends its own name.
+    # Without a port: the port would be 80 (accepted only when the server is on 80).
     for host, want in [("evil.example:%d", 403), ("127.0.0.1:%d", 200), ("localhost:%d", 200),
-                       ("[::1]:%d", 200), ("127.0.0.1:1", 403)]:
+                       ("[::1]:%d", 200), ("127.0.0.1:1", 403), ("127.0.0.1", 403), ("localhost", 403),
+                       ("127.example.com:%d", 403)]:
         c = http.client.HTTPConnection("127.0.0.1", srv.port, timeout=30)
         c.putrequest("GET", "/api/state", skip_host=True)
         c.putheader("Host", host % srv.port if "%d" in host else host)
@@ -366,6 +420,32 @@ def test_another_host_needs_the_token(tmp_path):
 def test_loopback_needs_no_token(srv):
     assert srv.token is None
     assert srv.get("api/state")[0] == 200
+
+
+@pytest.mark.parametrize("host", ["127.0.0.2", "localhost", "::1"])
+def test_every_loopback_address_needs_no_token(tmp_path, host):
+    s = Server(tmp_path, "--host", host)
+    try:
+        assert s.token is None
+    finally:
+        assert s.stop() == 0
+
+
+def test_on_port_80_a_host_without_its_port_is_accepted(tmp_path):
+    # A browser leaves out the port of http://127.0.0.1/. Port 80 needs root, and may be taken.
+    p = subprocess.Popen([BIN, "serve", "--port", "80", "--root", str(tmp_path)], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    try:
+        if p.stdout.readline() != "fixpoint serve: open http://127.0.0.1:80/\n":
+            pytest.skip("port 80: " + p.stderr.read().strip())
+        for host, want in [("127.0.0.1", 200), ("localhost", 200), ("127.0.0.1:80", 200), ("evil.example", 403)]:
+            c = http.client.HTTPConnection("127.0.0.1", 80, timeout=30)
+            c.request("GET", "/api/plugins", headers={"Host": host})
+            assert c.getresponse().status == want, host
+            c.close()
+    finally:
+        p.send_signal(signal.SIGINT)
+        assert p.wait(timeout=20) == 0
 
 
 # ------------------------------------------------------------------ paths
@@ -431,6 +511,125 @@ def test_a_config_outside_the_root_does_not_start(tmp_path):
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 2
     assert r.stderr == f"CONFIG: 'none.yaml' is not a file in '{os.path.realpath(tmp_path)}'\n"
+
+
+def test_a_config_that_became_a_symlink_out_is_403_in_state(tmp_path, tmp_path_factory):
+    (tmp_path / "a.yaml").write_text(fig4a_text())
+    s = Server(tmp_path, "a.yaml")
+    try:
+        assert s.api("api/state")["path"] == "a.yaml"
+        outside = tmp_path_factory.mktemp("elsewhere")
+        (outside / "secret.yaml").write_text("secret: 1\n")
+        os.remove(tmp_path / "a.yaml")
+        os.symlink(outside / "secret.yaml", tmp_path / "a.yaml")
+        assert s.api("api/state", expect=403) == {
+            "error": f"CONFIG 'a.yaml': leaves the served folder through a symbolic link (to "
+                     f"'{os.path.realpath(outside / 'secret.yaml')}')"}
+    finally:
+        assert s.stop() == 0
+
+
+CONTROL = "a control character in a name is refused"
+
+
+def test_control_characters_in_names_are_refused_and_nothing_is_written(srv):
+    before = sorted(os.listdir(srv.root))
+    # A NUL ends the name the system sees: "evil.sh\0.yaml" would write evil.sh.
+    status, _, data = srv.post("api/save", {"text": "renderer: {}\n", "path": "evil.sh\u0000.yaml"})
+    assert (status, json.loads(data)) == (403, {"error": f"path 'evil.sh\\x00.yaml': {CONTROL}"})
+    status, _, data = srv.post("api/render", {"text": fig4a_text(), "path": "fig4a.yaml",
+                                              "output": "victim\u0000.png"})
+    assert (status, json.loads(data)) == (403, {"error": f"output 'victim\\x00.png': {CONTROL}"})
+    status, _, data = srv.post("api/check", {"text": fig4a_text(), "path": "fig4a.yaml\u001b"})
+    assert (status, json.loads(data)) == (403, {"error": f"path 'fig4a.yaml\\x1b': {CONTROL}"})
+    text = fig4a_text().replace("renderer:", 'output: {path: "o2\\0.png"}\nrenderer:', 1)
+    line = text.splitlines().index('output: {path: "o2\\0.png"}') + 1
+    status, _, data = srv.post("api/render", {"text": text, "path": "fig4a.yaml", "force": True})
+    assert (status, json.loads(data)) == (403, {"error": f"fig4a.yaml:{line}:16: output 'o2\\x00.png': {CONTROL}"})
+    assert sorted(os.listdir(srv.root)) == before
+
+
+def python_scheme_text(node):
+    """fig4a with an iteration of its own, and where the node stands (line, column)."""
+    text = fig4a_text().replace("renderer:\n", f"renderer:\n  iteration: {node}\n", 1)
+    line = text.splitlines().index(f"  iteration: {node}") + 1
+    return text, line, 14
+
+
+# Python that would leave a file behind, were it run.
+PWN = '{type: python-scheme, code: "open(\'pwned\', \'w\')\\ndef step(T, x, y, n):\\n    return T(x, y)\\n"}'
+
+
+@pytest.mark.parametrize("endpoint", ["api/check", "api/preview", "api/render"])
+def test_python_scheme_is_refused_without_allow_python(srv, endpoint):
+    text, line, col = python_scheme_text(PWN)
+    got = srv.api(endpoint, {"text": text, "path": "fig4a.yaml", "output": "py.png"})
+    assert got == {"ok": False, "error": f"fig4a.yaml:{line}:{col}: renderer.iteration: python-scheme runs Python "
+                                         "code: fixpoint serve refuses it unless started with --allow-python",
+                   "line": line, "column": col}
+    assert not os.path.exists(os.path.join(srv.root, "pwned"))
+    assert not os.path.exists(os.path.join(srv.root, "py.png"))
+
+
+def test_python_scheme_is_found_anywhere_in_the_tree(srv):
+    # In a map of the list (an iteration of its own), where no plugin may even take it.
+    text = fig4a_text().replace('colour: "#ff6b6b"}', 'colour: "#ff6b6b", iteration: ' + PWN + '}', 1)
+    got = srv.api("api/check", {"text": text})
+    line = position(got["error"])[0]
+    assert got["error"] == (f"<config>:{line}:{got['column']}: renderer.maps[0].iteration: python-scheme runs "
+                            "Python code: fixpoint serve refuses it unless started with --allow-python")
+    assert text.splitlines()[line - 1][got["column"] - 1:].startswith("{type: python-scheme")
+
+
+def test_with_allow_python_its_file_stays_inside_the_root(tmp_path, tmp_path_factory):
+    outside = tmp_path_factory.mktemp("py-outside")
+    (outside / "s.py").write_text("def step(T, x, y, n):\n    return T(x, y)\n")
+    os.symlink(outside / "s.py", tmp_path / "link.py")
+    s = Server(tmp_path, "--allow-python")
+    try:
+        for name, why in [("../s.py", "'..' is refused: paths stay inside the served folder"),
+                          ("link.py", "leaves the served folder through a symbolic link (to "
+                                      f"'{os.path.realpath(outside / 's.py')}')")]:
+            text, line, col = python_scheme_text(f"{{type: python-scheme, file: {name}}}")
+            fcol = text.splitlines()[line - 1].index(name) + 1
+            assert s.api("api/check", {"text": text}) == {
+                "ok": False, "error": f"<config>:{line}:{fcol}: renderer.iteration.file '{name}': {why}",
+                "line": line, "column": fcol}
+        # Allowed, inside the root (when the build has the plugin: FIXPOINT_PYTHON).
+        if "python-scheme" in s.api("api/plugins").get("iteration-scheme", []):
+            (tmp_path / "s.py").write_text("def step(T, x, y, n):\n    return T(x, y)\n")
+            text, _, _ = python_scheme_text("{type: python-scheme, file: s.py}")
+            assert s.api("api/check", {"text": text})["ok"] is True
+    finally:
+        assert s.stop() == 0
+
+
+SUPERFRACTAL = """renderer:
+  type: superfractal
+  width: 64
+  height: 64
+  view: [0, 1, 0, 1]
+  picture: PICTURE
+  colourer: {type: map-colour}
+  maps:
+    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}
+    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0.5]}
+"""
+
+
+def test_a_picture_outside_the_root_is_refused(srv, escapes):
+    for name, why in [("../x.png", "'..' is refused: paths stay inside the served folder"),
+                      ("/etc/passwd", "an absolute path; paths are relative to the served folder"),
+                      ("out-link.png", "leaves the served folder through a symbolic link")]:
+        got = srv.api("api/check", {"text": SUPERFRACTAL.replace("PICTURE", name)})
+        assert got["ok"] is False and (got["line"], got["column"]) == (6, 12)
+        assert got["error"].startswith(f"<config>:6:12: renderer.picture '{name}': {why}")
+    # hues is the built-in picture, no file; a picture inside the root is read.
+    got = srv.api("api/check", {"text": SUPERFRACTAL.replace("PICTURE", "hues")})
+    assert (got["ok"], got["renderer"]) == (True, "superfractal")
+    Image.new("RGB", (4, 4), (255, 0, 0)).save(os.path.join(srv.root, "pic.png"))
+    got = srv.api("api/check", {"text": SUPERFRACTAL.replace("PICTURE", "pic.png")})
+    assert (got["ok"], got["renderer"]) == (True, "superfractal")
 
 
 # ------------------------------------------------------------------ save
@@ -535,7 +734,9 @@ def test_a_new_preview_cancels_the_running_one(srv):
     assert json.loads(answer["body"]) == {"error": "cancelled"}
     latency = answer["at"] - posted
     print(f"cancellation latency: {latency * 1000:.0f} ms")
-    assert latency < 2.0
+    # docs/serve-api.md promises 100 ms; 10-24 ms measured in Release, the bound leaves the
+    # sanitizer build room.
+    assert latency < 0.5
     status, h, _ = frame(srv, second["job"], -1)
     assert status == 200 and h["X-Stage"] == "0"
     # The cancelled job's last stage never comes.
@@ -588,6 +789,35 @@ def test_render_writes_the_cli_bytes_and_keeps_existing_files(srv):
         "ok": False, "error": "cannot write 'r.yaml': it is the config being rendered", "line": 0, "column": 0}
     with open(os.path.join(srv.root, "r.yaml")) as f:
         assert f.read() == text
+
+
+def test_one_render_at_a_time(tmp_path):
+    (tmp_path / "fig4a.yaml").write_text(fig4a_text())
+    s = Server(tmp_path, "fig4a.yaml")
+    slow = fig4a_text().replace("points: 4000000", "points: 2e11")
+    first = {}
+
+    def render_slowly():
+        first["status"], _, first["body"] = s.post("api/render", {"text": slow, "path": "fig4a.yaml",
+                                                                   "output": "slow.png"})
+
+    t = threading.Thread(target=render_slowly)
+    try:
+        t.start()
+        # A request that is refused at once when it gets to render: asked until the slow
+        # render holds the lock.
+        for _ in range(600):
+            status, _, data = s.post("api/render", {"text": "renderer: {}\n", "output": "quick.png"})
+            if status == 409:
+                break
+            assert status == 200 and json.loads(data)["ok"] is False
+            time.sleep(0.05)
+        assert (status, json.loads(data)) == (409, {"error": "a render is running: wait for it to finish"})
+    finally:
+        assert s.stop() == 0
+        t.join(timeout=30)
+    assert (first["status"], json.loads(first["body"])) == (503, {"error": "the server is stopping"})
+    assert sorted(os.listdir(tmp_path)) == ["fig4a.yaml"]
 
 
 def test_render_takes_the_config_output_path_then_its_name(srv):

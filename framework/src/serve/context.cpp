@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <regex>
 
 namespace fs = std::filesystem;
@@ -41,13 +42,17 @@ bool is_within(const fs::path& inner, const fs::path& outer) {
 
 } // namespace
 
-void Context::admit(const httplib::Request& req, Body body) const {
+void Context::admit_head(const httplib::Request& req, Body body) const {
     if (loopback) {
         // DNS rebinding: a page of another site whose name is made to resolve to 127.0.0.1
         // reaches this server as the same origin; its requests name that site in Host.
-        const std::string h = lower(req.get_header_value("Host")), p = ":" + std::to_string(port);
-        const bool ok = h == "127.0.0.1" + p || h == "localhost" + p || h == "[::1]" + p ||
-                        h == lower(host.find(':') != std::string::npos ? "[" + host + "]" : host) + p;
+        const std::string h = lower(req.get_header_value("Host"));
+        const std::string shown = lower(host.find(':') != std::string::npos ? "[" + host + "]" : host);
+        bool ok = false;
+        for (const std::string& name :
+             {std::string("127.0.0.1"), std::string("localhost"), std::string("[::1]"), shown})
+            // A browser leaves out the port when it is HTTP's own.
+            ok = ok || h == name + ":" + std::to_string(port) || (port == 80 && h == name);
         if (!ok)
             throw HttpError{403,
                             "this server answers only requests to http://127.0.0.1:" + std::to_string(port) +
@@ -70,8 +75,22 @@ void Context::admit(const httplib::Request& req, Body body) const {
     if (type != want)
         throw HttpError{415, "POST " + req.path + " takes Content-Type: " + want + ", not " +
                                  (type.empty() ? std::string("none") : quote(type, 80))};
+    // Refused before it is read (httplib reads up to its own limit, that of /api/recipe).
+    const std::string length = req.get_header_value("Content-Length");
+    unsigned long long n = 0;
+    const auto [end, ec] = std::from_chars(length.data(), length.data() + length.size(), n);
     const std::size_t limit = body == Body::Json ? max_json_body : max_image_body;
-    if (req.body.size() > limit)
+    if (!length.empty() && end == length.data() + length.size() &&
+        (ec == std::errc::result_out_of_range || n > limit))
+        throw HttpError{413, "POST " + req.path + ": a body of " + length + " bytes; at most " +
+                                 std::to_string(limit)};
+}
+
+void Context::admit(const httplib::Request& req, Body body) const {
+    admit_head(req, body);
+    // (A chunked body has no Content-Length: its size is known once read.)
+    const std::size_t limit = body == Body::Json ? max_json_body : max_image_body;
+    if (body != Body::None && req.body.size() > limit)
         throw HttpError{413, "POST " + req.path + ": a body of " + std::to_string(req.body.size()) +
                                  " bytes; at most " + std::to_string(limit)};
 }
@@ -79,6 +98,11 @@ void Context::admit(const httplib::Request& req, Body body) const {
 std::string Context::inside(const std::string& rel, const std::string& what, const std::string& mark) const {
     const std::string pre = (mark.empty() ? "" : mark + ": ") + what + " " + quote(rel, 200) + ": ";
     if (rel.empty()) throw HttpError{400, (mark.empty() ? "" : mark + ": ") + what + ": an empty path"};
+    // A NUL ends the name the system calls see ("evil.sh\0.yaml" would write evil.sh, past
+    // the extension check); the other control characters have no place in a name either.
+    for (const char ch : rel)
+        if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f)
+            throw HttpError{403, pre + "a control character in a name is refused"};
     const fs::path p(rel);
     if (p.is_absolute())
         throw HttpError{403, pre + "an absolute path; paths are relative to the served folder " +
@@ -202,7 +226,54 @@ Json refusal(const std::string& text) {
 
 std::string source_name(const std::string& path) { return path.empty() ? "<config>" : path; }
 
+namespace {
+
+// The path of a node in messages, as the loader writes it: "renderer.maps[0].shape".
+std::string child_path(const std::string& parent, const std::string& key) {
+    return parent.empty() ? key : parent + "." + key;
+}
+
+// A file a plugin reads, named by `key` of `node` (a plugin's mapping at `at`): inside the root.
+void check_read_file(const Context& c, const CNode& node, const std::string& key, const std::string& at) {
+    const CNode* v = node.find(key);
+    if (!v || !v->is_scalar()) return; // (the plugin refuses what is not a string)
+    try {
+        c.inside(v->scalar, child_path(at, key), v->mark.str());
+    } catch (const HttpError& e) {
+        throw InputError(e.message); // config content: a refusal at its line
+    }
+}
+
+void check_node(const Context& c, const CNode& n, const std::string& at) {
+    if (n.is_seq()) {
+        for (std::size_t i = 0; i < n.items.size(); ++i)
+            check_node(c, n.items[i], at + "[" + std::to_string(i) + "]");
+        return;
+    }
+    if (!n.is_map()) return;
+    if (const CNode* type = n.find("type"); type && type->is_scalar()) {
+        if (type->scalar == "python-scheme") {
+            // It runs the Python of `code:` or `file:` when the config loads: a page (or any
+            // local process) could run anything as this user through /api/check.
+            if (!c.allow_python)
+                throw InputError(n.mark.str() + ": " + (at.empty() ? std::string("the config") : at) +
+                                 ": python-scheme runs Python code: fixpoint serve refuses it unless "
+                                 "started with --allow-python");
+            check_read_file(c, n, "file", at);
+        }
+        if (type->scalar == "superfractal")
+            if (const CNode* picture = n.find("picture"); picture && picture->scalar != "hues")
+                check_read_file(c, n, "picture", at);
+    }
+    for (const auto& [key, child] : n.keys) check_node(c, child, child_path(at, key));
+}
+
+} // namespace
+
+void check_served_config(const Context& c, const CNode& root) { check_node(c, root, ""); }
+
 Pipeline load_checked(const Context& c, const CNode& root) {
+    check_served_config(c, root);
     Pipeline p = load_pipeline(*c.reg, root);
     check_memory(p, c.threads);
     // An output.path of a format fixpoint does not write is refused by `render` before the

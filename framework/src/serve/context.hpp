@@ -14,6 +14,7 @@
 #include <atomic>
 #include <cstddef>
 #include <filesystem>
+#include <mutex>
 #include <string>
 
 namespace httplib {
@@ -50,12 +51,19 @@ struct Context {
     std::filesystem::path scratch; ///< a private temporary folder
     const std::atomic<bool>* stop = nullptr;
     Previewer* preview = nullptr;
+    bool allow_python = false; ///< --allow-python: configs may hold python-scheme
+    /// One /api/render at a time: each takes every render thread.
+    mutable std::mutex render_lock;
 
-    /// The rules every request passes before its handler: throws HttpError (403, 415, 413).
+    /// The rules every request passes before its body is read (httplib's pre-routing
+    /// handler): the Host header, the token, the content type and the Content-Length.
+    /// Throws HttpError (403, 415, 413).
+    void admit_head(const httplib::Request& req, Body body) const;
+    /// admit_head, and the size of the body read: throws HttpError (403, 415, 413).
     void admit(const httplib::Request& req, Body body) const;
 
-    /// `rel` checked as a path inside the root (relative, no '..', not out through a
-    /// symlink): returned as given, for the process works in the root. Throws HttpError 403;
+    /// `rel` checked as a path inside the root (relative, no '..', no control character, not
+    /// out through a symlink): returned as given, for the process works in the root. Throws HttpError 403;
     /// `mark`, when given, prefixes the message (a path from the config).
     std::string inside(const std::string& rel, const std::string& what, const std::string& mark = "") const;
 };
@@ -71,8 +79,12 @@ void send_json(httplib::Response& res, int status, const Json& v);
 /// {"ok": false, "error": TEXT, "line": L, "column": C}: L and C from "file:L:C:" in TEXT.
 Json refusal(const std::string& text);
 
-/// The config loaded and checked as `fixpoint render` checks it before rendering (the memory
-/// check included). Throws fp::InputError.
+/// What serve refuses in a config that `fixpoint render` would run: a python-scheme (it runs
+/// Python code) unless --allow-python, and a file a plugin reads (superfractal's `picture`,
+/// python-scheme's `file`) outside the root. Throws fp::InputError at the node's position.
+void check_served_config(const Context& c, const CNode& root);
+/// The config checked by check_served_config, then loaded and checked as `fixpoint render`
+/// checks it before rendering (the memory check included). Throws fp::InputError.
 Pipeline load_checked(const Context& c, const CNode& root);
 /// The name of an unsaved text in messages.
 std::string source_name(const std::string& path);

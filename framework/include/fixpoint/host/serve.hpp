@@ -17,6 +17,9 @@ struct ServeOptions {
     int port = 8420;                ///< --port; 0: any free port (printed)
     std::string root = ".";         ///< --root: the only folder the page reads and writes
     unsigned threads = 0;           ///< render threads (0: all cores)
+    /// --allow-python: configs may hold a python-scheme, whose Python runs when a config is
+    /// checked; without it serve refuses them (a page could run any code otherwise).
+    bool allow_python = false;
     std::vector<std::string> plugin_dirs;
     /// Called once the server listens, with the address to open (the token included when one
     /// is needed); the CLI prints it as "fixpoint serve: open URL".
