@@ -164,10 +164,42 @@ void api_plugins(const Context& c, const httplib::Request&, httplib::Response& r
     send_json(res, 200, v);
 }
 
+// The output as `fixpoint render` chooses it: `named`, else the config's output.path, else
+// the config's name with .png (in the served folder, as the CLI writes in its own), checked
+// as the CLI checks it. /api/check runs it too, so that the page marks a bad output.path at
+// its line before anyone presses "render".
+std::string render_output(const Context& c, const Pipeline& p, const std::string& path, std::string out,
+                          bool force) {
+    const Mark* mark = nullptr;
+    if (out.empty() && !p.output_path.empty()) out = p.output_path, mark = &p.output_mark;
+    if (out.empty() && !path.empty()) out = fs::path(path).stem().string() + ".png";
+    if (out.empty())
+        throw HttpError{400, "render: name the output (field 'output'): the text has no output.path"};
+    c.inside(out, "output", mark ? mark->str() : "");
+    try {
+        std::error_code ec;
+        if (!path.empty() && fs::equivalent(out, path, ec))
+            throw InputError("cannot write " + quote(out, 200) + ": it is the config being rendered");
+        check_output(out);
+        if (!force && fs::exists(fs::symlink_status(out, ec)))
+            throw InputError(quote(out, 200) + " exists: render with \"force\": true to replace it");
+    } catch (const InputError& e) {
+        if (mark) throw InputError(mark->str() + ": output.path: " + e.what());
+        throw;
+    }
+    return out;
+}
+
 void api_check(const Context& c, const httplib::Request& req, httplib::Response& res) {
     const Json body = parse_body(req);
     const std::string text = field(body, "text", true), path = request_path(c, body);
     const Pipeline p = load_checked(c, parse_config(text, source_name(path)));
+    // (A path the server refuses is shown like any refusal of the text: at its line.)
+    if (!p.output_path.empty()) try {
+            check_vector_output(p, render_output(c, p, path, "", true));
+        } catch (const HttpError& e) {
+            throw InputError(e.message);
+        }
     Json v = ok();
     v["renderer"] = p.renderer_type;
     v["width"] = p.renderer->width();
@@ -328,25 +360,7 @@ void api_render(const Context& c, const httplib::Request& req, httplib::Response
     std::string out = field(body, "output", false);
     const bool force = flag(body, "force");
     const Pipeline p = load_checked(c, parse_config(text, source_name(path)));
-    // The output as `fixpoint render` chooses it: named, else the config's output.path, else
-    // the config's name with .png (in the served folder, as the CLI writes in its own).
-    const Mark* mark = nullptr;
-    if (out.empty() && !p.output_path.empty()) out = p.output_path, mark = &p.output_mark;
-    if (out.empty() && !path.empty()) out = fs::path(path).stem().string() + ".png";
-    if (out.empty())
-        throw HttpError{400, "render: name the output (field 'output'): the text has no output.path"};
-    c.inside(out, "output", mark ? mark->str() : "");
-    try {
-        std::error_code ec;
-        if (!path.empty() && fs::equivalent(out, path, ec))
-            throw InputError("cannot write " + quote(out, 200) + ": it is the config being rendered");
-        check_output(out);
-        if (!force && fs::exists(fs::symlink_status(out, ec)))
-            throw InputError(quote(out, 200) + " exists: render with \"force\": true to replace it");
-    } catch (const InputError& e) {
-        if (mark) throw InputError(mark->str() + ": output.path: " + e.what());
-        throw;
-    }
+    out = render_output(c, p, path, out, force);
     const bool vector = check_vector_output(p, out);
 
     // Rendered on this request's thread, as `fixpoint render` would, stopped by the server's

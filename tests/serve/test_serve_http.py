@@ -500,6 +500,22 @@ def test_an_output_path_in_the_config_that_leaves_the_root_is_403(srv):
     assert status == 403
     assert json.loads(data) == {"error": "fig4a.yaml:15:16: output '../away.png': '..' is refused: paths stay "
                                          "inside the served folder"}
+    # The check the page runs on every edit says it at its line before anyone presses "render".
+    assert srv.api("api/check", {"text": text, "path": "fig4a.yaml"}) == {
+        "ok": False, "line": 15, "column": 16,
+        "error": "fig4a.yaml:15:16: output '../away.png': '..' is refused: paths stay inside the served folder"}
+    assert not os.path.exists(os.path.join(srv.root, "..", "away.png"))
+
+
+def test_check_refuses_an_output_path_the_cli_refuses(srv):
+    text = fig4a_text().replace("renderer:", "output: {path: out.bmp}\nrenderer:", 1)
+    with open(os.path.join(srv.root, "bmp.yaml"), "w") as f:
+        f.write(text)
+    rc, _, err = cli("render", "bmp.yaml", "-q", cwd=srv.root)
+    assert rc == 2 and err.count("\n") == 1 and err.startswith("bmp.yaml:15:16: output.path: "), err
+    assert srv.api("api/check", {"text": text, "path": "bmp.yaml"}) == {
+        "ok": False, "error": err.strip(), "line": 15, "column": 16}
+    assert not os.path.exists(os.path.join(srv.root, "out.bmp"))
 
 
 def test_a_config_outside_the_root_does_not_start(tmp_path):
