@@ -197,7 +197,11 @@ async function refresh() {
     return;
   }
   clearError();
-  S.jobRegion.set(pv.job, regionOf(pr.ok ? pr.params : []));
+  // The region the text gives, else the one the renderer fitted (mfs's points' box): a pan or
+  // zoom then writes it into the text as the renderer's view.
+  const region = regionOf(pr.ok ? pr.params : []) || boxOf(pv.region);
+  S.jobRegion.set(pv.job, region);
+  imgbox.classList.toggle('fixed', !(region && S.regionParam));
   follow(pv.job);
 }
 
@@ -290,6 +294,11 @@ function regionOf(params) {
   const v = (e.value.match(/[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?/g) || []).map(Number);
   if (v.length !== 4 || !v.every(isFinite) || !(v[0] < v[1]) || !(v[2] < v[3])) return null;
   return { xmin: v[0], xmax: v[1], ymin: v[2], ymax: v[3] };
+}
+
+function boxOf(r) {
+  if (!Array.isArray(r) || r.length !== 4 || !r.every(isFinite) || !(r[0] < r[1]) || !(r[2] < r[3])) return null;
+  return { xmin: r[0], xmax: r[1], ymin: r[2], ymax: r[3] };
 }
 
 function sameRegion(a, b) {
@@ -738,7 +747,6 @@ function buildPanel(entries) {
   S.renderer = top ? unquote(top.value) : '';
   const reg = entries.find((p) => p.path === 'renderer.view' || p.path === 'renderer.area');
   S.regionParam = reg ? reg.path : '';
-  imgbox.classList.toggle('fixed', !regionOf(entries));
   // The same parameters as before: update the controls in place, so that a slider being
   // dragged is not replaced under the pointer.
   const sig = entries.map((e) => `${e.path}|${e.kind}|${(e.choices || []).join(',')}|${e.count}`).join('\n');

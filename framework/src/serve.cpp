@@ -282,10 +282,15 @@ void api_preview(const Context& c, const httplib::Request& req, httplib::Respons
         stages.push_back(load_pipeline(*c.reg, std::move(draft)));
     }
     const int n = int(stages.size());
+    // The region the full picture shows (also where the text gives none: mfs fits the points'
+    // box), from which the page pans and zooms; a draft shows the same region.
+    Json region;
+    if (const auto r = full.renderer->region()) region = Json::array({r->xmin, r->xmax, r->ymin, r->ymax});
     const std::uint64_t id = c.preview->start(std::move(stages));
     Json v = ok();
     v["job"] = static_cast<unsigned long long>(id);
     v["stages"] = n;
+    v["region"] = region;
     send_json(res, 200, v);
 }
 
@@ -351,10 +356,6 @@ void api_save(const Context& c, const httplib::Request& req, httplib::Response& 
 }
 
 void api_render(const Context& c, const httplib::Request& req, httplib::Response& res) {
-    // A render takes every render thread (and the memory of a full image): two at once would
-    // halve each, and a page could start any number.
-    const std::unique_lock<std::mutex> lock(c.render_lock, std::try_to_lock);
-    if (!lock.owns_lock()) throw HttpError{409, "a render is running: wait for it to finish"};
     const Json body = parse_body(req);
     const std::string text = field(body, "text", true), path = request_path(c, body);
     std::string out = field(body, "output", false);
@@ -362,6 +363,11 @@ void api_render(const Context& c, const httplib::Request& req, httplib::Response
     const Pipeline p = load_checked(c, parse_config(text, source_name(path)));
     out = render_output(c, p, path, out, force);
     const bool vector = check_vector_output(p, out);
+    // A render takes every render thread (and the memory of a full image): two at once would
+    // halve each, and a page could start any number. Taken once the text has passed its
+    // checks, so that a refused request never turns away one that would render.
+    const std::unique_lock<std::mutex> lock(c.render_lock, std::try_to_lock);
+    if (!lock.owns_lock()) throw HttpError{409, "a render is running: wait for it to finish"};
 
     // Rendered on this request's thread, as `fixpoint render` would, stopped by the server's
     // stop flag (Ctrl-C) only: the preview goes on beside it.

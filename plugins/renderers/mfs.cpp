@@ -111,6 +111,8 @@ public:
 
     int width() const override { return frame_.width; }
     int height() const override { return frame_.height; }
+    // (The view given, or the points' box the constructor fitted.)
+    std::optional<fp::Box> region() const override { return frame_.region; }
     uint64_t memory_bytes(unsigned) const override {
         return uint64_t(total_ * bytes_per_polygon() + double(frame_.width) * double(frame_.height) * 16.0);
     }

@@ -343,6 +343,9 @@ public:
 
     int width() const override { return frame_.width; }
     int height() const override { return frame_.height; }
+    std::optional<fp::Box> region() const override {
+        return frame_.has_region ? std::optional(frame_.region) : std::nullopt;
+    }
     uint64_t memory_bytes(unsigned workers) const override;
     uint64_t work_units() const override { return (steps_ + 1) * buffers_ * points_; }
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;

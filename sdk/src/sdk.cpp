@@ -62,6 +62,7 @@ bool IterationScheme::is_picard() const { return false; }
 bool NumberSystem::is_real() const { return false; }
 
 bool Renderer::has_vector_output() const { return false; }
+std::optional<Box> Renderer::region() const { return std::nullopt; }
 std::string Renderer::render_vector(RenderContext&, RenderStats&, VectorFormat, const std::string&) const {
     throw Error("this renderer has no vector output");
 }

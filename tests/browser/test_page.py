@@ -322,3 +322,37 @@ def test_without_a_config_save_asks_for_a_name(browser, tmp_path):
         page.shot("no-config")
     finally:
         assert s.stop() == 0
+
+
+def test_mfs_without_view_zooms_from_its_fitted_box(browser, tmp_path):
+    # Paper 05's Fig. 3 gives no view: the picture shows the points' box [-0.05, 1.05]^2 that
+    # mfs fitted (the server says so with the preview). The wheel zooms about the cursor from
+    # it and writes the renderer's view, binning as chaos-game does (pixel floor((x - xmin) W / w)).
+    root = tmp_path / "mfs"
+    root.mkdir()
+    shutil.copy(SOURCE / "configs" / "mfs" / "fig3-0101.yaml", root / "fig3.yaml")
+    s = Server(root, "fig3.yaml")
+    try:
+        shots = tmp_path / "shots"
+        shots.mkdir()
+        page = Page(browser, s.url, shots)
+        first = page.wait_done()
+        text = page.text()
+        assert "view:" not in text
+        assert not page.js("return document.getElementById('imgbox').classList.contains('fixed')")
+        u, v = page.js("""const b = document.getElementById('imgbox').getBoundingClientRect();
+                   const x = Math.round(b.left + 0.3 * b.width), y = Math.round(b.top + 0.6 * b.height);
+                   document.getElementById('frame').dispatchEvent(new WheelEvent('wheel', {
+                     deltaY: -100, clientX: x, clientY: y, bubbles: true, cancelable: true}));
+                   return [(x - b.left) / b.width, (y - b.top) / b.height];""")
+        page.wait(lambda: page.text() != text, what="the new view")
+        lines = [x for x in page.text().split("\n") if re.match(r"^\s+view:", x)]
+        assert len(lines) == 1, page.text()
+        x, y = -0.05 + u * 1.1, 1.05 - v * 1.1
+        f = math.exp(-0.2)  # zoomed in
+        want = [x + (-0.05 - x) * f, x + (1.05 - x) * f, y + (-0.05 - y) * f, y + (1.05 - y) * f]
+        assert numbers(lines[0]) == pytest.approx(want, rel=1e-9, abs=1e-12)
+        page.wait_done(other_than=first)
+        page.shot("mfs-zoomed")
+    finally:
+        assert s.stop() == 0

@@ -679,6 +679,31 @@ def test_save_writes_only_yaml(srv, path):
     assert not os.path.exists(os.path.join(srv.root, path))
 
 
+def test_the_preview_names_the_region_it_shows(srv):
+    started = srv.api("api/preview", {"text": fig4a_text(), "path": "fig4a.yaml"})
+    assert started["region"] == [-1.75, 1.75, -1.75, 1.75]  # the text's view
+
+
+def test_an_mfs_without_view_gets_the_points_box_and_renders_it(srv):
+    # Paper 05's Fig. 3 gives no view: mfs fits the initial points' box, [0, 1]^2, widened by
+    # a tenth about its centre: [-0.05, 1.05]^2 (the page pans and zooms from it).
+    with open(os.path.join(SOURCE, "configs/mfs/fig3-0101.yaml")) as f:
+        text = f.read()
+    assert "view:" not in text
+    started = srv.api("api/preview", {"text": text, "path": "fig3.yaml"})
+    assert started["region"] == pytest.approx([-0.05, 1.05, -0.05, 1.05], abs=1e-12)
+    # Written into the text as the view, it is the picture the text without one gives.
+    with open(os.path.join(srv.root, "fig3.yaml"), "w") as f:
+        f.write(text)
+    view = "[" + ", ".join(repr(x) for x in started["region"]) + "]"
+    for name, extra in (("fitted.png", []), ("given.png", ["--set", f"renderer.view={view}"])):
+        rc, _, err = cli("render", "fig3.yaml", "-o", name, "-q", "--force", *extra, cwd=srv.root)
+        assert rc == 0, err
+    a, b = (Image.open(os.path.join(srv.root, n)) for n in ("fitted.png", "given.png"))
+    assert a.size == (600, 600) and a.tobytes() == b.tobytes()
+    assert len(set(a.getdata())) > 1  # (a picture, not a blank)
+
+
 def test_save_needs_a_path(srv):
     status, _, data = srv.post("api/save", {"text": "# x\n", "path": ""})
     assert status == 400
@@ -820,20 +845,26 @@ def test_one_render_at_a_time(tmp_path):
     t = threading.Thread(target=render_slowly)
     try:
         t.start()
-        # A request that is refused at once when it gets to render: asked until the slow
-        # render holds the lock.
+        # A quick render is turned away once the slow one holds the lock (before that, it
+        # renders); asked until then.
+        quick = {"text": fig4a_text().replace("points: 4000000", "points: 1000"), "path": "fig4a.yaml",
+                 "output": "quick.png", "force": True}
         for _ in range(600):
-            status, _, data = s.post("api/render", {"text": "renderer: {}\n", "output": "quick.png"})
+            status, _, data = s.post("api/render", quick)
             if status == 409:
                 break
-            assert status == 200 and json.loads(data)["ok"] is False
+            assert status == 200 and json.loads(data)["ok"] is True, data
             time.sleep(0.05)
-        assert (status, json.loads(data)) == (409, {"error": "a render is running: wait for it to finish"})
+        assert (status, json.loads(data)) == (409, {"error": "a render is running: wait for it to finish"}), first
+        # A text that is refused is refused for what it is: the lock is taken after the checks,
+        # so such a request never turns away one that would render.
+        got = s.api("api/render", {"text": "renderer: {}\n", "output": "bad.png"})
+        assert got["ok"] is False and got["error"].startswith("<config>:1:11: renderer: "), got
     finally:
         assert s.stop() == 0
         t.join(timeout=30)
     assert (first["status"], json.loads(first["body"])) == (503, {"error": "the server is stopping"})
-    assert sorted(os.listdir(tmp_path)) == ["fig4a.yaml"]
+    assert "slow.png" not in os.listdir(tmp_path) and "bad.png" not in os.listdir(tmp_path)
 
 
 def test_render_takes_the_config_output_path_then_its_name(srv):

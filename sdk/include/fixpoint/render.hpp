@@ -2,10 +2,12 @@
 #pragma once
 
 #include <fixpoint/object.hpp>
+#include <fixpoint/types.hpp>
 
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,6 +77,10 @@ public:
     /// address first. Throws fp::ParamError for a level that does not exist; default: throws
     /// fp::Error (the renderer draws no addressed polygons).
     virtual std::vector<std::string> polygon_addresses(std::int64_t level) const;
+    /// The region of the plane the picture shows, when it shows one: the `view` or `area`
+    /// given, or the one the renderer fitted (mfs's points' box, chaos-game's fit_view).
+    /// `fixpoint serve` pans and zooms from it. Default: none.
+    virtual std::optional<Box> region() const;
 };
 
 } // namespace fp
