@@ -3,6 +3,7 @@ it refines, changes the YAML through its controls (a slider, the wheel, a drag),
 refused config at its line with the CLI's text, saves, renders the bytes the CLI renders, and
 opens a dropped image's recipe. Each test leaves screenshots in its tmp folder (shots/)."""
 
+import contextlib
 import math
 import re
 import shutil
@@ -36,6 +37,31 @@ def slide(page, path, value):
 
 def status(page):
     return page.js("return document.getElementById('status').textContent")
+
+
+def wheel(page, fx, fy, delta):
+    """A wheel step of `delta` at the fraction (fx, fy) of the image box; returns where the
+    cursor was, as fractions (Chromium keeps clientX and clientY as integers: whole pixels)."""
+    return page.js("""const b = document.getElementById('imgbox').getBoundingClientRect();
+               const x = Math.round(b.left + arguments[0] * b.width), y = Math.round(b.top + arguments[1] * b.height);
+               document.getElementById('frame').dispatchEvent(new WheelEvent('wheel', {
+                 deltaY: arguments[2], clientX: x, clientY: y, bubbles: true, cancelable: true}));
+               return [(x - b.left) / b.width, (y - b.top) / b.height];""", fx, fy, delta)
+
+
+@contextlib.contextmanager
+def serving(browser, tmp_path, config, name):
+    """The page of a server whose folder holds a copy of configs/`config` as `name`."""
+    root = tmp_path / "root"
+    root.mkdir()
+    shutil.copy(SOURCE / "configs" / config, root / name)
+    s = Server(root, name)
+    try:
+        shots = tmp_path / "shots"
+        shots.mkdir()
+        yield Page(browser, s.url, shots)
+    finally:
+        assert s.stop() == 0
 
 
 def test_first_image_refines_to_the_cli_render(page, root):
@@ -106,12 +132,7 @@ def test_typo_shows_the_cli_error_at_its_line(page, tmp_path):
 def test_wheel_zooms_about_the_cursor(page):
     first = page.wait_done()
     text = page.text()
-    # Chromium keeps a mouse event's clientX and clientY as integers: aim at whole pixels.
-    u, v = page.js("""const b = document.getElementById('imgbox').getBoundingClientRect();
-               const x = Math.round(b.left + 0.25 * b.width), y = Math.round(b.top + 0.25 * b.height);
-               document.getElementById('frame').dispatchEvent(new WheelEvent('wheel', {
-                 deltaY: -100, clientX: x, clientY: y, bubbles: true, cancelable: true}));
-               return [(x - b.left) / b.width, (y - b.top) / b.height];""")
+    u, v = wheel(page, 0.25, 0.25, -100)
     page.wait(lambda: page.text() != text, what="the new view")
     new = page.text()
     assert changed_lines(text, new) == [VIEW]
@@ -268,21 +289,10 @@ def test_maps_remove_and_add(page):
 
 def test_orbit_trap_wheel_zooms_its_area(browser, tmp_path):
     # orbit-trap samples pixel i at xmin + i (xmax - xmin) / (W - 1), row 0 at ymax.
-    root = tmp_path / "ot"
-    root.mkdir()
-    shutil.copy(SOURCE / "configs" / "orbit-trap" / "fig5b.yaml", root / "fig5b.yaml")
-    s = Server(root, "fig5b.yaml")
-    try:
-        shots = tmp_path / "shots"
-        shots.mkdir()
-        page = Page(browser, s.url, shots)
+    with serving(browser, tmp_path, "orbit-trap/fig5b.yaml", "fig5b.yaml") as page:
         first = page.wait_done()
         text = page.text()
-        u, v = page.js("""const b = document.getElementById('imgbox').getBoundingClientRect();
-                   const x = Math.round(b.left + 0.7 * b.width), y = Math.round(b.top + 0.4 * b.height);
-                   document.getElementById('frame').dispatchEvent(new WheelEvent('wheel', {
-                     deltaY: 100, clientX: x, clientY: y, bubbles: true, cancelable: true}));
-                   return [(x - b.left) / b.width, (y - b.top) / b.height];""")
+        u, v = wheel(page, 0.7, 0.4, 100)
         page.wait(lambda: page.text() != text, what="the new area")
         line = [x for x in page.text().split("\n") if x.startswith("  area:")][0]
         assert line.endswith("]   # [-2 pi, 2 pi]^2")  # the comment stays
@@ -294,8 +304,6 @@ def test_orbit_trap_wheel_zooms_its_area(browser, tmp_path):
         assert numbers(line.split("#")[0]) == pytest.approx(want, rel=1e-9)
         page.wait_done(other_than=first)
         page.shot("orbit-trap")
-    finally:
-        assert s.stop() == 0
 
 
 def test_without_a_config_save_asks_for_a_name(browser, tmp_path):
@@ -328,23 +336,12 @@ def test_mfs_without_view_zooms_from_its_fitted_box(browser, tmp_path):
     # Paper 05's Fig. 3 gives no view: the picture shows the points' box [-0.05, 1.05]^2 that
     # mfs fitted (the server says so with the preview). The wheel zooms about the cursor from
     # it and writes the renderer's view, binning as chaos-game does (pixel floor((x - xmin) W / w)).
-    root = tmp_path / "mfs"
-    root.mkdir()
-    shutil.copy(SOURCE / "configs" / "mfs" / "fig3-0101.yaml", root / "fig3.yaml")
-    s = Server(root, "fig3.yaml")
-    try:
-        shots = tmp_path / "shots"
-        shots.mkdir()
-        page = Page(browser, s.url, shots)
+    with serving(browser, tmp_path, "mfs/fig3-0101.yaml", "fig3.yaml") as page:
         first = page.wait_done()
         text = page.text()
         assert "view:" not in text
         assert not page.js("return document.getElementById('imgbox').classList.contains('fixed')")
-        u, v = page.js("""const b = document.getElementById('imgbox').getBoundingClientRect();
-                   const x = Math.round(b.left + 0.3 * b.width), y = Math.round(b.top + 0.6 * b.height);
-                   document.getElementById('frame').dispatchEvent(new WheelEvent('wheel', {
-                     deltaY: -100, clientX: x, clientY: y, bubbles: true, cancelable: true}));
-                   return [(x - b.left) / b.width, (y - b.top) / b.height];""")
+        u, v = wheel(page, 0.3, 0.6, -100)
         page.wait(lambda: page.text() != text, what="the new view")
         lines = [x for x in page.text().split("\n") if re.match(r"^\s+view:", x)]
         assert len(lines) == 1, page.text()
@@ -354,5 +351,3 @@ def test_mfs_without_view_zooms_from_its_fitted_box(browser, tmp_path):
         assert numbers(lines[0]) == pytest.approx(want, rel=1e-9, abs=1e-12)
         page.wait_done(other_than=first)
         page.shot("mfs-zoomed")
-    finally:
-        assert s.stop() == 0
