@@ -3,6 +3,7 @@
 
 #include <fixpoint/host/host.hpp>
 
+#include <functional>
 #include <string>
 
 namespace fp::test {
@@ -20,6 +21,16 @@ inline bool has_plugin(const std::string& yaml) {
     } catch (const fp::InputError&) {
         return false;
     }
+}
+
+/// The message of the fp::InputError that `f` throws, or "(no error)".
+inline std::string error_of(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const fp::InputError& e) {
+        return e.what();
+    }
+    return "(no error)";
 }
 
 /// Paper 04's p4m example (Fig. 8), with the misprint P32 = [0.422963, 0] fixed to 0.429163 (the

@@ -3,6 +3,8 @@
 #include <fixpoint/host/config.hpp>
 #include <fixpoint/host/host.hpp>
 
+#include "host.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,14 +13,7 @@ using namespace fp::host;
 
 namespace {
 
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const fp::InputError& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using fp::test::error_of;
 
 TEST(Config, NodesRememberPositions) {
     const CNode n = parse_yaml("a: 1\nb:\n  - [2, 3]\n  - {c: 'x'}\n", "t.yaml");

@@ -5,6 +5,7 @@
 #include <fixpoint/host/config.hpp>
 #include <fixpoint/host/yaml_edit.hpp>
 
+#include "host.hpp"
 #include <cli.hpp>
 
 #include <gtest/gtest.h>
@@ -18,14 +19,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const fp::InputError& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using fp::test::error_of;
 
 std::string set(const std::string& text, const std::string& path, const std::string& value) {
     return edit_set(text, "t.yaml", path, value);
