@@ -400,6 +400,12 @@ async function sendRegion() {
   const r = S.pending;
   if (!r || !S.regionParam) return;
   r.sent = true;
+  // chaos-game's fit_view fits the view again at every render: a view chosen by hand turns it off.
+  const fit = (S.entries || []).find((p) => p.path === 'renderer.fit_view');
+  if (fit && fit.value.trim() === 'true' && !(await edit('set', 'renderer.fit_view', 'false'))) {
+    if (S.pending === r) dropPending();
+    return;
+  }
   const ok = await edit('set', S.regionParam, `[${real(r.xmin)}, ${real(r.xmax)}, ${real(r.ymin)}, ${real(r.ymax)}]`);
   if (!ok && S.pending === r) dropPending();
 }

@@ -351,3 +351,28 @@ def test_mfs_without_view_zooms_from_its_fitted_box(browser, tmp_path):
         assert numbers(lines[0]) == pytest.approx(want, rel=1e-9, abs=1e-12)
         page.wait_done(other_than=first)
         page.shot("mfs-zoomed")
+
+
+def test_a_pan_with_fit_view_turns_it_off(browser, tmp_path):
+    # chaos-game's fit_view fits the view at every render, so a view written by hand would not
+    # move the picture: the page turns fit_view off and writes the view moved from the one
+    # fitted (which the server reports with the preview).
+    with serving(browser, tmp_path, "gumowski-mira/fig1b-chains.yaml", "gm.yaml") as page:
+        text = page.text()
+        page.set_text(text.replace("points: 50000000", "points: 2000000"))
+        first = page.wait_done()
+        shown = page.js("return S.shown")
+        assert not re.search(r"^\s+view:", page.text(), re.M)
+        u, v = wheel(page, 0.5, 0.5, 100)
+        page.wait(lambda: re.search(r"^\s+view:", page.text(), re.M), what="the new view")
+        new = page.text()
+        assert "  fit_view: false\n" in new and "fit_view: true" not in new
+        line = [x for x in new.split("\n") if re.match(r"^\s+view:", x)][0]
+        x = shown["xmin"] + u * (shown["xmax"] - shown["xmin"])
+        y = shown["ymax"] - v * (shown["ymax"] - shown["ymin"])
+        f = math.exp(0.2)
+        want = [x + (shown["xmin"] - x) * f, x + (shown["xmax"] - x) * f,
+                y + (shown["ymin"] - y) * f, y + (shown["ymax"] - y) * f]
+        assert numbers(line) == pytest.approx(want, rel=1e-9, abs=1e-12)
+        page.wait_done(other_than=first)
+        page.shot("fit-view-off")
