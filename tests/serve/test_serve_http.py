@@ -500,10 +500,12 @@ def test_an_output_path_in_the_config_that_leaves_the_root_is_403(srv):
     assert status == 403
     assert json.loads(data) == {"error": "fig4a.yaml:15:16: output '../away.png': '..' is refused: paths stay "
                                          "inside the served folder"}
-    # The check the page runs on every edit says it at its line before anyone presses "render".
-    assert srv.api("api/check", {"text": text, "path": "fig4a.yaml"}) == {
-        "ok": False, "line": 15, "column": 16,
-        "error": "fig4a.yaml:15:16: output '../away.png': '..' is refused: paths stay inside the served folder"}
+    # The preview the page asks for at every edit says it at its line before anyone presses
+    # "render" (and starts nothing).
+    for endpoint in ("api/check", "api/preview"):
+        assert srv.api(endpoint, {"text": text, "path": "fig4a.yaml"}) == {
+            "ok": False, "line": 15, "column": 16,
+            "error": "fig4a.yaml:15:16: output '../away.png': '..' is refused: paths stay inside the served folder"}
     assert not os.path.exists(os.path.join(srv.root, "..", "away.png"))
 
 
@@ -513,8 +515,9 @@ def test_check_refuses_an_output_path_the_cli_refuses(srv):
         f.write(text)
     rc, _, err = cli("render", "bmp.yaml", "-q", cwd=srv.root)
     assert rc == 2 and err.count("\n") == 1 and err.startswith("bmp.yaml:15:16: output.path: "), err
-    assert srv.api("api/check", {"text": text, "path": "bmp.yaml"}) == {
-        "ok": False, "error": err.strip(), "line": 15, "column": 16}
+    for endpoint in ("api/check", "api/preview"):  # the page asks for a preview at each edit
+        assert srv.api(endpoint, {"text": text, "path": "bmp.yaml"}) == {
+            "ok": False, "error": err.strip(), "line": 15, "column": 16}
     assert not os.path.exists(os.path.join(srv.root, "out.bmp"))
 
 

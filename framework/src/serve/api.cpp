@@ -117,16 +117,23 @@ static std::string render_output(const Context& c, const Pipeline& p, const std:
     return out;
 }
 
+// The config's output.path checked as "render" will check it (its existence aside), so that
+// the page shows a bad one at its line while the text is edited. A path the server refuses
+// is reported like any refusal of the text.
+static void check_output_path(const Context& c, const Pipeline& p, const std::string& path) {
+    if (p.output_path.empty()) return;
+    try {
+        check_vector_output(p, render_output(c, p, path, "", true));
+    } catch (const HttpError& e) {
+        throw InputError(e.message);
+    }
+}
+
 void api_check(const Context& c, const httplib::Request& req, httplib::Response& res) {
     const Json body = parse_body(req);
     const std::string text = field(body, "text", true), path = request_path(c, body);
     const Pipeline p = load_checked(c, parse_config(text, source_name(path)));
-    // (A path the server refuses is shown like any refusal of the text: at its line.)
-    if (!p.output_path.empty()) try {
-            check_vector_output(p, render_output(c, p, path, "", true));
-        } catch (const HttpError& e) {
-            throw InputError(e.message);
-        }
+    check_output_path(c, p, path);
     Json v = ok();
     v["renderer"] = p.renderer_type;
     v["width"] = p.renderer->width();
@@ -196,6 +203,7 @@ void api_preview(const Context& c, const httplib::Request& req, httplib::Respons
     const std::string text = field(body, "text", true), path = request_path(c, body);
     const CNode root = parse_config(text, source_name(path));
     Pipeline full = load_checked(c, root);
+    check_output_path(c, full, path);
     // Every stage is built (and so checked) before the job starts: a draft is the same
     // recipe with --set assignments, loaded as render --draft would load it.
     std::vector<Pipeline> stages;
