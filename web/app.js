@@ -197,9 +197,8 @@ async function refresh() {
     return;
   }
   clearError();
-  // The region the text gives, else the one the renderer fitted (mfs's points' box): a pan or
-  // zoom then writes it into the text as the renderer's view.
-  const region = regionOf(pr.ok ? pr.params : []) || boxOf(pv.region);
+  // What the picture shows, fitted or given: a pan or zoom writes it into the text.
+  const region = boxOf(pv.region);
   S.jobRegion.set(pv.job, region);
   imgbox.classList.toggle('fixed', !(region && S.regionParam));
   follow(pv.job);
@@ -288,14 +287,8 @@ window.addEventListener('resize', fit);
 // the left edge of the image is xmin. orbit-trap samples pixel i at xmin + i w / (W - 1)
 // (pixel centres: the first at xmin, the last at xmax).
 
-function regionOf(params) {
-  const e = params.find((p) => p.path === 'renderer.view' || p.path === 'renderer.area');
-  if (!e) return null;
-  const v = (e.value.match(/[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?/g) || []).map(Number);
-  if (v.length !== 4 || !v.every(isFinite) || !(v[0] < v[1]) || !(v[2] < v[3])) return null;
-  return { xmin: v[0], xmax: v[1], ymin: v[2], ymax: v[3] };
-}
-
+// The region a preview shows, as /api/preview reports it: the text's view or area, or the one
+// the renderer fitted (mfs's points' box, chaos-game's fit_view).
 function boxOf(r) {
   if (!Array.isArray(r) || r.length !== 4 || !r.every(isFinite) || !(r[0] < r[1]) || !(r[2] < r[3])) return null;
   return { xmin: r[0], xmax: r[1], ymin: r[2], ymax: r[3] };

@@ -55,7 +55,8 @@ int watch(const Registry& reg, const WatchOptions& o, const std::atomic<bool>& s
     if (is_vector(format_for(o.out)))
         throw InputError("cannot write " + quote(o.out, 200) +
                          ": watch writes images (.png, .exr, .tif), not SVG or PDF");
-    if (!contents(o.config)) throw InputError(quote(o.config, 200) + ": cannot read it");
+    if (std::string why; !contents(o.config, &why))
+        throw InputError(why.empty() ? quote(o.config, 200) + ": cannot read it" : why);
 
     // `rendering`: the contents being rendered, read by the watcher thread to tell a change.
     std::mutex m;

@@ -215,6 +215,18 @@ TEST(Watch, ASaveDuringARenderStartsTheNewVersion) {
     EXPECT_EQ(read_file(log).find("interrupted"), std::string::npos) << read_file(log);
 }
 
+// A config watch will never read (too large, as render refuses it) says why at the start.
+TEST(Watch, SaysWhyItCannotReadTheConfig) {
+    const std::string dir = scratch_dir("watch_large");
+    write_file(dir + "/c.yaml", config + "# " + std::string(5u << 20, 'x') + "\n");
+    const auto rendered = run_cli({"render", dir + "/c.yaml", "-o", dir + "/r.png"});
+    ASSERT_EQ(rendered.rc, 2);
+    const auto r = run_cli({"watch", dir + "/c.yaml", "-o", dir + "/w.png"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(r.err, rendered.err); // one line, the CLI's
+    EXPECT_FALSE(fs::exists(dir + "/w.png"));
+}
+
 TEST(Watch, RefusesVectorOutput) {
     const std::string dir = scratch_dir("watch_svg");
     write_file(dir + "/c.yaml", config);

@@ -93,8 +93,7 @@ void api_plugins(const Context& c, const httplib::Request&, httplib::Response& r
 
 // The output as `fixpoint render` chooses it: `named`, else the config's output.path, else
 // the config's name with .png (in the served folder, as the CLI writes in its own), checked
-// as the CLI checks it. /api/check runs it too, so that the page marks a bad output.path at
-// its line before anyone presses "render".
+// as the CLI checks it (check_output_path runs it for /api/check and /api/preview too).
 static std::string render_output(const Context& c, const Pipeline& p, const std::string& path,
                                  std::string out, bool force) {
     const Mark* mark = nullptr;
