@@ -14,6 +14,7 @@
 #include <fixpoint/host/pipeline.hpp>
 #include <fixpoint/host/print.hpp>
 #include <fixpoint/host/progress.hpp>
+#include <fixpoint/host/ranks.hpp>
 #include <fixpoint/host/registry.hpp>
 #include <fixpoint/host/runtime.hpp>
 #include <fixpoint/host/serve.hpp>
@@ -50,6 +51,47 @@ using namespace fp::host;
 namespace {
 
 std::atomic<bool> g_interrupted{false};
+
+// Under mpirun: the checks before a render failed on some rank; every rank learnt the first
+// failing rank's error line (ranks::agree), which rank 0 prints.
+struct AgreedFailure {
+    ranks::Verdict verdict;
+};
+
+// Under mpirun, once every check before a render has passed on this rank: wait for the
+// others' verdicts. A rank that failed makes every rank stop here with its error line, before
+// any rank starts the work (and its collective calls).
+void agree_checks() {
+    if (ranks::size() <= 1 || ranks::phase() != ranks::Phase::checking) return;
+    const ranks::Verdict v = ranks::agree(0, "");
+    ranks::set_phase(v.code ? ranks::Phase::free : ranks::Phase::rendering);
+    if (v.code) throw AgreedFailure{v};
+}
+
+// An error line and the exit code: as is on one process; under mpirun, as the rank's phase
+// requires (host/ranks.hpp): agreed with the others during the checks, or ending the whole job
+// during the render (the other ranks may be waiting for this one).
+int report(int code, const std::string& line) {
+    if (ranks::size() <= 1) {
+        std::fprintf(stderr, "%s\n", line.c_str());
+        return code;
+    }
+    switch (ranks::phase()) {
+    case ranks::Phase::checking: {
+        ranks::set_phase(ranks::Phase::free);
+        const ranks::Verdict v = ranks::agree(code, line);
+        if (ranks::rank() == 0) std::fprintf(stderr, "%s\n", v.message.c_str());
+        return v.code;
+    }
+    case ranks::Phase::rendering:
+        std::fprintf(stderr, "fixpoint: rank %u of %u: %s\n", ranks::rank(), ranks::size(), line.c_str());
+        std::fflush(stderr);
+        ranks::abort(code);
+    case ranks::Phase::free: break;
+    }
+    if (ranks::rank() == 0) std::fprintf(stderr, "%s\n", line.c_str());
+    return code;
+}
 
 extern "C" void on_sigint(int) { g_interrupted.store(true); }
 
@@ -160,13 +202,19 @@ void warn_drawn(const Pipeline& p, const RenderStats& st) {
 
 // Render one pipeline with a progress bar; the image is checked (not empty, not interrupted)
 // but not written. Errors a plugin raises during the render get the renderer's position.
-Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStats& stats, double& secs) {
-    Runtime rt(threads, &g_interrupted);
+//
+// `distributed`: split over the MPI ranks (mpirun); rank 0 then holds the image and the whole
+// render's stats, and shows the progress bar (its own share's progress).
+Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStats& stats, double& secs,
+                     bool distributed = false) {
+    Runtime rt(threads, &g_interrupted, distributed);
     Image img;
     const auto t0 = std::chrono::steady_clock::now();
     {
+        const std::uint64_t units = p.renderer->work_units();
         ProgressBar bar(
-            p.renderer->work_units(), [&rt] { return rt.done(); }, !quiet && ::isatty(2));
+            rt.ranks() > 1 ? (units + rt.ranks() - 1) / rt.ranks() : units, [&rt] { return rt.done(); },
+            !quiet && ::isatty(2) && rt.rank() == 0);
         try {
             img = p.renderer->render(rt, stats);
         } catch (const InputError& e) {
@@ -177,14 +225,14 @@ Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStat
     }
     secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (g_interrupted.load()) throw Cancelled();
-    warn_drawn(p, stats);
+    if (rt.rank() == 0) warn_drawn(p, stats);
     return img;
 }
 
 // The vector document of a renderer with vector output (SVG, PDF), checked like an image.
 std::string render_vector_checked(const Pipeline& p, unsigned threads, Format f, RenderStats& stats,
                                   double& secs) {
-    Runtime rt(threads, &g_interrupted);
+    Runtime rt(threads, &g_interrupted, true);
     std::string doc;
     const auto t0 = std::chrono::steady_clock::now();
     try {
@@ -195,7 +243,7 @@ std::string render_vector_checked(const Pipeline& p, unsigned threads, Format f,
     }
     secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (g_interrupted.load()) throw Cancelled();
-    warn_drawn(p, stats);
+    if (rt.rank() == 0) warn_drawn(p, stats);
     return doc;
 }
 
@@ -327,6 +375,7 @@ int cmd_collection(const Options& o, bool validate_only) {
     for (std::size_t k = 0; k < pipes.size(); ++k)
         check_output_for({child_path(out, k + 1), output.named, output.mark}, o);
     if (g_interrupted.load()) throw Cancelled(); // during the checks above
+    agree_checks();
     if (validate_only) {
         if (!o.quiet)
             spdlog::info("{}: valid: a collection of {} children to {}", o.config, pipes.size(), out);
@@ -334,18 +383,48 @@ int cmd_collection(const Options& o, bool validate_only) {
     }
 
     // Every child is rendered and checked before anything is written: a failing child
-    // leaves no files behind.
-    std::vector<Image> children;
+    // leaves no files behind. Under mpirun, child k is rendered whole by rank k mod N (a
+    // child's bytes do not depend on where it ran) and sent to rank 0, which writes.
+    const unsigned me = ranks::rank(), nr = ranks::size();
+    std::vector<Image> children(pipes.size());
+    std::vector<RenderStats> stats(pipes.size());
+    std::vector<double> secs(pipes.size(), 0.0);
+    for (std::size_t k = me; k < pipes.size(); k += nr)
+        children[k] = render_checked(pipes[k], threads, o.quiet || me != 0, stats[k], secs[k]);
+    if (nr > 1) {
+        // Rank 0 receives the others' children in order: a header, then the pixels.
+        for (std::size_t k = 0; k < pipes.size(); ++k) {
+            const unsigned owner = unsigned(k % nr);
+            if (owner == 0 || (me != 0 && me != owner)) continue;
+            double head[5];
+            if (me == owner) {
+                const Image& c = children[k];
+                head[0] = c.width, head[1] = c.height, head[2] = c.channels;
+                head[3] = double(stats[k].samples), head[4] = secs[k];
+                ranks::send(0, head, sizeof head);
+                ranks::send(0, c.pixels.data(), c.pixels.size() * sizeof(float));
+                children[k] = Image{}; // sent: its memory is free again
+            } else {
+                ranks::recv(owner, head, sizeof head);
+                Image& c = children[k];
+                c.width = int(head[0]), c.height = int(head[1]), c.channels = int(head[2]);
+                stats[k].samples = std::uint64_t(head[3]), secs[k] = head[4];
+                c.pixels.resize(std::size_t(c.width) * std::size_t(c.height) * std::size_t(c.channels));
+                ranks::recv(owner, c.pixels.data(), c.pixels.size() * sizeof(float));
+            }
+        }
+        if (me != 0) return 0;
+        ranks::set_phase(ranks::Phase::free); // the others are done: rank 0's errors are its own
+    }
     std::vector<std::string> captions;
     double total = 0;
     for (std::size_t k = 0; k < pipes.size(); ++k) {
-        RenderStats stats;
-        double secs = 0;
-        children.push_back(render_checked(pipes[k], threads, o.quiet, stats, secs));
-        total += secs;
+        total += secs[k];
         if (!o.quiet)
-            spdlog::info("{}={}: {} {} in {:.2f} s, {} restarted chains", path, values[k], stats.samples,
-                         stats.unit, secs, stats.restarts);
+            spdlog::info("{}={}: {} {} in {:.2f} s{}", path, values[k], stats[k].samples, stats[k].unit,
+                         secs[k],
+                         nr > 1 ? " on rank " + std::to_string(k % nr)
+                                : ", " + std::to_string(stats[k].restarts) + " restarted chains");
         captions.push_back(path.substr(path.rfind('.') + 1) + " = " + values[k]);
     }
     for (std::size_t k = 0; k < pipes.size(); ++k)
@@ -357,8 +436,9 @@ int cmd_collection(const Options& o, bool validate_only) {
                 "# contact sheet: --vary " + o.vary + "; children " + child_path(out, 1) + " ... " +
                     child_path(out, pipes.size()) + "\n# the recipe of the first child:\n" + pipes[0].recipe);
     if (!o.quiet)
-        spdlog::info("{}: contact sheet of {} children ({} ... {}) in {:.2f} s", out, pipes.size(),
-                     child_path(out, 1), child_path(out, pipes.size()), total);
+        spdlog::info("{}: contact sheet of {} children ({} ... {}) in {:.2f} s{}", out, pipes.size(),
+                     child_path(out, 1), child_path(out, pipes.size()), total,
+                     nr > 1 ? " of render time over " + std::to_string(nr) + " ranks" : "");
     return 0;
 }
 
@@ -367,6 +447,9 @@ int cmd_render(const Options& o, bool validate_only) {
     // not lost: a background job of a script starts with SIGINT ignored, and the handler
     // replaces that. The flag is checked once the checks are done and polled by the render.
     install_sigint();
+    // Under mpirun: the checks below run on every rank and are agreed before the render.
+    // (validate runs on rank 0 alone.)
+    if (ranks::size() > 1 && !validate_only) ranks::set_phase(ranks::Phase::checking);
     if (!o.vary.empty() && o.print.any())
         throw InputError("--tile, --repeat, --dpi and --print-size make one image: not with --vary");
     if (!o.vary.empty()) return cmd_collection(o, validate_only);
@@ -394,6 +477,7 @@ int cmd_render(const Options& o, bool validate_only) {
     check_output_for(output, o);
     const bool vector = check_vector_output(p, out);
     if (g_interrupted.load()) throw Cancelled(); // during the checks above
+    agree_checks();
     if (validate_only) {
         if (!o.quiet)
             spdlog::info("{}: valid: a {}x{} render to {}", o.config, p.renderer->width(),
@@ -405,9 +489,13 @@ int cmd_render(const Options& o, bool validate_only) {
     double secs = 0;
     if (vector) {
         const std::string doc = render_vector_checked(p, threads, format_for(out), stats, secs);
+        if (ranks::rank() != 0) return 0; // rank 0 writes
+        ranks::set_phase(ranks::Phase::free);
         write_bytes(doc, out);
     } else {
-        const Image img = render_checked(p, threads, o.quiet, stats, secs);
+        const Image img = render_checked(p, threads, o.quiet, stats, secs, true);
+        if (ranks::rank() != 0) return 0; // rank 0 writes
+        ranks::set_phase(ranks::Phase::free);
         const Repeat r = parse_repeat(o.print);
         const std::string recipe = r.across * r.down == 1
                                        ? p.recipe
@@ -418,9 +506,10 @@ int cmd_render(const Options& o, bool validate_only) {
     }
     if (!o.quiet)
         spdlog::info(
-            "{}: {} {} in {:.2f} s ({:.3g} {}/s, {} thread{}, {}), {} restarted chain{}, {} bad value{}", out,
-            stats.samples, stats.unit, secs, double(stats.samples) / std::max(secs, 1e-9), stats.unit,
-            threads, threads == 1 ? "" : "s", fp::simd::active_target(), stats.restarts,
+            "{}: {} {} in {:.2f} s ({:.3g} {}/s, {}{} thread{}, {}), {} restarted chain{}, {} bad value{}",
+            out, stats.samples, stats.unit, secs, double(stats.samples) / std::max(secs, 1e-9), stats.unit,
+            ranks::size() > 1 ? std::to_string(ranks::size()) + " ranks x " : "", threads,
+            threads == 1 ? "" : "s", fp::simd::active_target(), stats.restarts,
             stats.restarts == 1 ? "" : "s", stats.bad_values, stats.bad_values == 1 ? "" : "s");
     return 0;
 }
@@ -792,6 +881,17 @@ int main(int argc, char** argv) {
     auto logger = spdlog::stderr_logger_st("fixpoint");
     logger->set_pattern("%v");
     spdlog::set_default_logger(logger);
+    // Under mpirun: one process per rank (host/ranks.hpp); rank 0 speaks for the job.
+    try {
+        ranks::init(&argc, &argv);
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "%s\n", e.what());
+        return 2;
+    }
+    struct Finalize {
+        ~Finalize() { ranks::finalize(); }
+    } finalize_at_exit;
+    if (ranks::rank() != 0) spdlog::set_level(spdlog::level::off);
 
     CLI::App app{"fixpoint " FIXPOINT_VERSION
                  " - renders fractal and symmetric patterns from YAML pipelines"};
@@ -1084,6 +1184,8 @@ int main(int argc, char** argv) {
         return 2;
     }
 
+    // Only `render` is split over ranks; any other command runs once, on rank 0.
+    if (ranks::rank() != 0 && !*render) return 0;
     try {
         if (*render) return cmd_render(o, false);
         if (*validate_cmd) return cmd_validate(o);
@@ -1112,26 +1214,23 @@ int main(int argc, char** argv) {
             if (!o.quiet) ex.info = [](const std::string& l) { spdlog::info("{}", l); };
             return run_explore(make_registry(o), ex);
         }
+    } catch (const AgreedFailure& f) {
+        if (ranks::rank() == 0) std::fprintf(stderr, "%s\n", f.verdict.message.c_str());
+        return f.verdict.code;
     } catch (const Cancelled&) {
-        std::fprintf(stderr, "fixpoint: interrupted; no image written\n");
-        return 130;
+        return report(130, "fixpoint: interrupted; no image written");
     } catch (const InputError& e) {
-        std::fprintf(stderr, "%s\n", e.what());
-        return 2;
+        return report(2, e.what());
     } catch (const InternalError& e) {
-        std::fprintf(stderr, "fixpoint: internal error: %s\n", e.what());
-        return 1;
+        return report(1, std::string("fixpoint: internal error: ") + e.what());
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "fixpoint: out of memory\n");
-        return 1;
+        return report(1, "fixpoint: out of memory");
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "fixpoint: internal error: %s\n", excerpt(e.what(), 400).c_str());
-        return 1;
+        return report(1, "fixpoint: internal error: " + excerpt(e.what(), 400));
     } catch (...) {
         // A plugin may throw anything; it must not abort the process without a word.
-        std::fprintf(stderr, "fixpoint: internal error: an exception that is not a std::exception (thrown by "
-                             "a plugin?)\n");
-        return 1;
+        return report(1, "fixpoint: internal error: an exception that is not a std::exception (thrown by "
+                         "a plugin?)");
     }
     return 1;
 }

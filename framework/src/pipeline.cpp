@@ -1,6 +1,7 @@
 // The top level of a config file.
 #include <fixpoint/host/image_io.hpp>
 #include <fixpoint/host/pipeline.hpp>
+#include <fixpoint/host/ranks.hpp>
 #include <fixpoint/host/runtime.hpp>
 #include <fixpoint/text.hpp>
 #include <fixpoint/version.hpp>
@@ -156,12 +157,15 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
 }
 
 void check_memory(const Pipeline& p, unsigned threads) {
-    const std::uint64_t need = p.renderer->memory_bytes(threads), have = available_memory();
+    // Under mpirun, the ranks on this machine each hold a render's buffers (host/ranks.hpp).
+    const unsigned local = ranks::on_this_machine();
+    const std::uint64_t need = p.renderer->memory_bytes(threads) * local, have = available_memory();
     if (need > have)
         throw InputError(p.renderer_mark.str() + ": renderer: a " + std::to_string(p.renderer->width()) +
                          "x" + std::to_string(p.renderer->height()) + " render needs " + format_bytes(need) +
-                         " of memory with " + std::to_string(threads) + " thread(s); this machine has " +
-                         format_bytes(have) + " available");
+                         " of memory with " + std::to_string(threads) + " thread(s)" +
+                         (local > 1 ? " on each of " + std::to_string(local) + " ranks" : "") +
+                         "; this machine has " + format_bytes(have) + " available");
 }
 
 std::string check_drawn(const Pipeline& p, const RenderStats& st) {

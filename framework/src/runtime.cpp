@@ -1,3 +1,4 @@
+#include <fixpoint/host/ranks.hpp>
 #include <fixpoint/host/runtime.hpp>
 
 #include <tbb/blocked_range.h>
@@ -21,8 +22,16 @@ struct Runtime::Impl {
     explicit Impl(unsigned n) : limit(tbb::global_control::max_allowed_parallelism, n), arena(int(n)) {}
 };
 
-Runtime::Runtime(unsigned threads, const std::atomic<bool>* cancel)
-    : threads_(threads ? threads : 1), cancel_(cancel), impl_(std::make_unique<Impl>(threads_)) {}
+Runtime::Runtime(unsigned threads, const std::atomic<bool>* cancel, bool distributed)
+    : threads_(threads ? threads : 1), cancel_(cancel), distributed_(distributed && ranks::size() > 1),
+      impl_(std::make_unique<Impl>(threads_)) {}
+
+unsigned Runtime::rank() const { return distributed_ ? ranks::rank() : 0; }
+unsigned Runtime::ranks() const { return distributed_ ? ranks::size() : 1; }
+void Runtime::combine(void* data, std::size_t bytes, std::size_t record,
+                      const std::function<void(const void*, void*, std::size_t)>& fold, bool everywhere) {
+    if (distributed_) ranks::combine(data, bytes, record, fold, everywhere);
+}
 
 Runtime::~Runtime() = default;
 

@@ -247,6 +247,8 @@ private:
 
     /// Algorithm 2's "I(x, y) = c" for a block step: each plotted point's colour into its bin
     /// unless the bin holds a later (step, chain).
+    void combine_ranks(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
+                       std::vector<LastWrite>& rank_last) const;
     static void write_last(WorkerHist& hist, const uint32_t* idx, const uint64_t* dep, size_t nb, uint64_t n,
                            uint64_t c0, uint32_t dummy);
 
@@ -547,6 +549,7 @@ fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) cons
     else
         render_t<float>(ctx, stats, total, img.pixels);
     if (ctx.cancelled()) throw fp::Cancelled();
+    if (ctx.rank() != 0) return img; // its share is in rank 0's histogram, which rank 0 resolves
     colourer_->resolve_parallel(total, frame_.background, img.pixels.data(), ctx);
     auto draw = [&](cairo_t* cr) {
         draw_sets(cr, set_drawings_, frame_.region, frame_.width, frame_.height, set_style_);
@@ -573,7 +576,16 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                          std::vector<float>& pixels) const {
     const unsigned workers = std::max(1u, ctx.workers());
     const size_t px = size_t(frame_.width) * size_t(frame_.height);
-    const std::vector<Span> spans = block_spans(chains_, workers);
+    // Over several ranks (MPI), the blocks are cut the same way on every rank whatever its
+    // thread count (as for 2 workers a rank), and rank r runs blocks r, r + N, r + 2N, ...;
+    // each chain runs on exactly one rank, with its own stream, so the sums are the same.
+    const unsigned rank = ctx.rank(), ranks = std::max(1u, ctx.ranks());
+    std::vector<Span> spans = block_spans(chains_, ranks > 1 ? 2 * ranks : workers);
+    if (ranks > 1) {
+        std::vector<Span> mine;
+        for (size_t b = rank; b < spans.size(); b += ranks) mine.push_back(spans[b]);
+        spans = std::move(mine);
+    }
     // Per worker: its block state and its histogram (one extra bin that takes the points not
     // plotted), both made by the worker itself on its first task (first touch).
     std::vector<std::unique_ptr<Scratch<T>>> scratch(workers);
@@ -635,6 +647,9 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
     // The hits of each task's rows, summed here rather than in a serial pass over the 32 MiB
     // of the total afterwards (part of the fixed cost that limits the speed-up on 2 threads).
     std::vector<uint64_t> drawn(tasks, 0);
+    // Over several ranks with last colours: this rank's winning (step, chain) per bin, for the
+    // ranks' merge by the same order.
+    std::vector<LastWrite> rank_last(ranks > 1 && last_ ? px : 0);
     ctx.parallel_for(tasks, [&](size_t t, unsigned) {
         poll();
         const size_t b0 = t * rows_per_task * size_t(frame_.width);
@@ -667,6 +682,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                     if (e.step > best.step || (e.step == best.step && e.chain > best.chain)) best = e;
                 }
                 total.last[i] = fp::LastColour{best.r, best.g, best.b};
+                if (!rank_last.empty()) rank_last[i] = best;
             }
         }
         uint64_t d = 0;
@@ -686,6 +702,32 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
             o.b += v[3];
         }
     }
+    if (ranks > 1) combine_ranks(ctx, stats, total, rank_last);
+}
+
+// The ranks' shares folded into rank 0's (RenderContext::combine): exact sums of the bins and
+// the stats, and each bin's last colour from the rank with the largest (step, chain).
+void ChaosGame::combine_ranks(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
+                              std::vector<LastWrite>& rank_last) const {
+    uint64_t counts[4] = {stats.samples, stats.restarts, stats.bad_values, stats.drawn};
+    ctx.combine(counts, sizeof counts, sizeof(uint64_t), fp::fold::sum<uint64_t>, false);
+    stats.samples = counts[0], stats.restarts = counts[1], stats.bad_values = counts[2],
+    stats.drawn = counts[3];
+    // (Folded as plain 64-bit counters: a sum does not care where a bin starts.)
+    ctx.combine(total.bins.data(), total.bins.size() * sizeof(fp::HistBin), sizeof(uint64_t),
+                fp::fold::sum<uint64_t>, false);
+    if (rank_last.empty()) return;
+    ctx.combine(
+        rank_last.data(), rank_last.size() * sizeof(LastWrite), sizeof(LastWrite),
+        [](const void* in, void* inout, size_t n) {
+            const auto* a = static_cast<const LastWrite*>(in);
+            auto* b = static_cast<LastWrite*>(inout);
+            for (size_t i = 0; i < n; ++i)
+                if (a[i].step > b[i].step || (a[i].step == b[i].step && a[i].chain > b[i].chain)) b[i] = a[i];
+        },
+        false);
+    for (size_t i = 0; i < rank_last.size(); ++i)
+        total.last[i] = fp::LastColour{rank_last[i].r, rank_last[i].g, rank_last[i].b};
 }
 
 // ---------------------------------------------------------------- map choice

@@ -378,8 +378,13 @@ fp::Image OrbitTrap::run(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     std::vector<Scratch<T>> scratch(std::max(1u, ctx.workers()));
     for (auto& s : scratch) s.resize(tile_pixels_ * offsets_.size(), tile_pixels_);
     std::vector<TileStats> per_tile(tiles);
-    ctx.parallel_for(tiles, [&](size_t t, unsigned worker) {
+    // Over several ranks (MPI), rank r renders tiles r, r + N, ... (tiles are cut by the recipe
+    // alone); the others' pixels stay +0.0 (all bits zero), so a bitwise or gathers the image.
+    const size_t rank = ctx.rank(), ranks = std::max(1u, ctx.ranks());
+    const size_t mine = tiles > rank ? (tiles - rank + ranks - 1) / ranks : 0;
+    ctx.parallel_for(mine, [&](size_t i, unsigned worker) {
         if (ctx.cancelled()) throw fp::Cancelled();
+        const size_t t = rank + i * ranks;
         per_tile[t] = tile<T>(t, scratch[worker], img.pixels.data(), ctx);
         const size_t p0 = t * tile_pixels_;
         ctx.progress(std::min(npix, p0 + tile_pixels_) - p0);
@@ -389,6 +394,14 @@ fp::Image OrbitTrap::run(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     stats.samples = uint64_t(npix) * offsets_.size();
     stats.drawn = 0;
     for (const auto& st : per_tile) stats.drawn += st.drawn, stats.bad_values += st.bad;
+    if (ranks > 1) {
+        static_assert(sizeof(float) == sizeof(uint32_t));
+        uint64_t counts[2] = {stats.drawn, stats.bad_values};
+        ctx.combine(counts, sizeof counts, sizeof(uint64_t), fp::fold::sum<uint64_t>, false);
+        stats.drawn = counts[0], stats.bad_values = counts[1];
+        ctx.combine(img.pixels.data(), img.pixels.size() * sizeof(float), sizeof(uint32_t),
+                    fp::fold::bit_or<uint32_t>, false);
+    }
     stats.unit = "pixel samples";
     stats.drawn_means = "were caught by a trap";
     return img;

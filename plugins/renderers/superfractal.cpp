@@ -626,14 +626,39 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
         }
     }
 
+    // Over several ranks (MPI), rank r computes tasks r, r + N, ... of every generation, the
+    // rest of it left +0 (all bits zero), and every rank gets the whole generation back by a
+    // bitwise or (RenderContext::combine) before the next step reads it. Each task's points
+    // depend on the recipe alone, so the generations are the same bytes on any rank count.
+    const size_t rank = ctx.rank(), ranks = std::max(1u, ctx.ranks());
+    const size_t mine = tasks > rank ? (tasks - rank + ranks - 1) / ranks : 0;
+    const auto clear = [&](Generation& g) {
+        if (ranks == 1) return;
+        for (auto* a : {&g.x, &g.y, &g.u, &g.v}) std::fill(a->begin(), a->end(), 0.0);
+        for (auto* a : {&g.r, &g.g, &g.b}) std::fill(a->begin(), a->end(), 0.0f);
+    };
+    const auto share = [&](Generation& g) {
+        if (ranks == 1) return;
+        for (auto* a : {&g.x, &g.y, &g.u, &g.v})
+            ctx.combine(a->data(), a->size() * sizeof(double), sizeof(uint64_t), fp::fold::bit_or<uint64_t>,
+                        true);
+        for (auto* a : {&g.r, &g.g, &g.b})
+            ctx.combine(a->data(), a->size() * sizeof(float), sizeof(uint32_t), fp::fold::bit_or<uint32_t>,
+                        true);
+    };
+    static_assert(sizeof(double) == sizeof(uint64_t) && sizeof(float) == sizeof(uint32_t));
+
     // Start sets: random points of the start box.
-    ctx.parallel_for(tasks, [&](size_t t, unsigned) {
+    clear(gen[0]);
+    ctx.parallel_for(mine, [&](size_t i, unsigned) {
         if (ctx.cancelled()) throw fp::Cancelled();
+        const size_t t = rank + i * ranks;
         const size_t b = t / chunks, c = t % chunks;
         const size_t begin = c * chunk_points, end = std::min(n, begin + chunk_points);
         fill_start(gen[0], b, begin, end, 1 + t);
         ctx.progress(end - begin);
     });
+    share(gen[0]);
 
     fp::Rng choices = fp::chain_stream(seed_, 0);
     std::vector<uint32_t> ifs_choice(nb), src(nb * max_maps_);
@@ -648,13 +673,18 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
             for (size_t j = 0; j < ifs_[ifs_choice[b]].size(); ++j)
                 src[b * max_maps_ + j] = draw(choices, buffer_cum_, buffer_fallback_);
         }
-        ctx.parallel_for(tasks, [&](size_t t, unsigned) {
+        clear(next);
+        std::fill(bad.begin(), bad.end(), 0);
+        ctx.parallel_for(mine, [&](size_t i, unsigned) {
             if (ctx.cancelled()) throw fp::Cancelled();
+            const size_t t = rank + i * ranks;
             const size_t b = t / chunks, c = t % chunks;
             const size_t begin = c * chunk_points, end = std::min(n, begin + chunk_points);
             bad[t] = step_chunk(cur, next, b, begin, end, ifs_choice[b], src.data() + b * max_maps_);
             ctx.progress(end - begin);
         });
+        share(next);
+        if (ranks > 1) ctx.combine(bad.data(), bad.size() * 8, 8, fp::fold::sum<uint64_t>, true);
         uint64_t bad_step = 0;
         for (uint64_t x : bad) bad_step += x;
         if (bad_step == 0) continue;
@@ -669,6 +699,8 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
         for (uint64_t x : redrawn) stats.restarts += x;
     }
     if (ctx.cancelled()) throw fp::Cancelled();
+    // (Every rank holds the last generation; rank 0 plots it, a small part of the work.)
+    if (rank != 0) return fp::Image{};
 
     // The child: buffer `child` of the last generation, into one integer histogram.
     const Generation& last = gen[steps_ % 2];

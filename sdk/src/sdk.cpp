@@ -22,6 +22,10 @@ Trap::~Trap() = default;
 Colourer::~Colourer() = default;
 Renderer::~Renderer() = default;
 RenderContext::~RenderContext() = default;
+unsigned RenderContext::rank() const { return 0; }
+unsigned RenderContext::ranks() const { return 1; }
+void RenderContext::combine(void*, std::size_t, std::size_t,
+                            const std::function<void(const void*, void*, std::size_t)>&, bool) {}
 
 namespace {
 template <class T>

@@ -48,7 +48,45 @@ public:
     /// True once the user asked to stop (Ctrl-C); renderers poll it and throw fp::Cancelled
     /// within a fraction of a second.
     virtual bool cancelled() const = 0;
+
+    // Distribution over processes: Open MPI ranks under `mpirun fixpoint render`, otherwise
+    // one. A renderer that splits its work gives each rank a share chosen by the recipe alone
+    // (never by timing), and folds the shares together with combine(), so the bytes do not
+    // depend on the rank count. A renderer that ignores these runs whole on every rank, and
+    // rank 0's image is the one written. (Added in ABI 10.)
+
+    /// This process's rank, in [0, ranks()). Default: 0.
+    virtual unsigned rank() const;
+    /// Number of processes the render is split over. Default: 1.
+    virtual unsigned ranks() const;
+    /// Fold every rank's `bytes` bytes at `data` together, in pieces of whole `record`s:
+    /// fold(in, inout, records) folds another rank's records into this rank's. The fold must
+    /// be associative and commutative (exact integer sums, maxima, bitwise or), so that the
+    /// result does not depend on the order in which ranks meet. Afterwards rank 0 holds the
+    /// result, and with `everywhere` every rank does. Collective: every rank calls it, with the
+    /// same sizes, in the same order. Default (one rank): nothing to do.
+    virtual void combine(void* data, std::size_t bytes, std::size_t record,
+                         const std::function<void(const void* in, void* inout, std::size_t records)>& fold,
+                         bool everywhere);
 };
+
+/// Folds for RenderContext::combine, with `record` = sizeof(T).
+namespace fold {
+/// Element-wise sums of T (exact for integers).
+template <class T>
+void sum(const void* in, void* inout, std::size_t n) {
+    const T* a = static_cast<const T*>(in);
+    T* b = static_cast<T*>(inout);
+    for (std::size_t i = 0; i < n; ++i) b[i] += a[i];
+}
+/// Element-wise bitwise or of T: gathers shares that are zero where another rank owns them.
+template <class T>
+void bit_or(const void* in, void* inout, std::size_t n) {
+    const T* a = static_cast<const T*>(in);
+    T* b = static_cast<T*>(inout);
+    for (std::size_t i = 0; i < n; ++i) b[i] |= a[i];
+}
+} // namespace fold
 
 /// Vector formats a renderer may write (Renderer::render_vector).
 enum class VectorFormat { Svg, Pdf };

@@ -11,8 +11,10 @@ namespace fp::host {
 
 class Runtime : public RenderContext {
 public:
-    /// `cancel` (may be null) is polled by renderers; a signal handler sets it.
-    Runtime(unsigned threads, const std::atomic<bool>* cancel);
+    /// `cancel` (may be null) is polled by renderers; a signal handler sets it. `distributed`:
+    /// the render is split over the MPI ranks (host/ranks.hpp), as `fixpoint render` under
+    /// mpirun does; otherwise this process renders alone.
+    Runtime(unsigned threads, const std::atomic<bool>* cancel, bool distributed = false);
     ~Runtime() override;
 
     unsigned workers() const override { return threads_; }
@@ -20,12 +22,18 @@ public:
     void progress(std::uint64_t units) override { done_.fetch_add(units, std::memory_order_relaxed); }
     bool cancelled() const override { return cancel_ && cancel_->load(std::memory_order_relaxed); }
 
+    unsigned rank() const override;
+    unsigned ranks() const override;
+    void combine(void* data, std::size_t bytes, std::size_t record,
+                 const std::function<void(const void*, void*, std::size_t)>& fold, bool everywhere) override;
+
     std::uint64_t done() const { return done_.load(std::memory_order_relaxed); }
 
 private:
     struct Impl;
     unsigned threads_;
     const std::atomic<bool>* cancel_;
+    bool distributed_;
     std::atomic<std::uint64_t> done_{0};
     std::unique_ptr<Impl> impl_;
 };

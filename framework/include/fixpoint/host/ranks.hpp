@@ -1,0 +1,53 @@
+// Open MPI ranks: `mpirun -np N fixpoint render ...` splits one render (or a --vary
+// collection) over N processes. Started only when this process was launched by mpirun; a
+// build without MPI (FIXPOINT_MPI=OFF, or libopenmpi-dev absent) is always one rank and
+// refuses to run as several. Everything here is called from the main thread.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+
+namespace fp::host::ranks {
+
+/// Starts MPI when launched by mpirun. Throws fp::InputError when launched as several ranks by
+/// a build without MPI (every rank would write the same file).
+void init(int* argc, char*** argv);
+/// Ends MPI (a no-op when it was not started).
+void finalize();
+/// Whether this build has MPI.
+bool compiled();
+unsigned rank();
+unsigned size();
+/// The ranks of this job on this machine (Open MPI's local size; 1 without MPI): they share
+/// its memory, which the check before a render counts.
+unsigned on_this_machine();
+/// Ends every rank of the job at once, with `code` (a rank failed mid-render: the others
+/// would wait for it forever).
+[[noreturn]] void abort(int code);
+
+/// RenderContext::combine over the ranks: a binomial tree to rank 0 in pieces of at most
+/// 64 MiB, then (everywhere) a broadcast.
+void combine(void* data, std::size_t bytes, std::size_t record,
+             const std::function<void(const void*, void*, std::size_t)>& fold, bool everywhere);
+
+/// Point-to-point bytes, in pieces (a --vary child's image to rank 0).
+void send(unsigned to, const void* data, std::size_t bytes);
+void recv(unsigned from, void* data, std::size_t bytes);
+
+/// The checks before a render, agreed: every rank says its verdict (code 0: fine) and all
+/// learn the first failing rank's code and error line. Collective.
+struct Verdict {
+    int code = 0;
+    std::string message;
+};
+Verdict agree(int code, const std::string& message);
+
+/// Where this rank stands, so that an error is reported the right way: before the agreement a
+/// failing rank joins it (one line from rank 0, every rank exits); after it, the others may
+/// be waiting in a combine, so the job is aborted.
+enum class Phase { free, checking, rendering };
+Phase phase();
+void set_phase(Phase p);
+
+} // namespace fp::host::ranks

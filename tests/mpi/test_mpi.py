@@ -1,0 +1,211 @@
+"""`mpirun -np N fixpoint render`: the rank count changes nothing in the bytes written.
+
+Every render here is compared byte for byte with the same render on one process (no mpirun),
+on 1, 2, 3 and 4 ranks of this one machine (--oversubscribe: more ranks than cores).
+"""
+
+import os
+import pathlib
+import re
+import shutil
+import subprocess
+
+import pytest
+
+SOURCE = pathlib.Path(os.environ.get("FIXPOINT_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
+CLI = os.environ.get("FIXPOINT_BIN", str(SOURCE / "build" / "bin" / "fixpoint"))
+MPIRUN = shutil.which("mpirun")
+
+if os.environ.get("FIXPOINT_MPI_BUILT") == "0":
+    pytest.skip("this build has no MPI (FIXPOINT_MPI off or libopenmpi-dev missing): MPI tests skipped",
+                allow_module_level=True)
+if MPIRUN is None:
+    pytest.skip("no mpirun (Debian: openmpi-bin): MPI tests skipped", allow_module_level=True)
+
+RANKS = (1, 2, 3, 4)
+
+
+def mpi_env():
+    env = dict(os.environ)
+    # Containers often forbid the cross-memory attach Open MPI's shared-memory transport tries
+    # first; copying through shared memory works everywhere. Root (CI) must be allowed.
+    env["OMPI_MCA_btl_vader_single_copy_mechanism"] = "none"
+    env["OMPI_ALLOW_RUN_AS_ROOT"] = "1"
+    env["OMPI_ALLOW_RUN_AS_ROOT_CONFIRM"] = "1"
+    env["OMPI_MCA_rmaps_base_oversubscribe"] = "1"
+    return env
+
+
+def mpirun(n, *args, cwd=None):
+    cmd = [MPIRUN, "-np", str(n), "--oversubscribe", CLI, *map(str, args)]
+    return subprocess.run(cmd, capture_output=True, text=True, cwd=cwd, env=mpi_env(), timeout=600)
+
+
+def plain(*args, cwd=None):
+    return subprocess.run([CLI, *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=600)
+
+
+def content(path):
+    """A file's bytes, less the time of writing that OpenEXR puts in every header (capDate)."""
+    return re.sub(rb"capDate\0string\0\x13\0\0\0.{19}", b"capDate", path.read_bytes(), flags=re.S)
+
+
+def same_on_every_rank_count(tmp_path, config, *sets, threads=2, ext="png"):
+    one = tmp_path / f"one.{ext}"
+    r = plain("render", config, "-o", one, "--quiet", "--threads", threads, *sets)
+    assert r.returncode == 0, r.stderr
+    for n in RANKS:
+        out = tmp_path / f"np{n}.{ext}"
+        r = mpirun(n, "render", config, "-o", out, "--quiet", "--threads", threads, *sets)
+        assert r.returncode == 0, f"{n} ranks: {r.stderr}"
+        assert content(out) == content(one), f"{n} ranks: the bytes differ from one process"
+    return one
+
+
+def sets(**kv):
+    out = []
+    for k, v in kv.items():
+        out += ["--set", f"renderer.{k}={v}"]
+    return out
+
+
+def test_chaos_game_density(tmp_path):
+    # Paper 01 Fig. 6(a), the default render: 3000 chains, split over the ranks by blocks.
+    same_on_every_rank_count(tmp_path, SOURCE / "configs/inversion/fig6a.yaml",
+                             *sets(width=256, height=256, points=2000000))
+
+
+def test_chaos_game_last_colour(tmp_path):
+    # flame's set-colour mode: each pixel keeps its last point's colour by (step, chain); the
+    # ranks' winners merge by the same order.
+    same_on_every_rank_count(tmp_path, SOURCE / "configs/inversion/fig4a.yaml",
+                             *sets(width=200, height=200, points=1000000))
+
+
+def test_chaos_game_uneven_threads(tmp_path):
+    # The blocks are cut alike whatever each rank's thread count: 1 and 3 threads per rank.
+    config = SOURCE / "configs/iterations/fig6b.yaml"
+    s = sets(width=160, height=160, points=500000)
+    one = same_on_every_rank_count(tmp_path, config, *s, threads=1)
+    out = tmp_path / "t3.png"
+    r = mpirun(3, "render", config, "-o", out, "--quiet", "--threads", 3, *s)
+    assert r.returncode == 0, r.stderr
+    assert out.read_bytes() == one.read_bytes()
+
+
+def test_orbit_trap(tmp_path):
+    same_on_every_rank_count(tmp_path, SOURCE / "configs/orbit-trap/fig5a.yaml",
+                             *sets(width=120, height=120))
+
+
+def test_orbit_trap_float_exr(tmp_path):
+    # Float output: every bit of every pixel, not 8-bit values.
+    same_on_every_rank_count(tmp_path, SOURCE / "configs/orbit-trap/fig6a.yaml",
+                             *sets(width=96, height=80), ext="exr")
+
+
+def test_superfractal(tmp_path):
+    same_on_every_rank_count(tmp_path, SOURCE / "configs/gumowski-mira/fig2-F.yaml",
+                             *sets(width=200, height=200, points_per_buffer=300000, steps=8))
+
+
+def test_superfractal_colour_stealing(tmp_path):
+    same_on_every_rank_count(tmp_path, SOURCE / "configs/gumowski-mira/colour-stealing.yaml",
+                             *sets(width=160, height=160, points_per_buffer=200000, steps=8))
+
+
+def test_mfs(tmp_path):
+    same_on_every_rank_count(tmp_path, SOURCE / "configs/mfs/fig4-middle.yaml", *sets(width=200, height=200))
+
+
+def test_vary_spreads_children(tmp_path):
+    config = SOURCE / "configs/inversion/fig6a.yaml"
+    s = sets(width=96, height=96, points=200000)
+    vary = ["--vary", "renderer.seed=1..5"]
+    # (Relative names: the sheet's recipe names its children's files.)
+    r = plain("render", config, "-o", "one.png", "--quiet", *vary, *s, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    for n in (2, 3):
+        d = tmp_path / f"np{n}"
+        d.mkdir()
+        r = mpirun(n, "render", config, "-o", "one.png", *vary, *s, cwd=d)
+        assert r.returncode == 0, r.stderr
+        for name in ["one.png"] + [f"one-{k}.png" for k in range(1, 6)]:
+            assert (d / name).read_bytes() == (tmp_path / name).read_bytes(), f"{n} ranks: {name}"
+        # Rank 0 speaks for the job: one line per child and one for the sheet.
+        assert r.stderr.count("renderer.seed=") == 5, r.stderr
+        assert r.stderr.count("contact sheet of 5 children") == 1, r.stderr
+
+
+def test_summary_from_rank_0_only(tmp_path):
+    out = tmp_path / "a.png"
+    r = mpirun(3, "render", SOURCE / "configs/inversion/fig6a.yaml", "-o", out,
+               *sets(width=64, height=64, points=100000))
+    assert r.returncode == 0, r.stderr
+    lines = [l for l in r.stderr.splitlines() if l.startswith(str(out))]
+    assert len(lines) == 1 and "3 ranks x " in lines[0], r.stderr
+
+
+def test_bad_config_is_one_line(tmp_path):
+    cfg = tmp_path / "bad.yaml"
+    cfg.write_text("renderer:\n  type: chaos-game\n  width: -5\n  maps: []\n")
+    r = mpirun(3, "render", cfg, "-o", tmp_path / "x.png")
+    assert r.returncode != 0
+    ours = [l for l in r.stderr.splitlines() if l.startswith(str(cfg))]
+    assert len(ours) == 1, r.stderr
+    assert ours[0].startswith(f"{cfg}:3:"), ours[0]
+    assert not (tmp_path / "x.png").exists()
+
+
+SCHEME = """\
+import os
+{at_load}
+def step(T, x, y, n):
+    {at_step}
+    return T(x, y)
+"""
+
+
+def scheme_config(tmp_path, at_load="", at_step="pass"):
+    (tmp_path / "s.py").write_text(SCHEME.format(at_load=at_load, at_step=at_step))
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text((SOURCE / "configs/iterations/fig6b.yaml").read_text().replace(
+        "iteration: {type: mann, alpha: 0.7}", "iteration: {type: python-scheme, file: s.py}"))
+    return cfg
+
+
+def test_a_rank_that_fails_its_checks(tmp_path):
+    # Rank 2 alone cannot load the scheme: every rank stops before rendering, and rank 0 prints
+    # rank 2's error line, once.
+    cfg = scheme_config(tmp_path, at_load='if os.environ["OMPI_COMM_WORLD_RANK"] == "2": raise OSError("no disk on this node")')
+    r = mpirun(4, "render", cfg, "-o", tmp_path / "x.png", *sets(points=20000), cwd=tmp_path)
+    assert r.returncode == 2, r.stderr
+    ours = [l for l in r.stderr.splitlines() if "no disk on this node" in l]
+    assert len(ours) == 1 and ours[0].startswith(str(cfg)), r.stderr
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_a_rank_that_fails_mid_render(tmp_path):
+    # Rank 1's scheme raises during the render: the job ends with its error line and no file.
+    cfg = scheme_config(tmp_path, at_step='if os.environ["OMPI_COMM_WORLD_RANK"] == "1": raise RuntimeError("node lost")')
+    r = mpirun(3, "render", cfg, "-o", tmp_path / "x.png", *sets(points=400000), cwd=tmp_path)
+    assert r.returncode != 0
+    ours = [l for l in r.stderr.splitlines() if "node lost" in l]
+    assert len(ours) == 1 and ours[0].startswith("fixpoint: rank 1 of 3: "), r.stderr
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_other_commands_run_once(tmp_path):
+    r = mpirun(3, "validate", SOURCE / "configs/inversion/fig6a.yaml")
+    assert r.returncode == 0, r.stderr
+    assert r.stderr.count("valid:") == 1, r.stderr
+
+
+def test_memory_check_counts_the_ranks_on_this_machine(tmp_path):
+    # The ranks on one machine each hold their buffers: the check before the render counts them.
+    r = mpirun(3, "render", SOURCE / "configs/inversion/fig6a.yaml", "-o", tmp_path / "x.png", "--threads", 1,
+               *sets(width=60000, height=60000))
+    assert r.returncode == 2, r.stderr
+    ours = [l for l in r.stderr.splitlines() if "render needs" in l]
+    assert len(ours) == 1 and "with 1 thread(s) on each of 3 ranks; this machine has" in ours[0], r.stderr
+    assert not (tmp_path / "x.png").exists()
