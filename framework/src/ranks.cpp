@@ -23,9 +23,6 @@ unsigned launched_size() {
         if (const char* v = std::getenv(var)) return unsigned(std::max(1L, std::strtol(v, nullptr, 10)));
     return std::getenv("PMIX_RANK") ? 2u : 1u; // under a launcher, size unknown: start MPI to ask
 }
-
-// MPI counts are ints: pieces of at most 64 MiB, whole records each.
-constexpr std::size_t piece_bytes = std::size_t(64) << 20;
 } // namespace
 
 bool compiled() {
@@ -87,6 +84,9 @@ void abort(int code) {
 
 #ifdef FIXPOINT_HAVE_MPI
 namespace {
+// MPI counts are ints: pieces of at most 64 MiB, whole records each.
+constexpr std::size_t piece_bytes = std::size_t(64) << 20;
+
 void check(int rc, const char* what) {
     if (rc == MPI_SUCCESS) return;
     char text[MPI_MAX_ERROR_STRING];

@@ -16,11 +16,16 @@ SOURCE = pathlib.Path(os.environ.get("FIXPOINT_SOURCE", pathlib.Path(__file__).r
 CLI = os.environ.get("FIXPOINT_BIN", str(SOURCE / "build" / "bin" / "fixpoint"))
 MPIRUN = shutil.which("mpirun")
 
-if os.environ.get("FIXPOINT_MPI_BUILT") == "0":
-    pytest.skip("this build has no MPI (FIXPOINT_MPI off or libopenmpi-dev missing): MPI tests skipped",
-                allow_module_level=True)
+BUILT = os.environ.get("FIXPOINT_MPI_BUILT") != "0"
+
 if MPIRUN is None:
     pytest.skip("no mpirun (Debian: openmpi-bin): MPI tests skipped", allow_module_level=True)
+
+
+@pytest.fixture(autouse=True)
+def needs_mpi_build(request):
+    if not BUILT and "without_mpi" not in request.node.name:
+        pytest.skip("this build has no MPI (FIXPOINT_MPI off or libopenmpi-dev missing): skipped")
 
 RANKS = (1, 2, 3, 4)
 
@@ -208,4 +213,14 @@ def test_memory_check_counts_the_ranks_on_this_machine(tmp_path):
     assert r.returncode == 2, r.stderr
     ours = [l for l in r.stderr.splitlines() if "render needs" in l]
     assert len(ours) == 1 and "with 1 thread(s) on each of 3 ranks; this machine has" in ours[0], r.stderr
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_without_mpi_a_build_refuses_ranks(tmp_path):
+    # (Runs in a build without MPI only; the sanitizer build of CI is one.)
+    if BUILT:
+        pytest.skip("this build has MPI")
+    r = mpirun(2, "render", SOURCE / "configs/inversion/fig6a.yaml", "-o", tmp_path / "x.png")
+    assert r.returncode == 2
+    assert "fixpoint: launched as 2 MPI ranks, but this build has no MPI" in r.stderr, r.stderr
     assert not (tmp_path / "x.png").exists()
