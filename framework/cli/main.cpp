@@ -409,6 +409,7 @@ int cmd_collection(const Options& o, bool validate_only) {
                 Image& c = children[k];
                 c.width = int(head[0]), c.height = int(head[1]), c.channels = int(head[2]);
                 stats[k].samples = std::uint64_t(head[3]), secs[k] = head[4];
+                stats[k].unit = stats[0].unit; // (one renderer for every child; rank 0 ran child 0)
                 c.pixels.resize(std::size_t(c.width) * std::size_t(c.height) * std::size_t(c.channels));
                 ranks::recv(owner, c.pixels.data(), c.pixels.size() * sizeof(float));
             }
