@@ -108,6 +108,7 @@ struct Options {
     std::string config, out, image, name, transform, scheme = "{type: picard}", kind;
     std::vector<std::string> sets, files, where, maps;
     std::string vary, example, points;
+    std::string memory; // --memory SIZE ("" : what the machine has available)
     int columns = 0;
     unsigned threads = 0;
     bool quiet = false, force = false, check = false, verbose = false, draft = false, no_draft = false;
@@ -206,8 +207,9 @@ void warn_drawn(const Pipeline& p, const RenderStats& st) {
 // `distributed`: split over the MPI ranks (mpirun); rank 0 then holds the image and the whole
 // render's stats, and shows the progress bar (its own share's progress).
 Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStats& stats, double& secs,
-                     bool distributed = false) {
+                     bool distributed = false, std::uint64_t budget = UINT64_MAX) {
     Runtime rt(threads, &g_interrupted, distributed);
+    rt.set_memory_budget(budget);
     Image img;
     const auto t0 = std::chrono::steady_clock::now();
     {
@@ -453,6 +455,9 @@ int cmd_render(const Options& o, bool validate_only) {
     if (ranks::size() > 1 && !validate_only) ranks::set_phase(ranks::Phase::checking);
     if (!o.vary.empty() && o.print.any())
         throw InputError("--tile, --repeat, --dpi and --print-size make one image: not with --vary");
+    if (!o.vary.empty() && !o.memory.empty())
+        throw InputError(
+            "--memory bounds one render (in strips): not with --vary, whose children render whole");
     if (!o.vary.empty()) return cmd_collection(o, validate_only);
     if (o.draft && (o.print.dpi > 0 || !o.print.print_size.empty()))
         throw InputError("--draft: a quick small image: not with --dpi or --print-size");
@@ -461,7 +466,8 @@ int cmd_render(const Options& o, bool validate_only) {
     if (o.draft) p = load_for_print(reg, o.config, with_draft(o, o.sets, p), o.print);
     told(p);
     const unsigned threads = o.threads ? o.threads : hardware_threads();
-    check_memory(p, threads);
+    const std::uint64_t budget =
+        check_memory_within(p, threads, o.memory.empty() ? 0 : parse_size(o.memory, "--memory"));
     if (const Repeat r = parse_repeat(o.print); r.across * r.down > 1) {
         // The repeated image is made after the render, beside the tile: check both now.
         const std::uint64_t repeated = std::uint64_t(p.renderer->width()) * std::uint64_t(r.across) *
@@ -494,7 +500,7 @@ int cmd_render(const Options& o, bool validate_only) {
         ranks::set_phase(ranks::Phase::free);
         write_bytes(doc, out);
     } else {
-        const Image img = render_checked(p, threads, o.quiet, stats, secs, true);
+        const Image img = render_checked(p, threads, o.quiet, stats, secs, true, budget);
         if (ranks::rank() != 0) return 0; // rank 0 writes
         ranks::set_phase(ranks::Phase::free);
         const Repeat r = parse_repeat(o.print);
@@ -507,11 +513,12 @@ int cmd_render(const Options& o, bool validate_only) {
     }
     if (!o.quiet)
         spdlog::info(
-            "{}: {} {} in {:.2f} s ({:.3g} {}/s, {}{} thread{}, {}), {} restarted chain{}, {} bad value{}",
+            "{}: {} {} in {:.2f} s ({:.3g} {}/s, {}{} thread{}, {}), {} restarted chain{}, {} bad value{}{}",
             out, stats.samples, stats.unit, secs, double(stats.samples) / std::max(secs, 1e-9), stats.unit,
             ranks::size() > 1 ? std::to_string(ranks::size()) + " ranks x " : "", threads,
             threads == 1 ? "" : "s", fp::simd::active_target(), stats.restarts,
-            stats.restarts == 1 ? "" : "s", stats.bad_values, stats.bad_values == 1 ? "" : "s");
+            stats.restarts == 1 ? "" : "s", stats.bad_values, stats.bad_values == 1 ? "" : "s",
+            stats.how.empty() ? "" : ", " + stats.how);
     return 0;
 }
 
@@ -926,6 +933,9 @@ int main(int argc, char** argv) {
         ->add_option("--threads", o.threads,
                      "Worker threads (default: all cores); the image does not depend on it")
         ->check(CLI::Range(1u, 4096u));
+    render->add_option("--memory", o.memory,
+                       "Memory the render may take, such as 8G or 512M (default: what the machine has "
+                       "available); a chaos-game image over it renders in strips, with the same bytes");
     render->add_flag("-q,--quiet", o.quiet, "No progress bar, no summary");
     render->add_flag("--force", o.force,
                      "Replace an existing output that was not named with -o (the config's output.path or "
@@ -1002,6 +1012,7 @@ int main(int argc, char** argv) {
     validate_cmd->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
     validate_cmd->add_option("--threads", o.threads, "Threads to check memory for")
         ->check(CLI::Range(1u, 4096u));
+    validate_cmd->add_option("--memory", o.memory, "Memory to check the render against (as render --memory)");
     validate_cmd->add_flag("-q,--quiet", o.quiet, "Print nothing when valid");
     validate_cmd->add_flag("--force", o.force, "Check as render --force would");
     validate_cmd->add_option("--vary", o.vary, "Check every child of a collection (as render --vary)");

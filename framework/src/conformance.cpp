@@ -593,6 +593,37 @@ void check_colourer(const Colourer& c, Findings& f) {
                 break;
             }
         }
+        // A render in strips (a histogram too large for memory) summarises the strips one after
+        // another, then shades each with resolve_rows(): resolve()'s bytes, row for row.
+        if (c.resolves_rows()) {
+            for (int strip : {1, 7, 20}) {
+                auto rows_of = [&](int row0) {
+                    Histogram part;
+                    part.width = big.width;
+                    part.height = std::min(strip, big.height - row0);
+                    const std::size_t b0 = std::size_t(row0) * std::size_t(big.width);
+                    const std::size_t nb = std::size_t(part.height) * std::size_t(big.width);
+                    part.bins.assign(big.bins.begin() + std::ptrdiff_t(b0),
+                                     big.bins.begin() + std::ptrdiff_t(b0 + nb));
+                    if (!big.last.empty())
+                        part.last.assign(big.last.begin() + std::ptrdiff_t(b0),
+                                         big.last.begin() + std::ptrdiff_t(b0 + nb));
+                    return part;
+                };
+                HistogramSummary whole;
+                whole.begin(big.width, big.height);
+                for (int row0 = 0; row0 < big.height; row0 += strip) whole.add(rows_of(row0), row0);
+                Runtime rt(2, nullptr);
+                for (int row0 = 0; row0 < big.height; row0 += strip)
+                    c.resolve_rows(rows_of(row0), row0, whole, Rgb{0.1f, 0.2f, 0.3f},
+                                   par.data() + 3 * std::size_t(row0) * std::size_t(big.width), rt);
+                if (std::memcmp(serial.data(), par.data(), serial.size() * sizeof(float)) != 0) {
+                    f.push_back("colourer: resolve_rows() in strips of " + std::to_string(strip) +
+                                " row(s) differs from resolve()");
+                    break;
+                }
+            }
+        }
     }
     if (c.colours_trap_hits()) check_trap_colours(c, f);
 }

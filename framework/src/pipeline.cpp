@@ -168,6 +168,24 @@ void check_memory(const Pipeline& p, unsigned threads) {
                          "; this machine has " + format_bytes(have) + " available");
 }
 
+std::uint64_t check_memory_within(const Pipeline& p, unsigned threads, std::uint64_t requested) {
+    const unsigned local = ranks::on_this_machine();
+    const std::uint64_t have = requested ? requested : available_memory(), budget = have / local;
+    const std::uint64_t need = p.renderer->memory_within(threads, budget);
+    if (need > budget) {
+        // Over even in strips, or a renderer that cannot make them: say the least that works.
+        const bool strips = need < p.renderer->memory_bytes(threads);
+        throw InputError(p.renderer_mark.str() + ": renderer: a " + std::to_string(p.renderer->width()) +
+                         "x" + std::to_string(p.renderer->height()) + " render needs " +
+                         (strips ? "at least " : "") + format_bytes(need) + " of memory with " +
+                         std::to_string(threads) + " thread(s)" + (strips ? ", in strips of one row" : "") +
+                         (local > 1 ? " on each of " + std::to_string(local) + " ranks" : "") + "; " +
+                         (requested ? "--memory gives " + format_bytes(requested)
+                                    : "this machine has " + format_bytes(have) + " available"));
+    }
+    return budget;
+}
+
 std::string check_drawn(const Pipeline& p, const RenderStats& st) {
     if (st.drawn == RenderStats::unknown_count) return "";
     // Chains that restart or escape explain an empty image; say so only when there were any.

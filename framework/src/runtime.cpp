@@ -6,7 +6,12 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <fixpoint/errors.hpp>
+
+#include <cctype>
+#include <cmath>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -72,6 +77,39 @@ std::string format_bytes(std::uint64_t b) {
     char buf[32];
     std::snprintf(buf, sizeof buf, u ? "%.1f %s" : "%.0f %s", v, units[u]);
     return buf;
+}
+
+std::uint64_t parse_size(const std::string& text, const std::string& option) {
+    const auto bad = [&] {
+        return InputError(option + " '" + text +
+                          "': a size such as 8G, 512M or 1.5GiB (binary units: K, M, G, T)");
+    };
+    std::size_t used = 0;
+    double v = 0;
+    try {
+        v = std::stod(text, &used);
+    } catch (const std::exception&) {
+        throw bad();
+    }
+    std::string unit = text.substr(used);
+    for (char& c : unit) c = char(std::toupper(static_cast<unsigned char>(c)));
+    if (unit.size() > 1 && unit.back() == 'B') unit.pop_back();
+    if (unit.size() > 1 && unit.back() == 'I') unit.pop_back();
+    if (unit == "B") unit.clear();
+    static const std::string units = "KMGT";
+    double scale = 1;
+    if (!unit.empty()) {
+        const std::size_t k = unit.size() == 1 ? units.find(unit[0]) : std::string::npos;
+        if (k == std::string::npos) throw bad();
+        scale = std::ldexp(1.0, 10 * int(k + 1));
+    }
+    if (!(v >= 0) || !std::isfinite(v) || v * scale >= 1.8e19 || text.empty() ||
+        !std::isdigit(static_cast<unsigned char>(text[0])))
+        throw bad();
+    const std::uint64_t bytes = std::uint64_t(v * scale);
+    if (bytes < (std::uint64_t(1) << 20))
+        throw InputError(option + " '" + text + "': at least 1M: a render needs more than that");
+    return bytes;
 }
 
 } // namespace fp::host

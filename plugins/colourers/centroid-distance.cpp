@@ -35,8 +35,6 @@
 
 namespace {
 
-__extension__ typedef unsigned __int128 u128;
-
 constexpr fp::ParamSpec params[] = {
     fp::param::colour("inner", "colour at the centre of mass (t = 0)").def("\"#ffe066\""),
     fp::param::colour("middle", "colour halfway out (t = 1/2); default: none, inner to outer directly").opt(),
@@ -60,55 +58,31 @@ public:
 
     bool needs_colour() const override { return false; }
 
-    // Without ctx serial, with it on the host's workers (pieces of 16 rows): integer sums and
-    // maxima are exact in any order, and the per-bin code is shared: the same bytes.
-    void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
+    // The centroid and the largest distance come from the whole histogram's summary (integer
+    // sums and per-row extents: exact in any order, on any workers, and the same for the whole
+    // histogram as for any strip of its rows); each pixel from its own bin.
+    void run(const fp::Histogram& h, int row0, const fp::HistogramSummary& whole, fp::Rgb background,
+             float* rgb, fp::RenderContext* ctx) const {
         const std::size_t W = std::size_t(h.width);
-        const std::size_t piece_bins = 16 * std::max<std::size_t>(W, 1);
-        const std::size_t pieces = std::max<std::size_t>(1, (h.bins.size() + piece_bins - 1) / piece_bins);
-        // Centroid: integer sums of hits, hits * column, hits * row (pixel centres add 1/2).
-        struct Part {
-            u128 sw = 0, sx = 0, sy = 0;
-            std::uint64_t max_hits = 0;
-            double dmax2 = 0;
-        };
-        std::vector<Part> part(pieces);
-        fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
-            Part p;
-            for (std::size_t i = i0; i < i1; ++i) {
-                const std::uint64_t hits = h.bins[i].hits;
-                if (!hits) continue;
-                p.sw += hits;
-                p.sx += u128(hits) * (i % W);
-                p.sy += u128(hits) * (i / W);
-                p.max_hits = std::max(p.max_hits, hits);
-            }
-            part[i0 / piece_bins] = p;
-        });
-        u128 sw = 0, sx = 0, sy = 0;
-        std::uint64_t max_hits = 0;
-        for (const Part& p : part) {
-            sw += p.sw, sx += p.sx, sy += p.sy;
-            max_hits = std::max(max_hits, p.max_hits);
-        }
-        const double cx = sw ? double(sx) / double(sw) + 0.5 : 0;
-        const double cy = sw ? double(sy) / double(sw) + 0.5 : 0;
-        auto dist2 = [&](std::size_t i) {
-            const double dx = double(i % W) + 0.5 - cx, dy = double(i / W) + 0.5 - cy;
+        // Centroid: the hit-weighted mean column and row (pixel centres add 1/2).
+        const double cx = whole.hits ? double(whole.hits_column) / double(whole.hits) + 0.5 : 0;
+        const double cy = whole.hits ? double(whole.hits_row) / double(whole.hits) + 0.5 : 0;
+        auto dist2 = [&](std::size_t col, std::size_t row) {
+            const double dx = double(col) + 0.5 - cx, dy = double(row) + 0.5 - cy;
             return dx * dx + dy * dy;
         };
-        fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
-            double d = 0;
-            for (std::size_t i = i0; i < i1; ++i)
-                if (h.bins[i].hits) d = std::max(d, dist2(i));
-            part[i0 / piece_bins].dmax2 = d;
-        });
+        // The hit bin farthest from the centroid: in each row, |dx| is largest at the row's first
+        // or last hit column, so those two bins per row give the maximum over all hit bins.
         double dmax2 = 0;
-        for (const Part& p : part) dmax2 = std::max(dmax2, p.dmax2);
+        for (std::size_t r = 0; r < whole.first.size(); ++r)
+            if (whole.first[r] >= 0)
+                dmax2 = std::max(
+                    {dmax2, dist2(std::size_t(whole.first[r]), r), dist2(std::size_t(whole.last[r]), r)});
         const double inv_dmax = dmax2 > 0 ? 1.0 / std::sqrt(dmax2) : 0.0;
-        const fp_colourers::LogDensity density(max_hits, gamma_, ctx);
+        const fp_colourers::LogDensity density(whole.max_hits, gamma_, ctx);
         fp_colourers::shade_bins(ctx, h, background, rgb, [&](std::size_t i, std::uint64_t hits) {
-            const fp::Rgb c = colour_at(std::min(1.0, std::sqrt(dist2(i)) * inv_dmax));
+            const fp::Rgb c =
+                colour_at(std::min(1.0, std::sqrt(dist2(i % W, std::size_t(row0) + i / W)) * inv_dmax));
             double k = brightness_;
             if (log_) k *= density(hits);
             return std::array<double, 3>{double(c.r) * k, double(c.g) * k, double(c.b) * k};

@@ -159,8 +159,9 @@ public:
     }
 
     // Without ctx serial, with it on the host's workers: the same code per bin, the same bytes.
-    void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
-        const fp_colourers::LogDensity density(fp_colourers::max_hits(h, ctx), gamma_, ctx);
+    void run(const fp::Histogram& h, int, const fp::HistogramSummary& whole, fp::Rgb background, float* rgb,
+             fp::RenderContext* ctx) const {
+        const fp_colourers::LogDensity density(whole.max_hits, gamma_, ctx);
         fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
             for (std::size_t i = i0; i < i1; ++i) {
                 const fp::Rgb c = h.bins[i].hits == 0 ? background : table_[index(density(h.bins[i].hits))];

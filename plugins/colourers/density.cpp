@@ -34,8 +34,9 @@ public:
 
     /// The work of resolve() and resolve_parallel() (tone_map.hpp's Resolving): without ctx
     /// serial, with it on the host's workers; the same code per bin, the same bytes.
-    void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
-        const fp_colourers::LogDensity density(fp_colourers::max_hits(h, ctx), gamma_, ctx);
+    void run(const fp::Histogram& h, int, const fp::HistogramSummary& whole, fp::Rgb background, float* rgb,
+             fp::RenderContext* ctx) const {
+        const fp_colourers::LogDensity density(whole.max_hits, gamma_, ctx);
         fp_colourers::shade_bins(ctx, h, background, rgb, [&](std::size_t, std::uint64_t hits) {
             const double k = density(hits);
             return std::array<double, 3>{double(colour_.r) * k, double(colour_.g) * k, double(colour_.b) * k};

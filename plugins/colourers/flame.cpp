@@ -76,8 +76,10 @@ public:
     }
 
     /// The work of resolve() and resolve_parallel() (tone_map.hpp's Resolving); ctx null: serial.
-    void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
-        fp_colourers::tone_map(h, background, rgb, true, gamma_, brightness_, mode_ != Mode::mean, ctx);
+    void run(const fp::Histogram& h, int, const fp::HistogramSummary& whole, fp::Rgb background, float* rgb,
+             fp::RenderContext* ctx) const {
+        fp_colourers::tone_map(h, whole, background, rgb, true, gamma_, brightness_, mode_ != Mode::mean,
+                               ctx);
     }
 
 private:

@@ -45,8 +45,9 @@ public:
     fp::ColourRule colour_rule() const override { return fp::ColourRule::map; }
 
     /// The work of resolve() and resolve_parallel() (tone_map.hpp's Resolving); ctx null: serial.
-    void run(const fp::Histogram& h, fp::Rgb background, float* rgb, fp::RenderContext* ctx) const {
-        fp_colourers::tone_map(h, background, rgb, log_, gamma_, 1.0, false, ctx);
+    void run(const fp::Histogram& h, int, const fp::HistogramSummary& whole, fp::Rgb background, float* rgb,
+             fp::RenderContext* ctx) const {
+        fp_colourers::tone_map(h, whole, background, rgb, log_, gamma_, 1.0, false, ctx);
     }
 
 private:

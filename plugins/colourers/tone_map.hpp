@@ -110,21 +110,6 @@ void shade_bins(fp::RenderContext* ctx, const fp::Histogram& h, fp::Rgb backgrou
     });
 }
 
-/// The largest hit count of h (a maximum: exact in any order, so the same for any workers).
-inline std::uint64_t max_hits(const fp::Histogram& h, fp::RenderContext* ctx) {
-    const std::size_t rows = 16, tasks = h.width > 0 ? (std::size_t(h.height) + rows - 1) / rows : 1;
-    std::vector<std::uint64_t> part(std::max<std::size_t>(tasks, 1), 0);
-    for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
-        std::uint64_t m = 0;
-        for (std::size_t i = i0; i < i1; ++i) m = std::max(m, h.bins[i].hits);
-        // Pieces start on multiples of 16 rows (the serial call: at 0).
-        part[h.width > 0 ? i0 / (rows * std::size_t(h.width)) : 0] = m;
-    });
-    std::uint64_t m = 0;
-    for (std::uint64_t x : part) m = std::max(m, x);
-    return m;
-}
-
 class LogDensity {
 public:
     /// With ctx, the table is filled on its workers (the same expression per entry: the same
@@ -156,15 +141,15 @@ private:
 /// pixel = clamp(colour of the bin * density^(1/gamma) * brightness, 0, 1), where the colour
 /// is the mean of its hits (colour sum / hits / colour_scale), or with `last` the colour
 /// written last (Histogram::last / colour_scale, fp::PixelRule::last), and, with
-/// `log_density`, density = log2(1 + hits) / log2(1 + max hits) (paper 02, eq. (28));
-/// otherwise density = 1. Empty bins take `background`. Fixed order, no state: the same
-/// histogram gives the same bytes.
-/// With ctx, on its workers (rows in parallel; the same bytes).
-inline void tone_map(const fp::Histogram& h, fp::Rgb background, float* rgb, bool log_density, double gamma,
-                     double brightness, bool last, fp::RenderContext* ctx = nullptr) {
+/// `log_density`, density = log2(1 + hits) / log2(1 + max hits) (max over the whole histogram) (paper 02, eq.
+/// (28)); otherwise density = 1. Empty bins take `background`. Fixed order, no state: the same histogram
+/// gives the same bytes. With ctx, on its workers (rows in parallel; the same bytes).
+inline void tone_map(const fp::Histogram& h, const fp::HistogramSummary& whole, fp::Rgb background,
+                     float* rgb, bool log_density, double gamma, double brightness, bool last,
+                     fp::RenderContext* ctx) {
     if (last && h.last.size() != h.bins.size())
         throw fp::InternalError("the renderer gave no last colours for a colourer whose pixel rule is last");
-    const LogDensity density(log_density ? max_hits(h, ctx) : 0, gamma, ctx);
+    const LogDensity density(log_density ? whole.max_hits : 0, gamma, ctx);
     shade_bins(ctx, h, background, rgb, [&](std::size_t i, std::uint64_t hits) {
         if (last) {
             const fp::LastColour& c = h.last[i];
@@ -179,18 +164,28 @@ inline void tone_map(const fp::Histogram& h, fp::Rgb background, float* rgb, boo
     });
 }
 
-/// The two resolve entry points of a colourer whose work is one function
-/// `run(h, background, rgb, ctx)` (ctx null: serial), so that resolve() and resolve_parallel()
-/// are the same code and give the same bytes by construction.
+/// The three resolve entry points of a colourer whose work is one function
+/// `run(rows, row0, whole, background, rgb, ctx)` (rows: the histogram's rows from row0; whole:
+/// the whole histogram's summary; ctx null: serial), so that resolve(), resolve_parallel() and
+/// resolve_rows() are the same code and give the same bytes by construction: a whole
+/// histogram is its own rows from 0, with its own summary.
 template <class Derived>
 class Resolving : public fp::Colourer {
 public:
     void resolve(const fp::Histogram& h, fp::Rgb background, float* rgb) const final {
-        static_cast<const Derived&>(*this).run(h, background, rgb, nullptr);
+        static_cast<const Derived&>(*this).run(h, 0, fp::HistogramSummary::of(h), background, rgb, nullptr);
     }
     void resolve_parallel(const fp::Histogram& h, fp::Rgb background, float* rgb,
                           fp::RenderContext& ctx) const final {
-        static_cast<const Derived&>(*this).run(h, background, rgb, &ctx);
+        static_cast<const Derived&>(*this).run(h, 0, fp::HistogramSummary::of(h, &ctx), background, rgb,
+                                               &ctx);
+    }
+    bool resolves_rows() const final { return true; }
+    void resolve_rows(const fp::Histogram& rows, int row0, const fp::HistogramSummary& whole,
+                      fp::Rgb background, float* rgb, fp::RenderContext& ctx) const final {
+        if (rows.width != whole.width || row0 < 0 || row0 + rows.height > whole.height)
+            throw fp::InternalError("resolve_rows: rows outside the summarised histogram");
+        static_cast<const Derived&>(*this).run(rows, row0, whole, background, rgb, &ctx);
     }
 };
 

@@ -119,6 +119,18 @@
 // the winner, and the image, are the same on any number of threads. These renders take the
 // generic path (the fused step keeps no last colours).
 //
+// Strips (an image whose histogram does not fit the memory budget, RenderContext::
+// memory_budget: `fixpoint render --memory`, else what the machine has available): the image
+// is cut into strips of rows, and every chain runs in full once per strip, binning only the
+// points whose row is in the strip (the rest go to the dummy bin), so each strip's bins get
+// exactly the sums one pass would give them. The colourer needs the whole histogram's summary
+// (largest hit count, centre of mass, per-row extents: fp::HistogramSummary) before it shades
+// any strip, so a first pass counts hits only, in strips of its own (4 bytes a bin per worker:
+// usually the whole image at once), and adds up the summary; the second pass bins the colours
+// strip by strip and shades each with Colourer::resolve_rows. Same bytes as one pass; the
+// price is the chains run once per strip of each pass (memory_within, plan). Ranks split
+// every strip's chains as they split a whole render's.
+//
 // Errors (ParamError, by parameter): "view": "the view must be [xmin, xmax, ymin, ymax] with
 // xmin < xmax" (or "... with ymin < ymax"); "maps": "the list of maps is empty"; "height":
 // "the image is too large: width * height must be below 4294967295 pixels".
@@ -211,6 +223,7 @@ public:
         return frame_.has_region ? std::optional(frame_.region) : std::nullopt;
     }
     uint64_t memory_bytes(unsigned workers) const override;
+    uint64_t memory_within(unsigned workers, uint64_t budget) const override;
     uint64_t work_units() const override;
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
     bool has_vector_output() const override { return sets_ == Sets::only; }
@@ -218,12 +231,33 @@ public:
                               const std::string& recipe) const override;
 
 private:
+    /// Rows [row0, row0 + rows) of the histogram into `total` (all rows: the whole render), with
+    /// colour sums (and last colours) when `colour`; with `pixels`, the image's buffer is
+    /// allocated alongside. stats: this pass's counts.
     template <class T>
     void render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
-                  std::vector<float>& pixels) const;
+                  std::vector<float>* pixels, uint32_t row0, uint32_t rows, bool colour) const;
+    /// The render in strips (Strips, above).
+    template <class T>
+    void render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, std::vector<float>& pixels,
+                       uint32_t summary_rows, uint32_t rows) const;
+
+    /// Bytes of the workers' histograms and the total for a strip of `rows` rows, with colour
+    /// sums (and last colours) or hits only.
+    uint64_t strip_bytes(unsigned workers, uint64_t rows, bool colour) const;
+    /// Bytes that do not depend on the strips: the image and the workers' block state.
+    uint64_t fixed_bytes(unsigned workers) const;
+    /// How a render fits `budget`: rows per strip of the summary pass and of the colour pass
+    /// (both the image's height: one pass, no strips), and the memory it then takes; strips
+    /// of one row when even those do not fit (then bytes > budget).
+    struct Plan {
+        uint32_t summary_rows, rows;
+        uint64_t bytes;
+    };
+    Plan plan(unsigned workers, uint64_t budget) const;
     template <class T, bool Rules, bool Colour>
     void run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
-                   fp::RenderContext& ctx) const;
+                   fp::RenderContext& ctx, uint32_t row0, uint32_t rows) const;
     template <class T>
     void choose_rules(Scratch<T>& s, size_t nb) const;
     template <class T>
@@ -234,15 +268,16 @@ private:
     void move_chains(Scratch<T>& s, size_t nb, uint64_t n) const;
     /// A block step in kernels-inl.hpp's fused pass: the draw, the maps, the colours and the
     /// bookkeeping (steps 1-5).
-    template <class T>
+    template <class T, bool Colour>
     FusedArgs<T> fused_args(Scratch<T>& s, const BookArgs<T>& bv, uint32_t* hits, const uint32_t* lag,
                             bool steady) const;
-    template <class T>
+    /// The fused step's tables; Colour false: those of a pass that counts hits only.
+    template <class T, bool Colour>
     const LaneTables<T>& lane_tables() const {
         if constexpr (std::is_same_v<T, float>)
-            return *lanes_f_;
+            return Colour ? *lanes_f_ : *lanes_f_hits_;
         else
-            return *lanes_d_;
+            return Colour ? *lanes_d_ : *lanes_d_hits_;
     }
 
     /// Algorithm 2's "I(x, y) = c" for a block step: each plotted point's colour into its bin
@@ -269,8 +304,8 @@ private:
     bool rules_ = true, double_ = false, colour_ = true;
     bool last_ = false;  ///< the colourer's pixel rule is last (paper 02's Algorithm 2 as written)
     bool fused_ = false; ///< the fused step (kernels-inl.hpp's fused_t) runs every block step
-    std::shared_ptr<LaneTables<float>> lanes_f_;
-    std::shared_ptr<LaneTables<double>> lanes_d_;
+    std::shared_ptr<LaneTables<float>> lanes_f_, lanes_f_hits_;
+    std::shared_ptr<LaneTables<double>> lanes_d_, lanes_d_hits_;
 
     std::vector<std::shared_ptr<const fp::Transform>> maps_;
     std::vector<uint32_t> region_maps_;       ///< indices of the maps with a set
@@ -471,6 +506,10 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
             };
             fill(*lanes_f_);
             fill(*lanes_d_);
+            // The hits-only copies, for the pass of a render in strips that counts hits alone.
+            lanes_f_hits_ = std::make_shared<LaneTables<float>>(*lanes_f_);
+            lanes_d_hits_ = std::make_shared<LaneTables<double>>(*lanes_d_);
+            lanes_f_hits_->colour = lanes_d_hits_->colour = LaneColour::none;
         }
     } else {
         (void)p.string("kernels");
@@ -483,26 +522,59 @@ uint64_t ChaosGame::work_units() const {
     return live * skip_ + points_;
 }
 
-uint64_t ChaosGame::memory_bytes(unsigned workers) const {
-    const uint64_t px = uint64_t(frame_.width) * uint64_t(frame_.height);
+uint64_t ChaosGame::strip_bytes(unsigned workers, uint64_t rows, bool colour) const {
+    const uint64_t px = uint64_t(frame_.width) * rows;
     // The workers' 32-bit histograms, the total, the spill lists (at most one entry per
     // 65536 points); hits only: 32-bit counters, and 64-bit ones once a worker could
     // have deposited hits_flush points.
     const uint64_t deposits = points_ + std::min(chains_, points_) * skip_;
     const uint64_t hist =
-        colour_ ? uint64_t(workers) * ((px + 1) * sizeof(Cnt4) + (2u << 20)) + px * sizeof(fp::HistBin) +
-                      (points_ / spill_hits + uint64_t(workers) * 256) * 48
-                : uint64_t(workers) * ((px + 1) * 4 + (2u << 20) + (deposits >= hits_flush ? px * 8 : 0)) +
-                      px * sizeof(fp::HistBin);
+        colour ? uint64_t(workers) * ((px + 1) * sizeof(Cnt4) + (2u << 20)) + px * sizeof(fp::HistBin) +
+                     (points_ / spill_hits + uint64_t(workers) * 256) * 48
+               : uint64_t(workers) * ((px + 1) * 4 + (2u << 20) + (deposits >= hits_flush ? px * 8 : 0)) +
+                     px * sizeof(fp::HistBin);
     // Last colours: the workers' last writes and the total's colours.
-    const uint64_t last =
-        last_ ? uint64_t(workers) * ((px + 1) * sizeof(LastWrite) + (2u << 20)) + px * sizeof(fp::LastColour)
-              : 0;
+    const uint64_t last = colour && last_ ? uint64_t(workers) * ((px + 1) * sizeof(LastWrite) + (2u << 20)) +
+                                                px * sizeof(fp::LastColour)
+                                          : 0;
+    return hist + last;
+}
+
+uint64_t ChaosGame::fixed_bytes(unsigned workers) const {
+    const uint64_t px = uint64_t(frame_.width) * uint64_t(frame_.height);
     // (The sets beside: a second picture of the same size, and the two side by side.)
     const uint64_t image = px * 3 * sizeof(float) * (sets_ == Sets::beside ? 3 : 1);
     const uint64_t scratch = uint64_t(workers) * (double_ ? Scratch<double>::bytes(maps_.size())
                                                           : Scratch<float>::bytes(maps_.size()));
-    return hist + last + image + scratch;
+    return image + scratch;
+}
+
+uint64_t ChaosGame::memory_bytes(unsigned workers) const {
+    return strip_bytes(workers, uint64_t(frame_.height), colour_) + fixed_bytes(workers);
+}
+
+ChaosGame::Plan ChaosGame::plan(unsigned workers, uint64_t budget) const {
+    const uint32_t H = uint32_t(frame_.height);
+    const uint64_t whole = memory_bytes(workers);
+    // One pass when it fits, or when strips would not help: the sets alone draw no chain, and a
+    // colourer that cannot shade strips needs the whole histogram.
+    if (whole <= budget || sets_ == Sets::only || !colourer_->resolves_rows()) return {H, H, whole};
+    // In strips: the image, the block state and the summary (two 32-bit columns per row) stay;
+    // the strips' bytes grow linearly with their rows.
+    const uint64_t fixed = fixed_bytes(workers) + uint64_t(H) * 8;
+    auto rows_within = [&](bool colour) -> uint32_t {
+        const uint64_t one = strip_bytes(workers, 1, colour), per_row = strip_bytes(workers, 2, colour) - one;
+        if (budget < fixed + one) return 0;
+        return uint32_t(std::min<uint64_t>(H, 1 + (budget - fixed - one) / per_row));
+    };
+    const uint32_t summary_rows = rows_within(false), rows = rows_within(true);
+    if (summary_rows == 0 || rows == 0) return {1, 1, fixed + strip_bytes(workers, 1, colour_)};
+    return {summary_rows, rows,
+            fixed + std::max(strip_bytes(workers, summary_rows, false), strip_bytes(workers, rows, colour_))};
+}
+
+uint64_t ChaosGame::memory_within(unsigned workers, uint64_t budget) const {
+    return plan(workers, budget).bytes;
 }
 
 void ChaosGame::draw_set_panel(cairo_t* cr) const {
@@ -539,18 +611,35 @@ fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) cons
         ctx.progress(1);
         return img;
     }
-    fp::Histogram total;
     fp::Image img;
     img.width = frame_.width;
     img.height = frame_.height;
     img.channels = 3;
-    if (double_)
-        render_t<double>(ctx, stats, total, img.pixels);
-    else
-        render_t<float>(ctx, stats, total, img.pixels);
-    if (ctx.cancelled()) throw fp::Cancelled();
-    if (ctx.rank() != 0) return img; // its share is in rank 0's histogram, which rank 0 resolves
-    colourer_->resolve_parallel(total, frame_.background, img.pixels.data(), ctx);
+    const uint32_t H = uint32_t(frame_.height);
+    const Plan pl = plan(std::max(1u, ctx.workers()), ctx.memory_budget());
+    if (pl.rows >= H) {
+        fp::Histogram total;
+        if (double_)
+            render_t<double>(ctx, stats, total, &img.pixels, 0, H, colour_);
+        else
+            render_t<float>(ctx, stats, total, &img.pixels, 0, H, colour_);
+        if (ctx.cancelled()) throw fp::Cancelled();
+        if (ctx.rank() != 0) return img; // its share is in rank 0's histogram, which rank 0 resolves
+        colourer_->resolve_parallel(total, frame_.background, img.pixels.data(), ctx);
+    } else {
+        // (The host checked the budget; a caller that did not learns it here, before any work.)
+        if (pl.bytes > ctx.memory_budget())
+            throw fp::InputError("a " + std::to_string(frame_.width) + "x" + std::to_string(frame_.height) +
+                                 " render needs at least " + std::to_string(pl.bytes) +
+                                 " bytes of memory in strips of one row; the budget is " +
+                                 std::to_string(ctx.memory_budget()));
+        if (double_)
+            render_strips<double>(ctx, stats, img.pixels, pl.summary_rows, pl.rows);
+        else
+            render_strips<float>(ctx, stats, img.pixels, pl.summary_rows, pl.rows);
+        if (ctx.cancelled()) throw fp::Cancelled();
+        if (ctx.rank() != 0) return img;
+    }
     auto draw = [&](cairo_t* cr) {
         draw_sets(cr, set_drawings_, frame_.region, frame_.width, frame_.height, set_style_);
     };
@@ -571,11 +660,83 @@ fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) cons
     return img;
 }
 
+namespace {
+/// A pass of a render in strips as seen by its renderer: everything as the host's context, but
+/// the progress scaled down by the number of passes, so that the bar runs once over all of them.
+class PassOfStrips final : public fp::RenderContext {
+public:
+    PassOfStrips(fp::RenderContext& base, uint64_t passes)
+        : base_(base), passes_(std::max<uint64_t>(passes, 1)) {}
+    unsigned workers() const override { return base_.workers(); }
+    void parallel_for(size_t n, const std::function<void(size_t, unsigned)>& task) override {
+        base_.parallel_for(n, task);
+    }
+    void progress(uint64_t units) override {
+        const uint64_t want = (in_.fetch_add(units, std::memory_order_relaxed) + units) / passes_;
+        uint64_t had = out_.load(std::memory_order_relaxed);
+        while (want > had && !out_.compare_exchange_weak(had, want, std::memory_order_relaxed)) {
+        }
+        if (want > had) base_.progress(want - had);
+    }
+    bool cancelled() const override { return base_.cancelled(); }
+    unsigned rank() const override { return base_.rank(); }
+    unsigned ranks() const override { return base_.ranks(); }
+    void combine(void* data, size_t bytes, size_t record,
+                 const std::function<void(const void*, void*, size_t)>& fold, bool everywhere) override {
+        base_.combine(data, bytes, record, fold, everywhere);
+    }
+    uint64_t memory_budget() const override { return base_.memory_budget(); }
+
+private:
+    fp::RenderContext& base_;
+    uint64_t passes_;
+    std::atomic<uint64_t> in_{0}, out_{0};
+};
+} // namespace
+
+template <class T>
+void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, std::vector<float>& pixels,
+                              uint32_t summary_rows, uint32_t rows) const {
+    const uint32_t W = uint32_t(frame_.width), H = uint32_t(frame_.height);
+    PassOfStrips pass(ctx, (H + summary_rows - 1) / summary_rows + (H + rows - 1) / rows);
+    const auto poll = [&ctx] {
+        if (ctx.cancelled()) throw fp::Cancelled();
+    };
+    // Rank 0 adds up the summary and shades; the others lend their chains to each strip.
+    const bool root = ctx.rank() == 0;
+    if (root) assign_huge(pixels, size_t(W) * size_t(H) * 3, 0.0f, poll);
+    fp::HistogramSummary whole;
+    whole.begin(int(W), int(H));
+    for (uint32_t r0 = 0; r0 < H; r0 += summary_rows) {
+        fp::Histogram part;
+        fp::RenderStats st;
+        render_t<T>(pass, st, part, nullptr, r0, std::min(summary_rows, H - r0), false);
+        if (root) whole.add(part, int(r0), &ctx);
+    }
+    for (uint32_t r0 = 0; r0 < H; r0 += rows) {
+        fp::Histogram part;
+        fp::RenderStats st;
+        render_t<T>(pass, st, part, nullptr, r0, std::min(rows, H - r0), colour_);
+        // Every strip runs every chain: the counts of one, and the points drawn of all.
+        const uint64_t drawn = r0 == 0 ? 0 : stats.drawn;
+        if (r0 == 0) stats = st;
+        stats.drawn = drawn + st.drawn;
+        if (root)
+            colourer_->resolve_rows(part, int(r0), whole, frame_.background,
+                                    pixels.data() + size_t(r0) * W * 3, ctx);
+    }
+    const uint32_t strips = (H + rows - 1) / rows, counts = (H + summary_rows - 1) / summary_rows;
+    stats.how = "in " + std::to_string(strips) + " strips of " + std::to_string(rows) +
+                (rows == 1 ? " row" : " rows") + " after " + std::to_string(counts) + " pass" +
+                (counts == 1 ? "" : "es") + " counting hits";
+}
+
 template <class T>
 void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
-                         std::vector<float>& pixels) const {
+                         std::vector<float>* pixels, uint32_t row0, uint32_t rows, bool colour) const {
     const unsigned workers = std::max(1u, ctx.workers());
-    const size_t px = size_t(frame_.width) * size_t(frame_.height);
+    const size_t px = size_t(frame_.width) * size_t(rows);
+    const bool last = colour && last_;
     // Over several ranks (MPI), the blocks are cut the same way on every rank whatever its
     // thread count (as for 2 workers a rank), and rank r runs blocks r, r + N, r + 2N, ...;
     // each chain runs on exactly one rank, with its own stream, so the sums are the same.
@@ -608,28 +769,29 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
             if (ctx.cancelled()) throw fp::Cancelled();
             if (it == 0) {
                 total.width = frame_.width;
-                total.height = frame_.height;
+                total.height = int(rows);
                 assign_huge(total.bins, px, fp::HistBin{}, poll);
-                if (last_) assign_huge(total.last, px, fp::LastColour{}, poll);
+                if (last) assign_huge(total.last, px, fp::LastColour{}, poll);
                 continue;
             }
             if (it == 1) {
-                assign_huge(pixels, px * 3, 0.0f, poll);
+                if (pixels)
+                    assign_huge(*pixels, size_t(frame_.width) * size_t(frame_.height) * 3, 0.0f, poll);
                 continue;
             }
             const size_t b = it - 2;
             const uint64_t c0 = spans[b].c0;
             const size_t nb = spans[b].nb;
             if (!scratch[w]) scratch[w] = std::make_unique<Scratch<T>>(maps_.size());
-            if (!hists[w].bins.get() && !hists[w].hits.get()) hists[w].alloc(px, colour_, last_, poll);
-            if (rules_ && colour_)
-                run_block<T, true, true>(c0, nb, *scratch[w], hists[w], results[b], ctx);
+            if (!hists[w].bins.get() && !hists[w].hits.get()) hists[w].alloc(px, colour, last, poll);
+            if (rules_ && colour)
+                run_block<T, true, true>(c0, nb, *scratch[w], hists[w], results[b], ctx, row0, rows);
             else if (rules_)
-                run_block<T, true, false>(c0, nb, *scratch[w], hists[w], results[b], ctx);
-            else if (colour_)
-                run_block<T, false, true>(c0, nb, *scratch[w], hists[w], results[b], ctx);
+                run_block<T, true, false>(c0, nb, *scratch[w], hists[w], results[b], ctx, row0, rows);
+            else if (colour)
+                run_block<T, false, true>(c0, nb, *scratch[w], hists[w], results[b], ctx, row0, rows);
             else
-                run_block<T, false, false>(c0, nb, *scratch[w], hists[w], results[b], ctx);
+                run_block<T, false, false>(c0, nb, *scratch[w], hists[w], results[b], ctx, row0, rows);
         }
     });
     scratch.clear();
@@ -643,13 +805,13 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
 
     // Sum the workers' histograms (exact integer sums; rows in parallel).
     const size_t rows_per_task = 16;
-    const size_t tasks = (size_t(frame_.height) + rows_per_task - 1) / rows_per_task;
+    const size_t tasks = (size_t(rows) + rows_per_task - 1) / rows_per_task;
     // The hits of each task's rows, summed here rather than in a serial pass over the 32 MiB
     // of the total afterwards (part of the fixed cost that limits the speed-up on 2 threads).
     std::vector<uint64_t> drawn(tasks, 0);
     // Over several ranks with last colours: this rank's winning (step, chain) per bin, for the
     // ranks' merge by the same order.
-    std::vector<LastWrite> rank_last(ranks > 1 && last_ ? px : 0);
+    std::vector<LastWrite> rank_last(ranks > 1 && last ? px : 0);
     ctx.parallel_for(tasks, [&](size_t t, unsigned) {
         poll();
         const size_t b0 = t * rows_per_task * size_t(frame_.width);
@@ -671,7 +833,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                 out[i].b += in[i][3];
             }
         }
-        if (last_) {
+        if (last) {
             // Each bin's last colour: the workers' entry with the largest (step, chain).
             for (size_t i = b0; i < b1; ++i) {
                 LastWrite best{0, 0, 0, 0, 0, 0};
@@ -862,11 +1024,11 @@ void ChaosGame::new_starts(Scratch<T>& s, const uint32_t* list, size_t m) const 
 }
 
 // ---------------------------------------------------------------- the fused step
-template <class T>
+template <class T, bool Colour>
 FusedArgs<T> ChaosGame::fused_args(Scratch<T>& s, const BookArgs<T>& bv, uint32_t* hits, const uint32_t* lag,
                                    bool steady) const {
     FusedArgs<T> f;
-    f.tables = &lane_tables<T>();
+    f.tables = &lane_tables<T, Colour>();
     f.draw = DrawArgs{s.rs.get(), s.ri.get(),     s.prev.get(),    s.active.get(), nullptr,
                       0,          s.chosen.get(), s.restart.get(), bv.nb,          uint32_t(maps_.size()),
                       nullptr,    nullptr,        nullptr};
@@ -899,7 +1061,7 @@ void ChaosGame::write_last(WorkerHist& hist, const uint32_t* idx, const uint64_t
 // ---------------------------------------------------------------- one block of chains
 template <class T, bool Rules, bool Colour>
 void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
-                          fp::RenderContext& ctx) const {
+                          fp::RenderContext& ctx, uint32_t row0, uint32_t rows) const {
     const size_t k = maps_.size();
     const uint64_t per = points_ / chains_, extra = points_ % chains_;
     const uint32_t none = uint32_t(k);
@@ -948,7 +1110,8 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
     bv.scx = T(double(frame_.width) / (frame_.region.xmax - frame_.region.xmin)),
     bv.scy = T(double(frame_.height) / (frame_.region.ymax - frame_.region.ymin));
     bv.W = uint32_t(frame_.width), bv.H = uint32_t(frame_.height);
-    bv.dummy = uint32_t(size_t(frame_.width) * size_t(frame_.height));
+    bv.row0 = row0, bv.rows = rows;
+    bv.dummy = uint32_t(size_t(frame_.width) * size_t(rows));
     bv.skip = uint32_t(std::min<uint64_t>(skip_, 0xffffffffu));
     bv.none = none;
 
@@ -1015,7 +1178,8 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
             if (lean) {
                 // Up to the next poll (or the end of the steady run) in one call.
                 const uint64_t m = steady ? std::min(steady_left, poll_steps - n % poll_steps) : 1;
-                const RunCounts rc = fp_chaos::fused_run(fused_args(s, bv, hits, nullptr, steady), m);
+                const RunCounts rc =
+                    fp_chaos::fused_run(fused_args<T, Colour>(s, bv, hits, nullptr, steady), m);
                 sc = rc.last;
                 sc.plotted = rc.plotted;
                 ran = rc.steps;
@@ -1023,7 +1187,7 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
             } else {
                 bv.idx = out;
                 bv.dep = dep_out;
-                FusedArgs<T> f = fused_args(s, bv, hits, lag, steady);
+                FusedArgs<T> f = fused_args<T, Colour>(s, bv, hits, lag, steady);
                 if constexpr (Colour) {
                     f.bins = reinterpret_cast<uint32_t*>(bins);
                     f.lag_dep = lag_dep;
@@ -1044,7 +1208,7 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
                     // One map without the rules: the kernels left the streams where the run
                     // began (see fused_t); they move on by its length now, before any restart
                     // draws from them.
-                    const LaneTables<T>& lt = lane_tables<T>();
+                    const LaneTables<T>& lt = lane_tables<T, Colour>();
                     if (lt.k == 1 && !lt.rules) pcg_jump(s.rs.get(), s.ri.get(), nb, steady_steps);
                     sc.plotted = settle_steady(s, nb, steady_steps);
                     steady_left = steady_steps = 0;

@@ -3,6 +3,9 @@
 #include <fixpoint/fixpoint.hpp>
 #include <fixpoint/vertex_map.hpp>
 
+#include <algorithm>
+#include <cstdint>
+
 namespace fp {
 
 Error::~Error() = default;
@@ -43,6 +46,73 @@ bool Shape::as_circle(Vec2&, double&) const { return false; }
 
 void Colourer::resolve_parallel(const Histogram& h, Rgb background, float* rgb, RenderContext&) const {
     resolve(h, background, rgb);
+}
+bool Colourer::resolves_rows() const { return false; }
+void Colourer::resolve_rows(const Histogram&, int, const HistogramSummary&, Rgb, float*,
+                            RenderContext&) const {
+    throw Error("this colourer cannot shade a histogram by strips of rows");
+}
+
+std::uint64_t RenderContext::memory_budget() const { return UINT64_MAX; }
+std::uint64_t Renderer::memory_within(unsigned workers, std::uint64_t) const { return memory_bytes(workers); }
+
+void HistogramSummary::begin(int w, int h) {
+    *this = HistogramSummary{};
+    width = w;
+    height = h;
+    first.assign(std::size_t(std::max(h, 0)), -1);
+    last.assign(std::size_t(std::max(h, 0)), -1);
+}
+
+void HistogramSummary::add(const Histogram& rows, int row0, RenderContext* ctx) {
+    if (rows.width != width || row0 < 0 || rows.height < 0 || row0 + rows.height > height ||
+        rows.bins.size() != std::size_t(rows.width) * std::size_t(rows.height))
+        throw InternalError("HistogramSummary::add: rows outside the histogram");
+    // Pieces of 16 rows, each with its own partial sums, folded in piece order: integer sums
+    // and maxima, so any split gives the same summary.
+    struct Part {
+        std::uint64_t max_hits = 0;
+        uint128 hits = 0, hits_column = 0, hits_row = 0;
+    };
+    const std::size_t W = std::size_t(width), piece_rows = 16;
+    const std::size_t pieces = (std::size_t(rows.height) + piece_rows - 1) / piece_rows;
+    std::vector<Part> part(pieces);
+    auto piece = [&](std::size_t t) {
+        if (ctx && ctx->cancelled()) throw Cancelled();
+        Part p;
+        const std::size_t r1 = std::min(std::size_t(rows.height), (t + 1) * piece_rows);
+        for (std::size_t r = t * piece_rows; r < r1; ++r) {
+            const HistBin* b = rows.bins.data() + r * W;
+            const std::size_t y = std::size_t(row0) + r;
+            std::int32_t f = -1, l = -1;
+            uint128 row_hits = 0, row_column = 0;
+            for (std::size_t x = 0; x < W; ++x) {
+                const std::uint64_t h = b[x].hits;
+                if (!h) continue;
+                if (f < 0) f = std::int32_t(x);
+                l = std::int32_t(x);
+                row_hits += h;
+                row_column += uint128(h) * x;
+                p.max_hits = std::max(p.max_hits, h);
+            }
+            p.hits += row_hits;
+            p.hits_column += row_column;
+            p.hits_row += row_hits * y;
+            first[y] = f;
+            last[y] = l;
+        }
+        part[t] = p;
+    };
+    if (!ctx || ctx->workers() <= 1)
+        for (std::size_t t = 0; t < pieces; ++t) piece(t);
+    else
+        ctx->parallel_for(pieces, [&](std::size_t t, unsigned) { piece(t); });
+    for (const Part& p : part) {
+        max_hits = std::max(max_hits, p.max_hits);
+        hits += p.hits;
+        hits_column += p.hits_column;
+        hits_row += p.hits_row;
+    }
 }
 
 bool Transform::has_region() const { return false; }

@@ -98,6 +98,22 @@ def test_chaos_game_uneven_threads(tmp_path):
     assert out.read_bytes() == one.read_bytes()
 
 
+def test_chaos_game_strips_on_ranks(tmp_path):
+    # A render in strips (--memory, shared by the ranks on this machine): every strip's chains
+    # split over the ranks, and the same bytes as one process in one pass.
+    config = SOURCE / "configs/inversion/fig6a.yaml"
+    s = sets(width=400, height=400, points=1000000)
+    one = tmp_path / "one.png"
+    r = plain("render", config, "-o", one, "--quiet", "--threads", 2, *s)
+    assert r.returncode == 0, r.stderr
+    for n in (2, 3):
+        out = tmp_path / f"np{n}.png"
+        r = mpirun(n, "render", config, "-o", out, "--threads", 1, "--memory", f"{12 * n}M", *s)
+        assert r.returncode == 0, f"{n} ranks: {r.stderr}"
+        assert " strips of " in r.stderr, r.stderr
+        assert out.read_bytes() == one.read_bytes(), f"{n} ranks in strips: the bytes differ from one process"
+
+
 def test_orbit_trap(tmp_path):
     same_on_every_rank_count(tmp_path, SOURCE / "configs/orbit-trap/fig5a.yaml",
                              *sets(width=120, height=120))
@@ -212,7 +228,8 @@ def test_memory_check_counts_the_ranks_on_this_machine(tmp_path):
                *sets(width=60000, height=60000))
     assert r.returncode == 2, r.stderr
     ours = [l for l in r.stderr.splitlines() if "render needs" in l]
-    assert len(ours) == 1 and "with 1 thread(s) on each of 3 ranks; this machine has" in ours[0], r.stderr
+    assert len(ours) == 1 and "with 1 thread(s), in strips of one row on each of 3 ranks; this machine has" in ours[0], \
+        r.stderr
     assert not (tmp_path / "x.png").exists()
 
 

@@ -422,8 +422,11 @@ HWY_INLINE hn::Vec<hn::RebindToUnsigned<D>> bin_index(D d, const fp_chaos::BookA
     };
     const auto ix = hn::Min(trunc(fx), hn::Set(du, U(a.W - 1)));
     const auto iy = hn::Min(trunc(fy), hn::Set(du, U(a.H - 1)));
-    return hn::IfThenElse(hn::RebindMask(du, in), hn::Add(mul_small(du, iy, hn::Set(du, U(a.W))), ix),
-                          hn::Set(du, U(a.dummy)));
+    // The row within the strip: rows above it wrap to large values, so one unsigned compare
+    // keeps [row0, row0 + rows).
+    const auto ry = hn::Sub(iy, hn::Set(du, U(a.row0)));
+    const auto keep = hn::And(hn::RebindMask(du, in), hn::Lt(ry, hn::Set(du, U(a.rows))));
+    return hn::IfThenElse(keep, hn::Add(mul_small(du, ry, hn::Set(du, U(a.W))), ix), hn::Set(du, U(a.dummy)));
 }
 
 template <class T>

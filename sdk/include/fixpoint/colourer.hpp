@@ -64,6 +64,17 @@ public:
     /// The default calls resolve().
     virtual void resolve_parallel(const Histogram& h, Rgb background, float* rgb, RenderContext& ctx) const;
 
+    /// Whether resolve_rows works. A renderer that renders in strips of rows (an image whose
+    /// histogram does not fit in memory) asks before it starts, and refuses a colourer that
+    /// cannot. The default is false. (Added in ABI 11.)
+    virtual bool resolves_rows() const;
+    /// Rows [row0, row0 + rows.height) of an image (rows: their histogram, of the image's
+    /// width), shaded as resolve_parallel would shade them in the whole histogram, given that
+    /// histogram's summary `whole` (HistogramSummary): the same bytes, row for row. rgb takes
+    /// the rows' pixels. The default throws fp::Error.
+    virtual void resolve_rows(const Histogram& rows, int row0, const HistogramSummary& whole, Rgb background,
+                              float* rgb, RenderContext& ctx) const;
+
     /// False when resolve() reads only the hit counts of the histogram (its colour sums may
     /// all be 0): a renderer may then skip update() and the colour sums altogether and count
     /// hits only. The default is true.

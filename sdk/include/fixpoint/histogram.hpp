@@ -35,4 +35,37 @@ struct Histogram {
     }
 };
 
+class RenderContext;
+
+/// Unsigned 128-bit integers: sums of hits times positions that no image size overflows.
+__extension__ typedef unsigned __int128 uint128;
+
+/// What a colourer reads of a whole histogram besides a bin's own entry: its largest hit
+/// count, the hit-weighted sums of the bins' positions (the centre of mass), and each row's
+/// first and last column with hits (the hit bin farthest from any point is one of those).
+/// Integer sums and maxima: the same summary whether it is added up at once or strip by strip
+/// (a render in strips of rows whose histogram never is whole: Colourer::resolve_rows), in any
+/// order and on any number of workers. (Added in ABI 11.)
+struct HistogramSummary {
+    int width = 0, height = 0;
+    std::uint64_t max_hits = 0;
+    /// Sum of H, of H * column and of H * row over the bins (H: hits; columns and rows from 0).
+    uint128 hits = 0, hits_column = 0, hits_row = 0;
+    /// Per row: the first and the last column with hits; -1 in both for a row without.
+    std::vector<std::int32_t> first, last;
+
+    /// An empty summary of a width x height histogram.
+    void begin(int w, int h);
+    /// Adds rows [row0, row0 + rows.height) of the histogram, given as `rows` (its width is the
+    /// whole one's). With ctx, on its workers (pieces of 16 rows); polls it for a cancel.
+    void add(const Histogram& rows, int row0, RenderContext* ctx = nullptr);
+    /// The summary of a whole histogram.
+    static HistogramSummary of(const Histogram& h, RenderContext* ctx = nullptr) {
+        HistogramSummary s;
+        s.begin(h.width, h.height);
+        s.add(h, 0, ctx);
+        return s;
+    }
+};
+
 } // namespace fp

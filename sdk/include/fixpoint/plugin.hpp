@@ -25,10 +25,11 @@ namespace fp {
 /// ABI 7: Colourer::pixel_rule and Histogram::last, paper 02's eq. (28) as written; ABI 8:
 /// Transform::periods, for seamless tiles; ABI 9: Renderer::region, for the preview's pan
 /// and zoom where the region is fitted; ABI 10: RenderContext::rank, ranks and combine, for
-/// renders over Open MPI ranks):
+/// renders over Open MPI ranks; ABI 11: RenderContext::memory_budget, Renderer::memory_within,
+/// Colourer::resolve_rows and HistogramSummary, for renders in strips):
 /// the host refuses a plugin built for another value ("rebuild it against this SDK"), so a
 /// plugin always matches the headers the host was built with.
-constexpr std::uint32_t abi_version = 10;
+constexpr std::uint32_t abi_version = 11;
 
 struct PluginDescriptor {
     std::uint32_t abi = abi_version;

@@ -32,6 +32,9 @@ struct RenderStats {
     std::string unit = "points";
     /// What `drawn` counts, for the CLI's messages ("of 500 points landed in the image").
     std::string drawn_means = "landed in the image";
+    /// How the render was made when the summary line should say so ("in 3 strips of 342
+    /// rows"); empty otherwise. (Added in ABI 11.)
+    std::string how;
 };
 
 /// The host's side of a render. Called per task, never per point.
@@ -68,6 +71,11 @@ public:
     virtual void combine(void* data, std::size_t bytes, std::size_t record,
                          const std::function<void(const void* in, void* inout, std::size_t records)>& fold,
                          bool everywhere);
+
+    /// The memory this process's render may take, in bytes (`fixpoint render --memory`, else
+    /// what the machine has available, shared by the ranks on it): a renderer that can work in
+    /// less (strips) stays within it. Default: no limit. (Added in ABI 11.)
+    virtual std::uint64_t memory_budget() const;
 };
 
 /// Folds for RenderContext::combine, with `record` = sizeof(T).
@@ -99,6 +107,12 @@ public:
     virtual int height() const = 0;
     /// Memory the render will need with `workers` workers, for the check before it starts.
     virtual std::uint64_t memory_bytes(unsigned workers) const = 0;
+    /// Memory the render will need with `workers` workers when it may take at most `budget`
+    /// bytes (RenderContext::memory_budget): memory_bytes(workers) when that fits, else what a
+    /// renderer that can work in less (strips of rows) will take, the least it can do with when
+    /// even that is over the budget. The host refuses a render whose answer exceeds the budget.
+    /// Default: memory_bytes(workers). (Added in ABI 11.)
+    virtual std::uint64_t memory_within(unsigned workers, std::uint64_t budget) const;
     /// Units of work reported through RenderContext::progress over a whole render.
     virtual std::uint64_t work_units() const = 0;
     virtual Image render(RenderContext& ctx, RenderStats& stats) const = 0;

@@ -42,6 +42,12 @@ Pipeline load_pipeline(const Registry& reg, CNode root);
 /// Refuse, before it starts, a render that needs more memory than the machine has available
 /// with `threads` workers (fp::InputError at the renderer).
 void check_memory(const Pipeline& p, unsigned threads);
+/// check_memory for `fixpoint render`: the render may work within a budget (strips:
+/// Renderer::memory_within) of `requested` bytes (--memory; 0: what the machine has
+/// available), shared by the MPI ranks on this machine. Refuses (fp::InputError at the
+/// renderer) a render that needs more even so, saying the least it needs; returns the budget of
+/// this process, for its Runtime.
+std::uint64_t check_memory_within(const Pipeline& p, unsigned threads, std::uint64_t requested);
 
 /// Refuse writing `out` as SVG or PDF from a renderer without vector output (fp::InputError
 /// at the renderer); returns whether `out` is a vector format.

@@ -27,6 +27,10 @@ public:
     void combine(void* data, std::size_t bytes, std::size_t record,
                  const std::function<void(const void*, void*, std::size_t)>& fold, bool everywhere) override;
 
+    std::uint64_t memory_budget() const override { return budget_; }
+    /// The budget renderers see (check_memory's answer); unset: no limit.
+    void set_memory_budget(std::uint64_t bytes) { budget_ = bytes; }
+
     std::uint64_t done() const { return done_.load(std::memory_order_relaxed); }
 
 private:
@@ -35,6 +39,7 @@ private:
     const std::atomic<bool>* cancel_;
     bool distributed_;
     std::atomic<std::uint64_t> done_{0};
+    std::uint64_t budget_ = UINT64_MAX;
     std::unique_ptr<Impl> impl_;
 };
 
@@ -46,5 +51,10 @@ std::uint64_t available_memory();
 
 /// "1.5 GiB"
 std::string format_bytes(std::uint64_t b);
+
+/// A size as `--memory` takes it: a number of bytes with an optional binary unit, K, M, G or T
+/// (KiB, MiB, GiB, TiB; "B" and "iB" optional, any case): "8G", "512MiB", "1.5g", "1000000".
+/// fp::InputError naming `option` otherwise, or for a size below 1 MiB.
+std::uint64_t parse_size(const std::string& text, const std::string& option);
 
 } // namespace fp::host

@@ -1,0 +1,119 @@
+// Renders in strips (`fixpoint render --memory SIZE`, chaos-game.cpp's "Strips"): an image whose
+// histogram does not fit the budget is rendered strip by strip, every chain replayed per strip,
+// and must come out as the same bytes as one pass. Checked on every colour path the renderer
+// has: hits only with the fused step (density), colour with the fused step (flame, affine maps),
+// map colours through an iteration scheme (generic step), last colours (set-colour, paper 02's
+// Algorithm 2), the centre of mass (centroid-distance, double precision) and the lean path of a
+// single orbit; each on 1 and 3 threads, against one pass on 2. A budget too small even for
+// strips of one row is refused before rendering, with the least that works, and that least
+// does work.
+#include "cli.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+using fp::test::read_file;
+using fp::test::run_bad_input;
+using fp::test::run_cli;
+using fp::test::scratch_dir;
+using fp::test::source_dir;
+
+namespace {
+
+struct StripCase {
+    const char* name;
+    const char* config; ///< under the source tree
+    const char* points;
+    const char* memory; ///< small enough for several strips at this size
+};
+
+std::ostream& operator<<(std::ostream& os, const StripCase& c) { return os << c.name; }
+
+class Strips : public ::testing::TestWithParam<StripCase> {};
+
+TEST_P(Strips, SameBytesAsOnePass) {
+    const StripCase& c = GetParam();
+    const std::string dir = scratch_dir(std::string("strips_") + c.name);
+    const std::string config = source_dir() + "/" + c.config;
+    const std::string points = std::string("renderer.points=") + c.points;
+    const auto whole =
+        run_cli({"render", "--quiet", "--threads", "2", config, "--set", points, "-o", dir + "/whole.png"});
+    ASSERT_EQ(whole.rc, 0) << whole.err;
+    for (const char* threads : {"1", "3"}) {
+        const std::string out = dir + "/strips-" + threads + ".png";
+        const auto r = run_cli(
+            {"render", "--threads", threads, "--memory", c.memory, config, "--set", points, "-o", out});
+        ASSERT_EQ(r.rc, 0) << r.err;
+        // It did render in strips (the summary line says how), and they add up to one pass.
+        EXPECT_NE(r.err.find(" strips of "), std::string::npos) << r.err;
+        EXPECT_EQ(read_file(out), read_file(dir + "/whole.png"))
+            << c.name << " on " << threads << " thread(s)";
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    ChaosGame, Strips,
+    ::testing::Values(StripCase{"density_fused", "bench/circles.yaml", "400000", "24M"},
+                      StripCase{"flame_affine_fused", "bench/sierpinski.yaml", "400000", "24M"},
+                      StripCase{"map_colour_scheme", "configs/iterations/fig5b.yaml", "400000", "24M"},
+                      StripCase{"set_colour_last", "configs/inversion/fig6a.yaml", "400000", "30M"},
+                      StripCase{"centroid_double", "configs/gumowski-mira/fig6b.yaml", "30000", "16M"},
+                      StripCase{"single_orbit_lean", "bench/gm-orbit.yaml", "400000", "24M"}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+// Too small for strips of one row: refused before anything renders, exit 2, nothing written,
+// one line that says the least that works.
+TEST(Strips, BudgetBelowOneRowIsRefused) {
+    const std::string yaml = "renderer:\n  type: chaos-game\n  width: 1000\n  height: 800\n  points: 10000\n"
+                             "  view: [-0.012, 1.012, -1.012, 0.012]\n  colourer: {type: density}\n  maps:\n"
+                             "    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}\n"
+                             "    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0]}\n"
+                             "    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, -0.5]}\n";
+    const std::string line =
+        run_bad_input("strips_too_small", yaml,
+                      {"render", "--quiet", "--threads", "2", "--memory", "4M", "bad.yaml", "-o", "out.png"});
+    EXPECT_EQ(
+        line,
+        "bad.yaml:2:3: renderer: a 1000x800 render needs at least 13.4 MiB of memory with 2 thread(s), in "
+        "strips of one row; --memory gives 4.0 MiB");
+    // (By hand: the image, 1000 x 800 x 3 floats, 9.6 MB; a strip of one row, per worker 1001
+    // 32-bit counters and 2 MiB of huge-page alignment, plus 1000 64-bit bins of 32 bytes:
+    // 4.23 MB; the summary's 800 rows x 8 bytes; the workers' block state, about 0.2 MB.)
+    // The least it names is enough (strips of 2 rows, with what rounding to 0.1 MiB leaves).
+    const std::string dir = scratch_dir("strips_least");
+    fp::test::write_file(dir + "/c.yaml", yaml);
+    const auto r =
+        run_cli({"render", "--threads", "2", "--memory", "13.5M", dir + "/c.yaml", "-o", dir + "/out.png"});
+    EXPECT_EQ(r.rc, 0) << r.err;
+    EXPECT_NE(r.err.find("in 400 strips of 2 rows after 200 passes counting hits"), std::string::npos)
+        << r.err;
+}
+
+TEST(Strips, MemorySizeIsChecked) {
+    const std::string yaml = "renderer:\n  type: chaos-game\n  points: 1000\n  maps:\n"
+                             "    - {type: inversion, shape: {type: circle, centre: [0, 0], radius: 1}}\n"
+                             "    - {type: inversion, shape: {type: circle, centre: [1.5, 0], radius: 1}}\n";
+    EXPECT_EQ(
+        run_bad_input("strips_size_word", yaml, {"render", "--memory", "lots", "bad.yaml", "-o", "out.png"}),
+        "--memory 'lots': a size such as 8G, 512M or 1.5GiB (binary units: K, M, G, T)");
+    EXPECT_EQ(
+        run_bad_input("strips_size_unit", yaml, {"render", "--memory", "3Q", "bad.yaml", "-o", "out.png"}),
+        "--memory '3Q': a size such as 8G, 512M or 1.5GiB (binary units: K, M, G, T)");
+    EXPECT_EQ(
+        run_bad_input("strips_size_tiny", yaml, {"render", "--memory", "12K", "bad.yaml", "-o", "out.png"}),
+        "--memory '12K': at least 1M: a render needs more than that");
+    EXPECT_EQ(run_bad_input(
+                  "strips_size_vary", yaml,
+                  {"render", "--memory", "1G", "--vary", "renderer.seed=1,2", "bad.yaml", "-o", "out.png"}),
+              "--memory bounds one render (in strips): not with --vary, whose children render whole");
+    // Units: binary, with or without B or iB, any case.
+    const std::string dir = scratch_dir("strips_units");
+    fp::test::write_file(dir + "/c.yaml", yaml);
+    for (const char* size : {"1g", "1GiB", "1024M", "1048576k", "1073741824"})
+        EXPECT_EQ(run_cli({"validate", "--quiet", "--memory", size, dir + "/c.yaml"}).rc, 0) << size;
+}
+
+} // namespace
