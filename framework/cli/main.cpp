@@ -231,6 +231,38 @@ Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStat
     return img;
 }
 
+/// The rows of a rank other than 0 in a streamed render: rank 0 writes the image.
+class DiscardedRows final : public RowSink {
+public:
+    void rows(int, int, const float*) override {}
+};
+
+// A render streamed by bands of rows into `sink` (Renderer::render_rows; the whole image does
+// not fit the budget), with a progress bar, checked as render_checked checks an image. Split
+// over the MPI ranks.
+void render_streamed(const Pipeline& p, unsigned threads, bool quiet, RenderStats& stats, double& secs,
+                     std::uint64_t budget, RowSink& sink) {
+    Runtime rt(threads, &g_interrupted, true);
+    rt.set_memory_budget(budget);
+    const auto t0 = std::chrono::steady_clock::now();
+    {
+        const std::uint64_t units = p.renderer->work_units();
+        ProgressBar bar(
+            rt.ranks() > 1 ? (units + rt.ranks() - 1) / rt.ranks() : units, [&rt] { return rt.done(); },
+            !quiet && ::isatty(2) && rt.rank() == 0);
+        try {
+            p.renderer->render_rows(rt, stats, sink);
+        } catch (const WriteError&) {
+            throw; // the output's, not the renderer's
+        } catch (const InputError& e) {
+            throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
+        }
+    }
+    secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (g_interrupted.load()) throw Cancelled();
+    if (rt.rank() == 0) warn_drawn(p, stats);
+}
+
 // The vector document of a renderer with vector output (SVG, PDF), checked like an image.
 std::string render_vector_checked(const Pipeline& p, unsigned threads, Format f, RenderStats& stats,
                                   double& secs) {
@@ -466,8 +498,7 @@ int cmd_render(const Options& o, bool validate_only) {
     if (o.draft) p = load_for_print(reg, o.config, with_draft(o, o.sets, p), o.print);
     told(p);
     const unsigned threads = o.threads ? o.threads : hardware_threads();
-    const std::uint64_t budget =
-        check_memory_within(p, threads, o.memory.empty() ? 0 : parse_size(o.memory, "--memory"));
+    const std::uint64_t requested = o.memory.empty() ? 0 : parse_size(o.memory, "--memory");
     if (const Repeat r = parse_repeat(o.print); r.across * r.down > 1) {
         // The repeated image is made after the render, beside the tile: check both now.
         const std::uint64_t repeated = std::uint64_t(p.renderer->width()) * std::uint64_t(r.across) *
@@ -483,6 +514,9 @@ int cmd_render(const Options& o, bool validate_only) {
     const std::string& out = output.path;
     check_output_for(output, o);
     const bool vector = check_vector_output(p, out);
+    // Beyond the budget, a raster image streams band by band (not when --repeat needs it whole).
+    const MemoryPlan memory = check_memory_within(
+        p, threads, requested, !vector && parse_repeat(o.print).across * parse_repeat(o.print).down == 1);
     if (g_interrupted.load()) throw Cancelled(); // during the checks above
     agree_checks();
     if (validate_only) {
@@ -499,8 +533,22 @@ int cmd_render(const Options& o, bool validate_only) {
         if (ranks::rank() != 0) return 0; // rank 0 writes
         ranks::set_phase(ranks::Phase::free);
         write_bytes(doc, out);
+    } else if (memory.stream) {
+        // Rank 0 encodes the rows as they come, into a file that takes the output's name only
+        // once it is whole; the other ranks' rows go nowhere.
+        std::unique_ptr<RowSink> sink;
+        if (ranks::rank() == 0)
+            sink = std::make_unique<StreamedImage>(
+                out, p.renderer->width(), p.renderer->height(), p.bit_depth, p.recipe,
+                print_resolution(o.print, p.renderer->width(), p.renderer->height()));
+        else
+            sink = std::make_unique<DiscardedRows>();
+        render_streamed(p, threads, o.quiet, stats, secs, memory.budget, *sink);
+        if (ranks::rank() != 0) return 0;
+        ranks::set_phase(ranks::Phase::free);
+        static_cast<StreamedImage&>(*sink).finish();
     } else {
-        const Image img = render_checked(p, threads, o.quiet, stats, secs, true, budget);
+        const Image img = render_checked(p, threads, o.quiet, stats, secs, true, memory.budget);
         if (ranks::rank() != 0) return 0; // rank 0 writes
         ranks::set_phase(ranks::Phase::free);
         const Repeat r = parse_repeat(o.print);

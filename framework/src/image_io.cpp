@@ -71,8 +71,10 @@ void check_output(const std::string& path) {
         throw InputError("cannot write '" + path + "': " + std::strerror(errno));
 }
 
-void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
-                 const Resolution& resolution) {
+// The writer and the spec of a raster image file: the same for a whole image and a streamed one.
+static std::pair<std::unique_ptr<OIIO::ImageOutput>, OIIO::ImageSpec>
+image_writer(const std::string& path, int width, int height, int channels, int bit_depth,
+             const std::string& recipe, const Resolution& resolution) {
     const Format f = format_for(path);
     if (is_vector(f))
         throw InputError("'" + path +
@@ -82,24 +84,37 @@ void write_image(const Image& img, const std::string& path, int bit_depth, const
     OIIO::TypeDesc type = f == Format::Exr  ? OIIO::TypeDesc::FLOAT
                           : bit_depth == 16 ? OIIO::TypeDesc::UINT16
                                             : OIIO::TypeDesc::UINT8;
-    OIIO::ImageSpec spec(img.width, img.height, img.channels, type);
+    OIIO::ImageSpec spec(width, height, channels, type);
     spec.attribute("ImageDescription", recipe);
     spec.attribute("Software", "fixpoint " FIXPOINT_VERSION);
+    // No time of writing: the recipe alone decides the bytes. Left unset, the TIFF writer puts
+    // the clock in DateTime and the EXR writer in capDate; empty, TIFF has none and EXR an
+    // empty capDate.
+    spec.attribute("DateTime", "");
     if (f == Format::Exr) spec.attribute("compression", "zip");
     if (resolution.x > 0 && resolution.y > 0) {
         spec.attribute("XResolution", float(resolution.x));
         spec.attribute("YResolution", float(resolution.y));
         spec.attribute("ResolutionUnit", "inch");
     }
-
     auto out = OIIO::ImageOutput::create(oiio_format);
     if (!out) throw InternalError(std::string("OpenImageIO has no writer for ") + oiio_format);
+    if (!out->supports("ioproxy"))
+        throw InternalError(std::string("OpenImageIO's ") + oiio_format +
+                            " writer cannot write through a proxy");
+    return {std::move(out), spec};
+}
+
+void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
+                 const Resolution& resolution) {
+    auto [out, spec] = image_writer(path, img.width, img.height, img.channels, bit_depth, recipe, resolution);
+    const char* oiio_format = out->format_name();
     // OpenImageIO's writers do not all check their writes to a file: past a file-size limit (as
     // on a full disk) the PNG and EXR writers reported success over a truncated file. So the
     // image is encoded in memory and written by write_bytes, which checks every write, the
     // fsync and the close, and leaves nothing behind when one fails.
     OIIO::Filesystem::IOVecOutput mem;
-    if (!out->supports("ioproxy") || !out->set_ioproxy(&mem))
+    if (!out->set_ioproxy(&mem))
         throw InternalError(std::string("OpenImageIO's ") + oiio_format + " writer cannot write to memory");
     bool ok = out->open(path, spec);
     if (ok) ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
@@ -108,6 +123,112 @@ void write_image(const Image& img, const std::string& path, int bit_depth, const
     out.reset();
     const auto& buf = mem.buffer();
     write_bytes(reinterpret_cast<const char*>(buf.data()), buf.size(), path);
+}
+
+namespace {
+// A file for OpenImageIO's writers that checks every write (they do not all check their own:
+// see write_image): positioned writes into a descriptor, the first error kept for finish().
+class CheckedFile final : public OIIO::Filesystem::IOProxy {
+public:
+    CheckedFile(const std::string& path, int fd) : IOProxy(path, Write), fd_(fd) {}
+    const char* proxytype() const override { return "fixpoint-checked-file"; }
+    size_t write(const void* buf, size_t size) override {
+        const size_t n = pwrite(buf, size, m_pos);
+        m_pos += int64_t(n);
+        return n;
+    }
+    size_t pwrite(const void* buf, size_t size, int64_t offset) override {
+        const char* p = static_cast<const char*>(buf);
+        size_t done = 0;
+        while (done < size && error_.empty()) {
+            const ssize_t w = ::pwrite(fd_, p + done, size - done, off_t(offset) + off_t(done));
+            if (w < 0 && errno == EINTR) continue;
+            if (w <= 0)
+                error_ = w < 0 ? std::strerror(errno) : "nothing written";
+            else
+                done += size_t(w);
+        }
+        end_ = std::max(end_, offset + int64_t(done));
+        return done;
+    }
+    size_t size() const override { return size_t(end_); }
+    const std::string& failure() const { return error_; }
+
+private:
+    int fd_;
+    int64_t end_ = 0;
+    std::string error_;
+};
+} // namespace
+
+struct StreamedImage::Impl {
+    std::string path;
+    fs::path tmp;
+    int fd = -1;
+    std::unique_ptr<CheckedFile> file;
+    std::unique_ptr<OIIO::ImageOutput> out;
+    int width = 0, height = 0, next = 0;
+    bool done = false;
+
+    [[noreturn]] void fail(const std::string& why) {
+        throw WriteError("cannot write '" + path + "': " + why);
+    }
+    /// The first failure of the file itself (a full disk) before the encoder's account of it.
+    [[noreturn]] void fail_writing() { fail(file->failure().empty() ? out->geterror() : file->failure()); }
+};
+
+StreamedImage::StreamedImage(const std::string& path, int width, int height, int bit_depth,
+                             const std::string& recipe, const Resolution& resolution)
+    : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    m.path = path;
+    m.width = width;
+    m.height = height;
+    auto [out, spec] = image_writer(path, width, height, 3, bit_depth, recipe, resolution);
+    m.out = std::move(out);
+    m.tmp = temp_path_for(fs::path(path));
+    m.fd = ::open(m.tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (m.fd < 0) m.fail(std::strerror(errno));
+    m.file = std::make_unique<CheckedFile>(path, m.fd);
+    if (!m.out->set_ioproxy(m.file.get()) || !m.out->open(path, spec)) m.fail(m.out->geterror());
+}
+
+WriteError::~WriteError() = default;
+
+StreamedImage::~StreamedImage() {
+    Impl& m = *impl_;
+    if (m.done) return;
+    // Unfinished (an error, a cancel): the encoder is dropped and the partial file removed.
+    m.out.reset();
+    if (m.fd >= 0) ::close(m.fd);
+    std::error_code ec;
+    fs::remove(m.tmp, ec);
+}
+
+void StreamedImage::rows(int y0, int rows, const float* rgb) {
+    Impl& m = *impl_;
+    if (y0 != m.next || rows < 0 || y0 + rows > m.height)
+        throw InternalError("StreamedImage: rows out of order");
+    if (!m.out->write_scanlines(y0, y0 + rows, 0, OIIO::TypeDesc::FLOAT, rgb) || !m.file->failure().empty())
+        m.fail_writing();
+    m.next = y0 + rows;
+}
+
+void StreamedImage::finish() {
+    Impl& m = *impl_;
+    if (m.next != m.height) throw InternalError("StreamedImage: the image is not complete");
+    if (!m.out->close() || !m.file->failure().empty()) m.fail_writing();
+    m.out.reset();
+    // fsync, then close: either may be the first to report a full disk.
+    const bool synced = ::fsync(m.fd) == 0;
+    const std::string sync_err = synced ? "" : std::strerror(errno);
+    const int fd = m.fd;
+    m.fd = -1;
+    if (::close(fd) != 0 || !synced) m.fail(synced ? std::strerror(errno) : sync_err);
+    std::error_code ec;
+    fs::rename(m.tmp, m.path, ec);
+    if (ec) m.fail(ec.message());
+    m.done = true;
 }
 
 void quantise_pixels(const Image& img, int bit_depth, void* out) {

@@ -168,13 +168,17 @@ void check_memory(const Pipeline& p, unsigned threads) {
                          "; this machine has " + format_bytes(have) + " available");
 }
 
-std::uint64_t check_memory_within(const Pipeline& p, unsigned threads, std::uint64_t requested) {
+MemoryPlan check_memory_within(const Pipeline& p, unsigned threads, std::uint64_t requested,
+                               bool can_stream) {
     const unsigned local = ranks::on_this_machine();
     const std::uint64_t have = requested ? requested : available_memory(), budget = have / local;
-    const std::uint64_t need = p.renderer->memory_within(threads, budget);
+    const std::uint64_t whole = p.renderer->memory_bytes(threads);
+    if (whole <= budget) return {budget, false};
+    const bool stream = can_stream && p.renderer->streams_rows();
+    const std::uint64_t need = stream ? p.renderer->memory_within(threads, budget) : whole;
     if (need > budget) {
         // Over even in strips, or a renderer that cannot make them: say the least that works.
-        const bool strips = need < p.renderer->memory_bytes(threads);
+        const bool strips = need < whole;
         throw InputError(p.renderer_mark.str() + ": renderer: a " + std::to_string(p.renderer->width()) +
                          "x" + std::to_string(p.renderer->height()) + " render needs " +
                          (strips ? "at least " : "") + format_bytes(need) + " of memory with " +
@@ -183,7 +187,7 @@ std::uint64_t check_memory_within(const Pipeline& p, unsigned threads, std::uint
                          (requested ? "--memory gives " + format_bytes(requested)
                                     : "this machine has " + format_bytes(have) + " available"));
     }
-    return budget;
+    return {budget, true};
 }
 
 std::string check_drawn(const Pipeline& p, const RenderStats& st) {

@@ -119,17 +119,20 @@
 // the winner, and the image, are the same on any number of threads. These renders take the
 // generic path (the fused step keeps no last colours).
 //
-// Strips (an image whose histogram does not fit the memory budget, RenderContext::
-// memory_budget: `fixpoint render --memory`, else what the machine has available): the image
-// is cut into strips of rows, and every chain runs in full once per strip, binning only the
-// points whose row is in the strip (the rest go to the dummy bin), so each strip's bins get
-// exactly the sums one pass would give them. The colourer needs the whole histogram's summary
-// (largest hit count, centre of mass, per-row extents: fp::HistogramSummary) before it shades
-// any strip, so a first pass counts hits only, in strips of its own (4 bytes a bin per worker:
-// usually the whole image at once), and adds up the summary; the second pass bins the colours
-// strip by strip and shades each with Colourer::resolve_rows. Same bytes as one pass; the
-// price is the chains run once per strip of each pass (memory_within, plan). Ranks split
-// every strip's chains as they split a whole render's.
+// Strips (an image whose histogram and pixels do not fit the memory budget,
+// RenderContext::memory_budget: `fixpoint render --memory`, else what the machine has
+// available; the host then calls render_rows): the image is cut into strips of rows, and every
+// chain runs in full once per strip, binning only the points whose row is in the strip (the
+// rest go to the dummy bin), so each strip's bins get exactly the sums one pass would give
+// them. The colourer needs the whole histogram's summary (largest hit count, centre of mass,
+// per-row extents: fp::HistogramSummary) before it shades any strip, so a first pass counts
+// hits only, in strips of its own (4 bytes a bin per worker: usually far fewer strips), and
+// adds up the summary; the second pass bins the colours strip by strip, shades each with
+// Colourer::resolve_rows and hands its rows to the host, which encodes them into the output
+// file as they come (fp::RowSink): neither the histogram nor the image is ever whole. Same
+// bytes as one pass; the price is the chains run once per strip of each pass (plan). Ranks
+// split every strip's chains as they split a whole render's. (Not with the sets drawn over or
+// beside: those draw on the whole picture.)
 //
 // Errors (ParamError, by parameter): "view": "the view must be [xmin, xmax, ymin, ymax] with
 // xmin < xmax" (or "... with ymin < ymax"); "maps": "the list of maps is empty"; "height":
@@ -223,7 +226,9 @@ public:
         return frame_.has_region ? std::optional(frame_.region) : std::nullopt;
     }
     uint64_t memory_bytes(unsigned workers) const override;
+    bool streams_rows() const override { return sets_ == Sets::none && colourer_->resolves_rows(); }
     uint64_t memory_within(unsigned workers, uint64_t budget) const override;
+    void render_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink) const override;
     uint64_t work_units() const override;
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
     bool has_vector_output() const override { return sets_ == Sets::only; }
@@ -237,19 +242,19 @@ private:
     template <class T>
     void render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
                   std::vector<float>* pixels, uint32_t row0, uint32_t rows, bool colour) const;
-    /// The render in strips (Strips, above).
+    /// The render in strips (Strips, above), each strip's pixels into the sink.
     template <class T>
-    void render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, std::vector<float>& pixels,
+    void render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink,
                        uint32_t summary_rows, uint32_t rows) const;
 
     /// Bytes of the workers' histograms and the total for a strip of `rows` rows, with colour
     /// sums (and last colours) or hits only.
     uint64_t strip_bytes(unsigned workers, uint64_t rows, bool colour) const;
-    /// Bytes that do not depend on the strips: the image and the workers' block state.
-    uint64_t fixed_bytes(unsigned workers) const;
-    /// How a render fits `budget`: rows per strip of the summary pass and of the colour pass
-    /// (both the image's height: one pass, no strips), and the memory it then takes; strips
-    /// of one row when even those do not fit (then bytes > budget).
+    /// The workers' block state.
+    uint64_t scratch_bytes(unsigned workers) const;
+    /// How a render in strips fits `budget`: rows per strip of the summary pass and of the
+    /// colour pass, and the memory it then takes; strips of one row when even those do not fit
+    /// (then bytes > budget).
     struct Plan {
         uint32_t summary_rows, rows;
         uint64_t bytes;
@@ -540,41 +545,42 @@ uint64_t ChaosGame::strip_bytes(unsigned workers, uint64_t rows, bool colour) co
     return hist + last;
 }
 
-uint64_t ChaosGame::fixed_bytes(unsigned workers) const {
-    const uint64_t px = uint64_t(frame_.width) * uint64_t(frame_.height);
-    // (The sets beside: a second picture of the same size, and the two side by side.)
-    const uint64_t image = px * 3 * sizeof(float) * (sets_ == Sets::beside ? 3 : 1);
-    const uint64_t scratch = uint64_t(workers) * (double_ ? Scratch<double>::bytes(maps_.size())
-                                                          : Scratch<float>::bytes(maps_.size()));
-    return image + scratch;
+uint64_t ChaosGame::scratch_bytes(unsigned workers) const {
+    return uint64_t(workers) *
+           (double_ ? Scratch<double>::bytes(maps_.size()) : Scratch<float>::bytes(maps_.size()));
 }
 
 uint64_t ChaosGame::memory_bytes(unsigned workers) const {
-    return strip_bytes(workers, uint64_t(frame_.height), colour_) + fixed_bytes(workers);
+    const uint64_t px = uint64_t(frame_.width) * uint64_t(frame_.height);
+    // (The sets beside: a second picture of the same size, and the two side by side.)
+    const uint64_t image = px * 3 * sizeof(float) * (sets_ == Sets::beside ? 3 : 1);
+    return strip_bytes(workers, uint64_t(frame_.height), colour_) + image + scratch_bytes(workers);
 }
 
 ChaosGame::Plan ChaosGame::plan(unsigned workers, uint64_t budget) const {
     const uint32_t H = uint32_t(frame_.height);
-    const uint64_t whole = memory_bytes(workers);
-    // One pass when it fits, or when strips would not help: the sets alone draw no chain, and a
-    // colourer that cannot shade strips needs the whole histogram.
-    if (whole <= budget || sets_ == Sets::only || !colourer_->resolves_rows()) return {H, H, whole};
-    // In strips: the image, the block state and the summary (two 32-bit columns per row) stay;
-    // the strips' bytes grow linearly with their rows.
-    const uint64_t fixed = fixed_bytes(workers) + uint64_t(H) * 8;
-    auto rows_within = [&](bool colour) -> uint32_t {
-        const uint64_t one = strip_bytes(workers, 1, colour), per_row = strip_bytes(workers, 2, colour) - one;
+    // The block state and the summary (two 32-bit columns per row) stay; the strips' bytes grow
+    // linearly with their rows, in the colour pass with the strip's pixels (3 floats each).
+    const uint64_t fixed = scratch_bytes(workers) + uint64_t(H) * 8;
+    const uint64_t pixel_row = uint64_t(frame_.width) * 3 * sizeof(float);
+    // The pass that counts hits (the summary) and the pass that shades (colour sums when the
+    // colourer needs them, and the strip's pixels).
+    auto bytes = [&](uint64_t rows, bool shading) {
+        return shading ? strip_bytes(workers, rows, colour_) + rows * pixel_row
+                       : strip_bytes(workers, rows, false);
+    };
+    auto rows_within = [&](bool shading) -> uint32_t {
+        const uint64_t one = bytes(1, shading), per_row = bytes(2, shading) - one;
         if (budget < fixed + one) return 0;
         return uint32_t(std::min<uint64_t>(H, 1 + (budget - fixed - one) / per_row));
     };
     const uint32_t summary_rows = rows_within(false), rows = rows_within(true);
-    if (summary_rows == 0 || rows == 0) return {1, 1, fixed + strip_bytes(workers, 1, colour_)};
-    return {summary_rows, rows,
-            fixed + std::max(strip_bytes(workers, summary_rows, false), strip_bytes(workers, rows, colour_))};
+    if (summary_rows == 0 || rows == 0) return {1, 1, fixed + std::max(bytes(1, false), bytes(1, true))};
+    return {summary_rows, rows, fixed + std::max(bytes(summary_rows, false), bytes(rows, true))};
 }
 
 uint64_t ChaosGame::memory_within(unsigned workers, uint64_t budget) const {
-    return plan(workers, budget).bytes;
+    return streams_rows() ? plan(workers, budget).bytes : memory_bytes(workers);
 }
 
 void ChaosGame::draw_set_panel(cairo_t* cr) const {
@@ -616,30 +622,14 @@ fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) cons
     img.height = frame_.height;
     img.channels = 3;
     const uint32_t H = uint32_t(frame_.height);
-    const Plan pl = plan(std::max(1u, ctx.workers()), ctx.memory_budget());
-    if (pl.rows >= H) {
-        fp::Histogram total;
-        if (double_)
-            render_t<double>(ctx, stats, total, &img.pixels, 0, H, colour_);
-        else
-            render_t<float>(ctx, stats, total, &img.pixels, 0, H, colour_);
-        if (ctx.cancelled()) throw fp::Cancelled();
-        if (ctx.rank() != 0) return img; // its share is in rank 0's histogram, which rank 0 resolves
-        colourer_->resolve_parallel(total, frame_.background, img.pixels.data(), ctx);
-    } else {
-        // (The host checked the budget; a caller that did not learns it here, before any work.)
-        if (pl.bytes > ctx.memory_budget())
-            throw fp::InputError("a " + std::to_string(frame_.width) + "x" + std::to_string(frame_.height) +
-                                 " render needs at least " + std::to_string(pl.bytes) +
-                                 " bytes of memory in strips of one row; the budget is " +
-                                 std::to_string(ctx.memory_budget()));
-        if (double_)
-            render_strips<double>(ctx, stats, img.pixels, pl.summary_rows, pl.rows);
-        else
-            render_strips<float>(ctx, stats, img.pixels, pl.summary_rows, pl.rows);
-        if (ctx.cancelled()) throw fp::Cancelled();
-        if (ctx.rank() != 0) return img;
-    }
+    fp::Histogram total;
+    if (double_)
+        render_t<double>(ctx, stats, total, &img.pixels, 0, H, colour_);
+    else
+        render_t<float>(ctx, stats, total, &img.pixels, 0, H, colour_);
+    if (ctx.cancelled()) throw fp::Cancelled();
+    if (ctx.rank() != 0) return img; // its share is in rank 0's histogram, which rank 0 resolves
+    colourer_->resolve_parallel(total, frame_.background, img.pixels.data(), ctx);
     auto draw = [&](cairo_t* cr) {
         draw_sets(cr, set_drawings_, frame_.region, frame_.width, frame_.height, set_style_);
     };
@@ -694,23 +684,38 @@ private:
 };
 } // namespace
 
+void ChaosGame::render_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink) const {
+    if (!streams_rows()) return fp::Renderer::render_rows(ctx, stats, sink);
+    stats = fp::RenderStats{};
+    const Plan pl = plan(std::max(1u, ctx.workers()), ctx.memory_budget());
+    // (The host checked the budget; a caller that did not learns it here, before any work.)
+    if (pl.bytes > ctx.memory_budget())
+        throw fp::InputError("a " + std::to_string(frame_.width) + "x" + std::to_string(frame_.height) +
+                             " render needs at least " + std::to_string(pl.bytes) +
+                             " bytes of memory in strips of one row; the budget is " +
+                             std::to_string(ctx.memory_budget()));
+    if (double_)
+        render_strips<double>(ctx, stats, sink, pl.summary_rows, pl.rows);
+    else
+        render_strips<float>(ctx, stats, sink, pl.summary_rows, pl.rows);
+}
+
 template <class T>
-void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, std::vector<float>& pixels,
+void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink,
                               uint32_t summary_rows, uint32_t rows) const {
     const uint32_t W = uint32_t(frame_.width), H = uint32_t(frame_.height);
     PassOfStrips pass(ctx, (H + summary_rows - 1) / summary_rows + (H + rows - 1) / rows);
-    const auto poll = [&ctx] {
-        if (ctx.cancelled()) throw fp::Cancelled();
-    };
-    // Rank 0 adds up the summary and shades; the others lend their chains to each strip.
+    // Rank 0 adds up the summary, shades the strips and hands their rows on; the others lend
+    // their chains to each strip.
     const bool root = ctx.rank() == 0;
-    if (root) assign_huge(pixels, size_t(W) * size_t(H) * 3, 0.0f, poll);
+    std::vector<float> pixels;
     fp::HistogramSummary whole;
     whole.begin(int(W), int(H));
     for (uint32_t r0 = 0; r0 < H; r0 += summary_rows) {
         fp::Histogram part;
         fp::RenderStats st;
         render_t<T>(pass, st, part, nullptr, r0, std::min(summary_rows, H - r0), false);
+        if (ctx.cancelled()) throw fp::Cancelled();
         if (root) whole.add(part, int(r0), &ctx);
     }
     for (uint32_t r0 = 0; r0 < H; r0 += rows) {
@@ -721,9 +726,11 @@ void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, st
         const uint64_t drawn = r0 == 0 ? 0 : stats.drawn;
         if (r0 == 0) stats = st;
         stats.drawn = drawn + st.drawn;
-        if (root)
-            colourer_->resolve_rows(part, int(r0), whole, frame_.background,
-                                    pixels.data() + size_t(r0) * W * 3, ctx);
+        if (ctx.cancelled()) throw fp::Cancelled();
+        if (!root) continue;
+        pixels.resize(size_t(part.height) * W * 3);
+        colourer_->resolve_rows(part, int(r0), whole, frame_.background, pixels.data(), ctx);
+        sink.rows(int(r0), part.height, pixels.data());
     }
     const uint32_t strips = (H + rows - 1) / rows, counts = (H + summary_rows - 1) / summary_rows;
     stats.how = "in " + std::to_string(strips) + " strips of " + std::to_string(rows) +

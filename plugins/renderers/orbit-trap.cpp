@@ -37,6 +37,13 @@
 // exactly the negated point, and for a square area with W = H the transposed one exactly the
 // swapped point. (W = 1 or H = 1: that axis is sampled at the centre.)
 //
+// Bands (an image over the memory budget: `fixpoint render --memory`, Renderer::render_rows)
+// ------------------------------------------------------------------------------------------
+// The image is streamed to the output by bands of rows, each rendered by the tiles that cover
+// it (as render() cuts and deals them, so the same pixels) into a buffer of the band alone:
+// memory is the band and the workers' batches, whatever the image's size. A tile that straddles
+// two bands is rendered in both (the same values); its stats count once.
+//
 // Tiles (`tile: true`, `fixpoint render --tile`)
 // ----------------------------------------------
 // The pattern is periodic when the map is (Transform::periods(): the wallpaper maps, with the
@@ -212,13 +219,25 @@ public:
     uint64_t memory_bytes(unsigned workers) const override;
     uint64_t work_units() const override { return uint64_t(frame_.width) * uint64_t(frame_.height); }
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
+    bool streams_rows() const override { return true; }
+    uint64_t memory_within(unsigned workers, uint64_t budget) const override;
+    void render_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink) const override;
 
 private:
     void set_tile();
     template <class T>
     fp::Image run(fp::RenderContext& ctx, fp::RenderStats& stats) const;
+    /// The image by bands of `band_rows` rows into the sink (Bands, above).
     template <class T>
-    TileStats tile(size_t t, Scratch<T>& s, float* image, const fp::RenderContext& ctx) const;
+    void run_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink, size_t band_rows) const;
+    /// Tile t into `image`, whose first pixel is pixel `image_p0` of the whole image.
+    template <class T>
+    TileStats tile(size_t t, Scratch<T>& s, float* image, size_t image_p0,
+                   const fp::RenderContext& ctx) const;
+    /// The workers' batches.
+    uint64_t scratch_bytes(unsigned workers) const;
+    /// Rows per band within `budget` (0: not even one).
+    size_t band_rows(unsigned workers, uint64_t budget) const;
 
     fp::Frame frame_; ///< width, height, area (region), background (optional)
     double cx_ = 0, cy_ = 0, hx_ = 1, hy_ = 1;
@@ -305,15 +324,34 @@ void OrbitTrap::set_tile() {
     iw_ = 1.0 / double(frame_.width), ih_ = 1.0 / double(frame_.height);
 }
 
+uint64_t OrbitTrap::scratch_bytes(unsigned workers) const {
+    const uint64_t per_sample = 3 * (double_ ? 8 : 4) + 4 * 4 + 4 + 4 * 3 + 4 * 3 + 8 * 3 + 8 * 2;
+    return uint64_t(std::max(1u, workers)) * tile_samples * per_sample;
+}
+
 uint64_t OrbitTrap::memory_bytes(unsigned workers) const {
     const uint64_t image = uint64_t(frame_.width) * uint64_t(frame_.height) * 3 * sizeof(float);
-    const uint64_t per_sample = 3 * (double_ ? 8 : 4) + 4 * 4 + 4 + 4 * 3 + 4 * 3 + 8 * 3 + 8 * 2;
-    return image + uint64_t(std::max(1u, workers)) * tile_samples * per_sample;
+    return image + scratch_bytes(workers);
+}
+
+// A band's buffer: its rows, plus the parts of the tiles at its two ends that stick out of it.
+size_t OrbitTrap::band_rows(unsigned workers, uint64_t budget) const {
+    const uint64_t row = uint64_t(frame_.width) * 3 * sizeof(float);
+    const uint64_t fixed = scratch_bytes(workers) + 2 * uint64_t(tile_pixels_) * 3 * sizeof(float);
+    if (budget < fixed + row) return 0;
+    return size_t(std::min<uint64_t>(uint64_t(frame_.height), (budget - fixed) / row));
+}
+
+uint64_t OrbitTrap::memory_within(unsigned workers, uint64_t budget) const {
+    const size_t rows = std::max<size_t>(1, band_rows(workers, budget));
+    return scratch_bytes(workers) +
+           (uint64_t(rows) * uint64_t(frame_.width) + 2 * uint64_t(tile_pixels_)) * 3 * sizeof(float);
 }
 
 // One tile: pixels [t * tile_pixels, ...) in row-major order, all their samples in one batch.
 template <class T>
-TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, const fp::RenderContext& ctx) const {
+TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, size_t image_p0,
+                          const fp::RenderContext& ctx) const {
     const size_t npix = size_t(frame_.width) * size_t(frame_.height);
     const size_t p0 = t * tile_pixels_, p1 = std::min(npix, p0 + tile_pixels_);
     const size_t ns = offsets_.size(), np = p1 - p0, b = np * ns;
@@ -362,7 +400,7 @@ TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, const fp::Rende
     colourer_->colour_hits(s.trap.data(), s.ratio_out.data(), s.iteration.data(), b,
                            frame_.has_background ? &frame_.background : nullptr, s.rgb.data());
     // The mean of each pixel's samples (orbit-trap/kernels-inl.hpp, per target).
-    fp_orbit_trap::tile_mean(s.rgb.data(), s.quant.data(), s.sum.data(), np, ns, image + 3 * p0);
+    fp_orbit_trap::tile_mean(s.rgb.data(), s.quant.data(), s.sum.data(), np, ns, image + 3 * (p0 - image_p0));
     return st;
 }
 
@@ -385,7 +423,7 @@ fp::Image OrbitTrap::run(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     ctx.parallel_for(mine, [&](size_t i, unsigned worker) {
         if (ctx.cancelled()) throw fp::Cancelled();
         const size_t t = rank + i * ranks;
-        per_tile[t] = tile<T>(t, scratch[worker], img.pixels.data(), ctx);
+        per_tile[t] = tile<T>(t, scratch[worker], img.pixels.data(), 0, ctx);
         const size_t p0 = t * tile_pixels_;
         ctx.progress(std::min(npix, p0 + tile_pixels_) - p0);
     });
@@ -409,6 +447,71 @@ fp::Image OrbitTrap::run(fp::RenderContext& ctx, fp::RenderStats& stats) const {
 
 fp::Image OrbitTrap::render(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     return double_ ? run<double>(ctx, stats) : run<float>(ctx, stats);
+}
+
+template <class T>
+void OrbitTrap::run_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink,
+                         size_t band_rows) const {
+    const size_t W = size_t(frame_.width), H = size_t(frame_.height), npix = W * H, tp = tile_pixels_;
+    std::vector<Scratch<T>> scratch(std::max(1u, ctx.workers()));
+    for (auto& s : scratch) s.resize(tile_pixels_ * offsets_.size(), tile_pixels_);
+    const size_t rank = ctx.rank(), ranks = std::max(1u, ctx.ranks());
+    std::vector<float> band;
+    stats = fp::RenderStats{};
+    stats.drawn = 0;
+    size_t counted = 0; // the tiles before it are in the stats
+    for (size_t y0 = 0; y0 < H; y0 += band_rows) {
+        const size_t y1 = std::min(H, y0 + band_rows);
+        // The tiles that cover the band's pixels; the first and the last may reach into the
+        // bands beside it (tiles are runs of pixels, not of rows): those pixels are rendered
+        // again there, to the same values.
+        const size_t t0 = y0 * W / tp, t1 = (y1 * W + tp - 1) / tp, base = t0 * tp;
+        band.assign((std::min(npix, t1 * tp) - base) * 3, 0.0f);
+        // Tiles t with t = rank (mod ranks), as render() deals them.
+        const size_t first = t0 + (rank + ranks - t0 % ranks) % ranks;
+        const size_t mine = first < t1 ? (t1 - first + ranks - 1) / ranks : 0;
+        std::vector<TileStats> st(t1 - t0);
+        ctx.parallel_for(mine, [&](size_t i, unsigned worker) {
+            if (ctx.cancelled()) throw fp::Cancelled();
+            const size_t t = first + i * ranks;
+            st[t - t0] = tile<T>(t, scratch[worker], band.data(), base, ctx);
+            const size_t p0 = std::max(t * tp, y0 * W), p1 = std::min(std::min(npix, (t + 1) * tp), y1 * W);
+            ctx.progress(p1 > p0 ? p1 - p0 : 0);
+        });
+        if (ctx.cancelled()) throw fp::Cancelled();
+        for (size_t t = std::max(t0, counted); t < t1; ++t)
+            stats.drawn += st[t - t0].drawn, stats.bad_values += st[t - t0].bad;
+        counted = t1;
+        if (ranks > 1)
+            ctx.combine(band.data(), band.size() * sizeof(float), sizeof(uint32_t),
+                        fp::fold::bit_or<uint32_t>, false);
+        if (rank == 0) sink.rows(int(y0), int(y1 - y0), band.data() + 3 * (y0 * W - base));
+    }
+    stats.samples = uint64_t(npix) * offsets_.size();
+    if (ranks > 1) {
+        uint64_t counts[2] = {stats.drawn, stats.bad_values};
+        ctx.combine(counts, sizeof counts, sizeof(uint64_t), fp::fold::sum<uint64_t>, false);
+        stats.drawn = counts[0], stats.bad_values = counts[1];
+    }
+    stats.unit = "pixel samples";
+    stats.drawn_means = "were caught by a trap";
+    const size_t bands = (H + band_rows - 1) / band_rows;
+    stats.how = "in " + std::to_string(bands) + " bands of " + std::to_string(band_rows) +
+                (band_rows == 1 ? " row" : " rows");
+}
+
+void OrbitTrap::render_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink) const {
+    const size_t rows = band_rows(std::max(1u, ctx.workers()), ctx.memory_budget());
+    // (The host checked the budget; a caller that did not learns it here, before any work.)
+    if (rows == 0)
+        throw fp::InputError(
+            "a " + std::to_string(frame_.width) + "x" + std::to_string(frame_.height) +
+            " render needs at least " + std::to_string(memory_within(std::max(1u, ctx.workers()), 0)) +
+            " bytes of memory in bands of one row; the budget is " + std::to_string(ctx.memory_budget()));
+    if (double_)
+        run_rows<double>(ctx, stats, sink, rows);
+    else
+        run_rows<float>(ctx, stats, sink, rows);
 }
 
 // ---------------------------------------------------------------- schema

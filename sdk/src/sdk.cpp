@@ -55,6 +55,11 @@ void Colourer::resolve_rows(const Histogram&, int, const HistogramSummary&, Rgb,
 
 std::uint64_t RenderContext::memory_budget() const { return UINT64_MAX; }
 std::uint64_t Renderer::memory_within(unsigned workers, std::uint64_t) const { return memory_bytes(workers); }
+bool Renderer::streams_rows() const { return false; }
+void Renderer::render_rows(RenderContext&, RenderStats&, RowSink&) const {
+    throw Error("this renderer cannot stream its image by rows");
+}
+RowSink::~RowSink() = default;
 
 void HistogramSummary::begin(int w, int h) {
     *this = HistogramSummary{};

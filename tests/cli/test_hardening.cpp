@@ -168,14 +168,17 @@ TEST(Hardening, AFailedPngWriteIsAnErrorAndLeavesNothing) {
         fp::test::replace_once(fp::test::replace_once(fp::test::replace_once(base, "width: 64", "width: 256"),
                                                       "height: 64", "height: 256"),
                                "points: 20000", "points: 400000"));
-    for (const char* ext : {"png", "tif", "exr"}) {
-        const auto r =
-            shell(dir, "trap \"\" XFSZ; ulimit -f 4; exec " + bin + " render -q c.yaml -o out." + ext);
-        EXPECT_EQ(r.rc, 2) << ext << ": " << r.err;
-        EXPECT_EQ(r.err.rfind(std::string("cannot write 'out.") + ext + "': ", 0), 0u) << r.err;
-        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-        EXPECT_EQ(files_in(dir), std::vector<std::string>{"c.yaml"}) << ext;
-    }
+    // Whole, and streamed in strips (--memory below the whole render's: the file is written as
+    // the strips come, straight to disk).
+    for (const char* memory : {"", " --memory 5M"})
+        for (const char* ext : {"png", "tif", "exr"}) {
+            const auto r = shell(dir, "trap \"\" XFSZ; ulimit -f 4; exec " + bin +
+                                          " render -q c.yaml -o out." + ext + memory);
+            EXPECT_EQ(r.rc, 2) << ext << memory << ": " << r.err;
+            EXPECT_EQ(r.err.rfind(std::string("cannot write 'out.") + ext + "': ", 0), 0u) << r.err;
+            EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+            EXPECT_EQ(files_in(dir), std::vector<std::string>{"c.yaml"}) << ext << memory;
+        }
     // Without the limit the same render writes.
     const auto r = shell(dir, "exec " + bin + " render -q c.yaml -o out.png");
     EXPECT_EQ(r.rc, 0) << r.err;

@@ -1,4 +1,5 @@
-// Renders in strips (`fixpoint render --memory SIZE`, chaos-game.cpp's "Strips"): an image whose
+// Renders beyond the memory budget (`fixpoint render --memory SIZE`), streamed to the output file
+// band by band. chaos-game in strips (chaos-game.cpp's "Strips"): an image whose
 // histogram does not fit the budget is rendered strip by strip, every chain replayed per strip,
 // and must come out as the same bytes as one pass. Checked on every colour path the renderer
 // has: hits only with the fused step (density), colour with the fused step (flame, affine maps),
@@ -6,7 +7,8 @@
 // Algorithm 2), the centre of mass (centroid-distance, double precision) and the lean path of a
 // single orbit; each on 1 and 3 threads, against one pass on 2. A budget too small even for
 // strips of one row is refused before rendering, with the least that works, and that least
-// does work.
+// does work. orbit-trap in bands (orbit-trap.cpp's "Bands"): the same bytes as the whole image
+// in PNG and TIFF (8 and 16 bits) and EXR, on 1 and 3 threads.
 #include "cli.hpp"
 
 #include <gtest/gtest.h>
@@ -77,19 +79,52 @@ TEST(Strips, BudgetBelowOneRowIsRefused) {
                       {"render", "--quiet", "--threads", "2", "--memory", "4M", "bad.yaml", "-o", "out.png"});
     EXPECT_EQ(
         line,
-        "bad.yaml:2:3: renderer: a 1000x800 render needs at least 13.4 MiB of memory with 2 thread(s), in "
+        "bad.yaml:2:3: renderer: a 1000x800 render needs at least 4.2 MiB of memory with 2 thread(s), in "
         "strips of one row; --memory gives 4.0 MiB");
-    // (By hand: the image, 1000 x 800 x 3 floats, 9.6 MB; a strip of one row, per worker 1001
-    // 32-bit counters and 2 MiB of huge-page alignment, plus 1000 64-bit bins of 32 bytes:
-    // 4.23 MB; the summary's 800 rows x 8 bytes; the workers' block state, about 0.2 MB.)
-    // The least it names is enough (strips of 2 rows, with what rounding to 0.1 MiB leaves).
+    // (By hand: a strip of one row, per worker 1001 32-bit counters and 2 MiB of huge-page
+    // alignment, plus 1000 bins of 32 bytes: 4.23 MB; its 1000 pixels, 12 kB; the summary's
+    // 800 rows of 8 bytes; the workers' block state, about 0.2 MB: 4.2 MiB. The image itself is
+    // never whole: the rows go to the file as each strip is shaded.)
+    // The least it names is enough (with what rounding to 0.1 MiB leaves: strips of two rows,
+    // and the pass counting hits in strips of three).
     const std::string dir = scratch_dir("strips_least");
     fp::test::write_file(dir + "/c.yaml", yaml);
     const auto r =
-        run_cli({"render", "--threads", "2", "--memory", "13.5M", dir + "/c.yaml", "-o", dir + "/out.png"});
+        run_cli({"render", "--threads", "2", "--memory", "4.3M", dir + "/c.yaml", "-o", dir + "/out.png"});
     EXPECT_EQ(r.rc, 0) << r.err;
-    EXPECT_NE(r.err.find("in 400 strips of 2 rows after 200 passes counting hits"), std::string::npos)
+    EXPECT_NE(r.err.find("in 400 strips of 2 rows after 267 passes counting hits"), std::string::npos)
         << r.err;
+}
+
+TEST(Bands, OrbitTrapSameAsWhole) {
+    const std::string dir = scratch_dir("bands_orbit_trap");
+    const std::string config = source_dir() + "/configs/orbit-trap/fig6a.yaml";
+    const std::vector<std::string> small = {"--set", "renderer.width=600", "--set", "renderer.height=400"};
+    auto render = [&](const std::string& out, std::vector<std::string> extra) {
+        std::vector<std::string> args = {"render", config, "-o", dir + "/" + out};
+        args.insert(args.end(), small.begin(), small.end());
+        args.insert(args.end(), extra.begin(), extra.end());
+        const auto r = run_cli(args);
+        EXPECT_EQ(r.rc, 0) << r.err;
+        return r.err;
+    };
+    for (const char* name : {"a.png", "b.tif"}) {
+        for (const char* depth : {"8", "16"}) {
+            const std::string bits = std::string("output.bit_depth=") + depth;
+            render(std::string("whole-") + depth + name, {"--quiet", "--set", bits});
+            for (const char* threads : {"1", "3"}) {
+                const std::string out = std::string("bands-") + threads + "-" + depth + name;
+                // 1 MiB: bands of about 40 rows of 600 pixels (the whole image: 2.9 MB).
+                const std::string err = render(out, {"--threads", threads, "--memory", "1M", "--set", bits});
+                EXPECT_NE(err.find(" bands of "), std::string::npos) << err;
+                EXPECT_EQ(read_file(dir + "/" + out), read_file(dir + "/whole-" + depth + name)) << out;
+            }
+        }
+    }
+    // EXR: the same bytes too (no time of writing in the header).
+    render("whole.exr", {"--quiet"});
+    render("bands.exr", {"--quiet", "--threads", "3", "--memory", "1M"});
+    EXPECT_EQ(read_file(dir + "/bands.exr"), read_file(dir + "/whole.exr"));
 }
 
 TEST(Strips, MemorySizeIsChecked) {

@@ -26,6 +26,7 @@ namespace fp {
 /// Transform::periods, for seamless tiles; ABI 9: Renderer::region, for the preview's pan
 /// and zoom where the region is fitted; ABI 10: RenderContext::rank, ranks and combine, for
 /// renders over Open MPI ranks; ABI 11: RenderContext::memory_budget, Renderer::memory_within,
+/// streams_rows and render_rows, RowSink,
 /// Colourer::resolve_rows and HistogramSummary, for renders in strips):
 /// the host refuses a plugin built for another value ("rebuild it against this SDK"), so a
 /// plugin always matches the headers the host was built with.

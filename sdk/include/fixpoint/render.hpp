@@ -96,6 +96,17 @@ void bit_or(const void* in, void* inout, std::size_t n) {
 }
 } // namespace fold
 
+/// Where a renderer that streams its image (Renderer::render_rows) puts its rows: the host
+/// encodes and writes each band as it comes, so the whole image is never in memory.
+class RowSink {
+public:
+    virtual ~RowSink();
+    /// Rows [y0, y0 + rows) of the image: 3 floats per pixel (display values in [0, 1]),
+    /// row-major, top row first. Called from the renderer's own thread (not from a task), for
+    /// consecutive bands from row 0 down, each row once.
+    virtual void rows(int y0, int rows, const float* rgb) = 0;
+};
+
 /// Vector formats a renderer may write (Renderer::render_vector).
 enum class VectorFormat { Svg, Pdf };
 
@@ -107,12 +118,21 @@ public:
     virtual int height() const = 0;
     /// Memory the render will need with `workers` workers, for the check before it starts.
     virtual std::uint64_t memory_bytes(unsigned workers) const = 0;
-    /// Memory the render will need with `workers` workers when it may take at most `budget`
-    /// bytes (RenderContext::memory_budget): memory_bytes(workers) when that fits, else what a
-    /// renderer that can work in less (strips of rows) will take, the least it can do with when
-    /// even that is over the budget. The host refuses a render whose answer exceeds the budget.
-    /// Default: memory_bytes(workers). (Added in ABI 11.)
+    // Renders beyond memory (added in ABI 11): a renderer whose image, or whose buffers, do not
+    // fit the memory budget (RenderContext::memory_budget) streams the image by bands of rows.
+    // The host calls render() when memory_bytes() fits the budget, else render_rows() when the
+    // renderer streams_rows() and the output allows it (a raster image file), else refuses.
+
+    /// Whether render_rows works. Default: false.
+    virtual bool streams_rows() const;
+    /// Memory render_rows will take with `workers` workers within `budget` bytes; the least it
+    /// can do with when even that is over the budget (then the host refuses the render, naming
+    /// it). Default: memory_bytes(workers).
     virtual std::uint64_t memory_within(unsigned workers, std::uint64_t budget) const;
+    /// The image, band by band into `sink` (the same pixels render() gives), within
+    /// ctx.memory_budget(). Collective under several ranks like render(); rank 0's sink is the
+    /// one written. Default: throws fp::Error.
+    virtual void render_rows(RenderContext& ctx, RenderStats& stats, RowSink& sink) const;
     /// Units of work reported through RenderContext::progress over a whole render.
     virtual std::uint64_t work_units() const = 0;
     virtual Image render(RenderContext& ctx, RenderStats& stats) const = 0;

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <utility>
 
+#include <fixpoint/errors.hpp>
 #include <fixpoint/render.hpp>
 
 #include <string>
@@ -39,6 +41,33 @@ struct Resolution {
 /// XResolution, YResolution and ResolutionUnit "inch" (TIFF's tags, PNG's pHYs chunk).
 void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
                  const Resolution& resolution = {});
+
+/// A write of the output that failed (a full disk): raised by a StreamedImage from inside a
+/// render, and reported as it is, not as the renderer's.
+class WriteError : public InputError {
+public:
+    using InputError::InputError;
+    ~WriteError() override;
+};
+
+/// An image written band by band as a renderer streams it (fp::RowSink, Renderer::render_rows),
+/// so that it is never whole in memory: the same file write_image makes of the same pixels,
+/// encoded straight into a temporary file beside `path` with every write checked, and renamed
+/// over `path` by finish(). Until then, and when anything fails, nothing is left at `path`
+/// (the destructor removes the temporary file). PNG, EXR and TIFF.
+class StreamedImage final : public RowSink {
+public:
+    StreamedImage(const std::string& path, int width, int height, int bit_depth, const std::string& recipe,
+                  const Resolution& resolution = {});
+    ~StreamedImage() override;
+    void rows(int y0, int rows, const float* rgb) override;
+    /// Closes the encoder, syncs the file and puts it at `path`. Throws fp::InputError.
+    void finish();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 /// The pixels as an 8- or 16-bit PNG or TIFF of write_image stores them (OpenImageIO's
 /// conversion, the one write_image uses): width * height * channels values of `bit_depth` bits

@@ -42,12 +42,18 @@ Pipeline load_pipeline(const Registry& reg, CNode root);
 /// Refuse, before it starts, a render that needs more memory than the machine has available
 /// with `threads` workers (fp::InputError at the renderer).
 void check_memory(const Pipeline& p, unsigned threads);
-/// check_memory for `fixpoint render`: the render may work within a budget (strips:
-/// Renderer::memory_within) of `requested` bytes (--memory; 0: what the machine has
-/// available), shared by the MPI ranks on this machine. Refuses (fp::InputError at the
-/// renderer) a render that needs more even so, saying the least it needs; returns the budget of
-/// this process, for its Runtime.
-std::uint64_t check_memory_within(const Pipeline& p, unsigned threads, std::uint64_t requested);
+/// How `fixpoint render` fits its memory budget (check_memory_within).
+struct MemoryPlan {
+    std::uint64_t budget = 0; ///< this process's, for its Runtime
+    bool stream = false;      ///< the whole render does not fit: Renderer::render_rows
+};
+/// check_memory for `fixpoint render`: the budget is `requested` bytes (--memory; 0: what the
+/// machine has available), shared by the MPI ranks on this machine. A render whose buffers fit
+/// it renders whole; else, where the renderer streams its rows and `can_stream` (a raster file,
+/// nothing that needs the whole image), it streams within the budget
+/// (Renderer::memory_within). Refuses (fp::InputError at the renderer) a render that needs more
+/// even so, saying the least it needs.
+MemoryPlan check_memory_within(const Pipeline& p, unsigned threads, std::uint64_t requested, bool can_stream);
 
 /// Refuse writing `out` as SVG or PDF from a renderer without vector output (fp::InputError
 /// at the renderer); returns whether `out` is a vector format.
