@@ -209,8 +209,14 @@ void StreamedImage::rows(int y0, int rows, const float* rgb) {
     Impl& m = *impl_;
     if (y0 != m.next || rows < 0 || y0 + rows > m.height)
         throw InternalError("StreamedImage: rows out of order");
-    if (!m.out->write_scanlines(y0, y0 + rows, 0, OIIO::TypeDesc::FLOAT, rgb) || !m.file->failure().empty())
-        m.fail_writing();
+    // 64 rows at a time: the writer converts what it is given to the file's type in a buffer
+    // of its own, which a whole band would make as large as a fifth of the band.
+    for (int y = y0; y < y0 + rows; y += 64) {
+        const int y1 = std::min(y0 + rows, y + 64);
+        const float* at = rgb + std::size_t(y - y0) * std::size_t(m.width) * 3;
+        if (!m.out->write_scanlines(y, y1, 0, OIIO::TypeDesc::FLOAT, at) || !m.file->failure().empty())
+            m.fail_writing();
+    }
     m.next = y0 + rows;
 }
 

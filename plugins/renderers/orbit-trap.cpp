@@ -456,7 +456,10 @@ void OrbitTrap::run_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Row
     std::vector<Scratch<T>> scratch(std::max(1u, ctx.workers()));
     for (auto& s : scratch) s.resize(tile_pixels_ * offsets_.size(), tile_pixels_);
     const size_t rank = ctx.rank(), ranks = std::max(1u, ctx.ranks());
+    // Room for the largest band at once: a band that outgrew the last one would otherwise hold
+    // both while it moves (twice the budget).
     std::vector<float> band;
+    band.reserve((band_rows * W + 2 * tp) * 3);
     stats = fp::RenderStats{};
     stats.drawn = 0;
     size_t counted = 0; // the tiles before it are in the stats
