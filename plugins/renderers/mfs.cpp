@@ -118,6 +118,14 @@ public:
     }
     uint64_t work_units() const override { return uint64_t(total_); }
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
+    // Beyond the memory budget: the polygons stay whole (they are the scene), the picture is
+    // drawn band by band, each band a surface of its own with the scene moved up by its first
+    // row (a whole number of pixels: the same coverage, the same bytes).
+    bool streams_rows() const override { return true; }
+    uint64_t memory_within(unsigned, uint64_t budget) const override {
+        return scene_bytes() + uint64_t(band_rows(budget)) * row_bytes();
+    }
+    void render_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink) const override;
     bool has_vector_output() const override { return true; }
     std::string render_vector(fp::RenderContext& ctx, fp::RenderStats& stats, fp::VectorFormat format,
                               const std::string& recipe) const override;
@@ -140,6 +148,14 @@ private:
     };
 
     double bytes_per_polygon() const { return double(n_) * 16.0 * 3.0 + 12.0 + 4.0 * double(path_.size()); }
+    uint64_t scene_bytes() const { return uint64_t(total_ * bytes_per_polygon()); }
+    /// A row of a band: its Cairo surface (4 bytes a pixel) and its floats (12).
+    uint64_t row_bytes() const { return uint64_t(frame_.width) * 16; }
+    /// Rows per band within `budget`: at least one.
+    int band_rows(uint64_t budget) const {
+        const uint64_t left = budget > scene_bytes() ? budget - scene_bytes() : 0;
+        return int(std::clamp<uint64_t>(left / row_bytes(), 1, uint64_t(frame_.height)));
+    }
     Gen grow(const std::vector<fp::Vec2>& start, size_t levels, bool filters, fp::RenderContext* ctx) const;
     std::vector<fp::Vec2> polygon_at(const std::vector<fp::Vec2>& start, const Address& a) const;
     fp::Rgb colour_of(const uint32_t* addr, size_t len, size_t depth, uint32_t first) const;
@@ -522,6 +538,23 @@ fp::Image Mfs::render(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     img.width = frame_.width, img.height = frame_.height, img.channels = 3;
     img.pixels = fp_mfs::raster(sc);
     return img;
+}
+
+void Mfs::render_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink) const {
+    const fp_mfs::Scene sc = scene(ctx, stats);
+    const int rows = band_rows(ctx.memory_budget()), H = frame_.height;
+    for (int y0 = 0; y0 < H; y0 += rows) {
+        if (ctx.cancelled()) throw fp::Cancelled();
+        const int n = std::min(rows, H - y0);
+        const std::vector<float> px = fp_render::cairo_raster(frame_.width, n, [&](cairo_t* cr) {
+            cairo_translate(cr, 0, -double(y0));
+            fp_mfs::draw_scene(cr, sc);
+        });
+        if (ctx.rank() == 0) sink.rows(y0, n, px.data());
+    }
+    const int bands = (H + rows - 1) / rows;
+    stats.how =
+        "in " + std::to_string(bands) + " bands of " + std::to_string(rows) + (rows == 1 ? " row" : " rows");
 }
 
 std::string Mfs::render_vector(fp::RenderContext& ctx, fp::RenderStats& stats, fp::VectorFormat format,
