@@ -36,6 +36,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -93,7 +94,17 @@ int report(int code, const std::string& line) {
     return code;
 }
 
-extern "C" void on_sigint(int) { g_interrupted.store(true); }
+// The temporary file a streamed render is writing (StreamedImage), removed by the signal
+// handler too: a rank that fails mid-render ends the job with MPI_Abort, and mpirun then
+// terminates rank 0 inside a collective, where no destructor runs. (unlink is safe in a
+// handler; the path is written before the handler can see it, and cleared after.)
+char g_partial_output[4096];
+std::atomic<bool> g_has_partial_output{false};
+
+extern "C" void on_sigint(int) {
+    g_interrupted.store(true);
+    if (g_has_partial_output.load()) ::unlink(g_partial_output);
+}
 
 void install_sigint() {
     struct sigaction sa {};
@@ -537,15 +548,23 @@ int cmd_render(const Options& o, bool validate_only) {
         // Rank 0 encodes the rows as they come, into a file that takes the output's name only
         // once it is whole; the other ranks' rows go nowhere.
         std::unique_ptr<RowSink> sink;
-        if (ranks::rank() == 0)
-            sink = std::make_unique<StreamedImage>(
+        if (ranks::rank() == 0) {
+            auto image = std::make_unique<StreamedImage>(
                 out, p.renderer->width(), p.renderer->height(), p.bit_depth, p.recipe,
                 print_resolution(o.print, p.renderer->width(), p.renderer->height()));
-        else
+            const std::string tmp = image->temporary_path();
+            if (tmp.size() < sizeof g_partial_output) {
+                std::memcpy(g_partial_output, tmp.c_str(), tmp.size() + 1);
+                g_has_partial_output.store(true);
+            }
+            sink = std::move(image);
+        } else {
             sink = std::make_unique<DiscardedRows>();
+        }
         render_streamed(p, threads, o.quiet, stats, secs, memory.budget, *sink);
         if (ranks::rank() != 0) return 0;
         ranks::set_phase(ranks::Phase::free);
+        g_has_partial_output.store(false);
         static_cast<StreamedImage&>(*sink).finish();
     } else {
         const Image img = render_checked(p, threads, o.quiet, stats, secs, true, memory.budget);

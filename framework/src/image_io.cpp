@@ -220,6 +220,8 @@ void StreamedImage::rows(int y0, int rows, const float* rgb) {
     m.next = y0 + rows;
 }
 
+std::string StreamedImage::temporary_path() const { return impl_->tmp.string(); }
+
 void StreamedImage::finish() {
     Impl& m = *impl_;
     if (m.next != m.height) throw InternalError("StreamedImage: the image is not complete");

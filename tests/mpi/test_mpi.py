@@ -231,6 +231,19 @@ def test_a_rank_that_fails_mid_render(tmp_path):
     assert not (tmp_path / "x.png").exists()
 
 
+def test_a_rank_that_fails_mid_stream(tmp_path):
+    # The same beyond the memory budget: rank 0 is writing the image as the strips come, and
+    # the job's end leaves neither the image nor its temporary file.
+    cfg = scheme_config(tmp_path, at_step='if os.environ["OMPI_COMM_WORLD_RANK"] == "1" and n > 50: raise RuntimeError("node lost")')
+    before = set(os.listdir(tmp_path))
+    r = mpirun(3, "render", cfg, "-o", tmp_path / "x.png", "--memory", "24M", "--threads", 1,
+               *sets(points=400000, width=400, height=400), cwd=tmp_path)
+    assert r.returncode != 0
+    ours = [l for l in r.stderr.splitlines() if "node lost" in l]
+    assert len(ours) == 1 and ours[0].startswith("fixpoint: rank 1 of 3: "), r.stderr
+    assert set(os.listdir(tmp_path)) == before, sorted(set(os.listdir(tmp_path)) - before)
+
+
 def test_other_commands_run_once(tmp_path):
     r = mpirun(3, "validate", SOURCE / "configs/inversion/fig6a.yaml")
     assert r.returncode == 0, r.stderr

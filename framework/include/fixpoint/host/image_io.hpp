@@ -63,6 +63,8 @@ public:
     void rows(int y0, int rows, const float* rgb) override;
     /// Closes the encoder, syncs the file and puts it at `path`. Throws fp::InputError.
     void finish();
+    /// The temporary file being written (for a signal handler that must remove it).
+    std::string temporary_path() const;
 
 private:
     struct Impl;
