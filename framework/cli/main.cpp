@@ -212,16 +212,17 @@ void warn_drawn(const Pipeline& p, const RenderStats& st) {
     if (const std::string w = check_drawn(p, st); !w.empty()) spdlog::warn("warning: {}", w);
 }
 
-// Render one pipeline with a progress bar; the image is checked (not empty, not interrupted)
-// but not written. Errors a plugin raises during the render get the renderer's position.
+// Run `body(runtime)` (a render of p) with a progress bar and time it; the render is checked
+// (not empty, not interrupted). Errors a plugin raises during the render get the renderer's
+// position; a failed write of the output (WriteError, from a streamed image) keeps its own.
 //
-// `distributed`: split over the MPI ranks (mpirun); rank 0 then holds the image and the whole
-// render's stats, and shows the progress bar (its own share's progress).
-Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStats& stats, double& secs,
-                     bool distributed = false, std::uint64_t budget = UINT64_MAX) {
+// `distributed`: split over the MPI ranks (mpirun); rank 0 then holds the whole render's stats
+// and shows the progress bar (its own share's progress).
+template <class Body>
+void run_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStats& stats, double& secs,
+                 bool distributed, std::uint64_t budget, Body&& body) {
     Runtime rt(threads, &g_interrupted, distributed);
     rt.set_memory_budget(budget);
-    Image img;
     const auto t0 = std::chrono::steady_clock::now();
     {
         const std::uint64_t units = p.renderer->work_units();
@@ -229,7 +230,9 @@ Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStat
             rt.ranks() > 1 ? (units + rt.ranks() - 1) / rt.ranks() : units, [&rt] { return rt.done(); },
             !quiet && ::isatty(2) && rt.rank() == 0);
         try {
-            img = p.renderer->render(rt, stats);
+            body(rt);
+        } catch (const WriteError&) {
+            throw; // the output's, not the renderer's
         } catch (const InputError& e) {
             // Refused during the render (a plugin that can only tell at run time): point at
             // the renderer, the one place we know.
@@ -239,6 +242,15 @@ Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStat
     secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (g_interrupted.load()) throw Cancelled();
     if (rt.rank() == 0) warn_drawn(p, stats);
+}
+
+// Render one pipeline's image (checked, not written); under mpirun with `distributed`, rank 0
+// holds the image.
+Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStats& stats, double& secs,
+                     bool distributed = false, std::uint64_t budget = UINT64_MAX) {
+    Image img;
+    run_checked(p, threads, quiet, stats, secs, distributed, budget,
+                [&](Runtime& rt) { img = p.renderer->render(rt, stats); });
     return img;
 }
 
@@ -248,30 +260,12 @@ public:
     void rows(int, int, const float*) override {}
 };
 
-// A render streamed by bands of rows into `sink` (Renderer::render_rows; the whole image does
-// not fit the budget), with a progress bar, checked as render_checked checks an image. Split
-// over the MPI ranks.
+// A render streamed by bands of rows into `sink` (Renderer::render_rows: the whole image does
+// not fit the budget), split over the MPI ranks.
 void render_streamed(const Pipeline& p, unsigned threads, bool quiet, RenderStats& stats, double& secs,
                      std::uint64_t budget, RowSink& sink) {
-    Runtime rt(threads, &g_interrupted, true);
-    rt.set_memory_budget(budget);
-    const auto t0 = std::chrono::steady_clock::now();
-    {
-        const std::uint64_t units = p.renderer->work_units();
-        ProgressBar bar(
-            rt.ranks() > 1 ? (units + rt.ranks() - 1) / rt.ranks() : units, [&rt] { return rt.done(); },
-            !quiet && ::isatty(2) && rt.rank() == 0);
-        try {
-            p.renderer->render_rows(rt, stats, sink);
-        } catch (const WriteError&) {
-            throw; // the output's, not the renderer's
-        } catch (const InputError& e) {
-            throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
-        }
-    }
-    secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (g_interrupted.load()) throw Cancelled();
-    if (rt.rank() == 0) warn_drawn(p, stats);
+    run_checked(p, threads, quiet, stats, secs, true, budget,
+                [&](Runtime& rt) { p.renderer->render_rows(rt, stats, sink); });
 }
 
 // The vector document of a renderer with vector output (SVG, PDF), checked like an image.

@@ -97,36 +97,30 @@ def test_chaos_game_uneven_threads(tmp_path):
     assert out.read_bytes() == one.read_bytes()
 
 
-def test_chaos_game_strips_on_ranks(tmp_path):
-    # A render in strips (--memory, shared by the ranks on this machine): every strip's chains
-    # split over the ranks, and the same bytes as one process in one pass.
-    config = SOURCE / "configs/inversion/fig6a.yaml"
-    s = sets(width=400, height=400, points=1000000)
+def same_in_pieces_on_ranks(tmp_path, config, pieces, *sets):
+    """Rendered beyond the memory budget (1 thread and 12 MiB a rank) on 2 and 3 ranks, in
+    `pieces` ("strips", "bands"): the same bytes as one process rendering the whole image."""
     one = tmp_path / "one.png"
-    r = plain("render", config, "-o", one, "--quiet", "--threads", 2, *s)
+    r = plain("render", config, "-o", one, "--quiet", "--threads", 2, *sets)
     assert r.returncode == 0, r.stderr
     for n in (2, 3):
         out = tmp_path / f"np{n}.png"
-        r = mpirun(n, "render", config, "-o", out, "--threads", 1, "--memory", f"{12 * n}M", *s)
+        r = mpirun(n, "render", config, "-o", out, "--threads", 1, "--memory", f"{12 * n}M", *sets)
         assert r.returncode == 0, f"{n} ranks: {r.stderr}"
-        assert " strips of " in r.stderr, r.stderr
-        assert out.read_bytes() == one.read_bytes(), f"{n} ranks in strips: the bytes differ from one process"
+        assert f" {pieces} of " in r.stderr, r.stderr
+        assert out.read_bytes() == one.read_bytes(), f"{n} ranks in {pieces}: the bytes differ from one process"
+
+
+def test_chaos_game_strips_on_ranks(tmp_path):
+    # Every strip's chains split over the ranks, as a whole render's.
+    same_in_pieces_on_ranks(tmp_path, SOURCE / "configs/inversion/fig6a.yaml", "strips",
+                            *sets(width=400, height=400, points=1000000))
 
 
 def test_orbit_trap_bands_on_ranks(tmp_path):
-    # Bands streamed to the file (--memory below the whole image): each band's tiles dealt to
-    # the ranks as a whole render deals them.
-    config = SOURCE / "configs/orbit-trap/fig6a.yaml"
-    s = sets(width=600, height=400)
-    one = tmp_path / "one.png"
-    r = plain("render", config, "-o", one, "--quiet", "--threads", 2, *s)
-    assert r.returncode == 0, r.stderr
-    for n in (2, 3):
-        out = tmp_path / f"np{n}.png"
-        r = mpirun(n, "render", config, "-o", out, "--threads", 1, "--memory", f"{n}M", *s)
-        assert r.returncode == 0, f"{n} ranks: {r.stderr}"
-        assert " bands of " in r.stderr, r.stderr
-        assert out.read_bytes() == one.read_bytes(), f"{n} ranks in bands: the bytes differ from one process"
+    # Each band's tiles dealt to the ranks as a whole render deals them.
+    same_in_pieces_on_ranks(tmp_path, SOURCE / "configs/orbit-trap/fig6a.yaml", "bands",
+                            *sets(width=1600, height=1200))
 
 
 def test_orbit_trap(tmp_path):
