@@ -29,6 +29,7 @@ packages=(
     libspdlog-dev libfmt-dev libtbb-dev libcli11-dev libpcg-cpp-dev
     libgtest-dev libgmock-dev libbenchmark-dev clang-format fonts-dejavu-core
     libcairo2-dev libhwy-dev
+    zlib1g-dev # the checkpoints' CRC-32 (also pulled in by OpenImageIO)
     python3-dev pybind11-dev python3-numpy
     ffmpeg # fixpoint animate --video (and ffprobe for its test)
     libcpp-httplib-dev # fixpoint serve (a compiled library, linked with its pkg-config flags)

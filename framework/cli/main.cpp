@@ -6,6 +6,7 @@
 #include <fixpoint/fixpoint.hpp>
 #include <fixpoint/host/animate.hpp>
 #include <fixpoint/host/build.hpp>
+#include <fixpoint/host/checkpoint.hpp>
 #include <fixpoint/host/conformance.hpp>
 #include <fixpoint/host/converse.hpp>
 #include <fixpoint/host/draft.hpp>
@@ -120,6 +121,8 @@ struct Options {
     std::vector<std::string> sets, files, where, maps;
     std::string vary, example, points;
     std::string memory; // --memory SIZE ("" : what the machine has available)
+    // --checkpoint FILE, --checkpoint-every TIME ("": 5m), --resume FILE
+    std::string checkpoint, checkpoint_every, resume;
     int columns = 0;
     unsigned threads = 0;
     bool quiet = false, force = false, check = false, verbose = false, draft = false, no_draft = false;
@@ -218,11 +221,21 @@ void warn_drawn(const Pipeline& p, const RenderStats& st) {
 //
 // `distributed`: split over the MPI ranks (mpirun); rank 0 then holds the whole render's stats
 // and shows the progress bar (its own share's progress).
+// What `--checkpoint` and `--resume` ask of a render (plan_checkpoints).
+struct Checkpoints {
+    std::string path; ///< where checkpoints are written ("": none)
+    double every_s = 300;
+    CheckpointHeader header;
+    std::unique_ptr<CheckpointFile> resume;
+    unsigned written = 0; ///< checkpoints the render wrote
+};
+
 template <class Body>
 void run_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStats& stats, double& secs,
-                 bool distributed, std::uint64_t budget, Body&& body) {
+                 bool distributed, std::uint64_t budget, Body&& body, Checkpoints* ck = nullptr) {
     Runtime rt(threads, &g_interrupted, distributed);
     rt.set_memory_budget(budget);
+    if (ck && !ck->path.empty()) rt.set_checkpoints(ck->path, ck->every_s, ck->header, std::move(ck->resume));
     const auto t0 = std::chrono::steady_clock::now();
     {
         const std::uint64_t units = p.renderer->work_units();
@@ -231,6 +244,7 @@ void run_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStats& s
             !quiet && ::isatty(2) && rt.rank() == 0);
         try {
             body(rt);
+            if (ck) ck->written = rt.checkpoints_written();
         } catch (const WriteError&) {
             throw; // the output's, not the renderer's
         } catch (const InputError& e) {
@@ -247,11 +261,58 @@ void run_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStats& s
 // Render one pipeline's image (checked, not written); under mpirun with `distributed`, rank 0
 // holds the image.
 Image render_checked(const Pipeline& p, unsigned threads, bool quiet, RenderStats& stats, double& secs,
-                     bool distributed = false, std::uint64_t budget = UINT64_MAX) {
+                     bool distributed = false, std::uint64_t budget = UINT64_MAX, Checkpoints* ck = nullptr) {
     Image img;
-    run_checked(p, threads, quiet, stats, secs, distributed, budget,
-                [&](Runtime& rt) { img = p.renderer->render(rt, stats); });
+    run_checked(
+        p, threads, quiet, stats, secs, distributed, budget,
+        [&](Runtime& rt) { img = p.renderer->render(rt, stats); }, ck);
     return img;
+}
+
+// --checkpoint, --checkpoint-every, --resume: checked before the render (the checkpoint to
+// resume read whole and compared with the recipe); an empty plan without them.
+Checkpoints plan_checkpoints(const Options& o, const Pipeline& p, const std::string& out, bool vector,
+                             bool stream) {
+    Checkpoints ck;
+    if (o.checkpoint.empty() && o.resume.empty()) {
+        if (!o.checkpoint_every.empty())
+            throw InputError("--checkpoint-every: checkpoints go to a file: add --checkpoint FILE");
+        return ck;
+    }
+    const std::string opt = o.resume.empty() ? "--checkpoint" : "--resume";
+    if (ranks::size() > 1)
+        throw InputError(opt + ": checkpoints are kept of a render on one process, not under mpirun");
+    if (!p.renderer->keeps_checkpoints() || vector)
+        throw InputError(p.renderer_mark.str() + ": renderer: " + p.renderer_type +
+                         (vector ? " draws this picture without points" : " keeps no checkpoints") + " (" +
+                         opt + "; chaos-game renders keep them)");
+    if (stream)
+        throw InputError(opt + ": this render is beyond the memory budget and streams in strips; checkpoints "
+                               "are kept of a render that fits (see --memory)");
+    ck.every_s = o.checkpoint_every.empty() ? 300 : parse_duration(o.checkpoint_every, "--checkpoint-every");
+    // With --resume alone, the checkpoints go on in the file resumed.
+    ck.path = o.checkpoint.empty() ? o.resume : o.checkpoint;
+    ck.header = CheckpointHeader{FIXPOINT_VERSION, p.renderer_type, p.identity, p.points};
+    std::error_code ec;
+    for (const auto& [name, other] : {std::pair{"the output", out}, std::pair{"the config", o.config}})
+        if (fs::equivalent(ck.path, other, ec) || fs::path(ck.path) == fs::path(other))
+            throw InputError(opt + ": " + quote(ck.path, 200) + " is " + name +
+                             ": a checkpoint needs a file of its own");
+    if (!o.resume.empty()) {
+        ck.resume = std::make_unique<CheckpointFile>(o.resume);
+        ck.resume->check_against(ck.header);
+    } else if (!o.force && fs::exists(fs::symlink_status(ck.path, ec))) {
+        throw InputError("--checkpoint: " + quote(ck.path, 200) +
+                         " exists: continue it with --resume, or add --force to start over");
+    }
+    // A checkpoint that cannot be written is better found now than after the first period.
+    const fs::path dir = fs::path(ck.path).parent_path();
+    if (!dir.empty() && !fs::is_directory(dir, ec))
+        throw InputError(opt + ": cannot write " + quote(ck.path, 200) + ": no folder " +
+                         quote(dir.string(), 200));
+    if (::access(dir.empty() ? "." : dir.c_str(), W_OK) != 0)
+        throw InputError(opt + ": cannot write " + quote(ck.path, 200) + ": " + std::strerror(errno));
+    return ck;
 }
 
 /// The rows of a rank other than 0 in a streamed render: rank 0 writes the image.
@@ -495,6 +556,8 @@ int cmd_render(const Options& o, bool validate_only) {
     if (!o.vary.empty() && !o.memory.empty())
         throw InputError(
             "--memory bounds one render (in strips): not with --vary, whose children render whole");
+    if (!o.vary.empty() && (!o.checkpoint.empty() || !o.resume.empty()))
+        throw InputError("--checkpoint and --resume keep one render: not with --vary");
     if (!o.vary.empty()) return cmd_collection(o, validate_only);
     if (o.draft && (o.print.dpi > 0 || !o.print.print_size.empty()))
         throw InputError("--draft: a quick small image: not with --dpi or --print-size");
@@ -522,6 +585,7 @@ int cmd_render(const Options& o, bool validate_only) {
     // Beyond the budget, a raster image streams band by band (not when --repeat needs it whole).
     const MemoryPlan memory = check_memory_within(
         p, threads, requested, !vector && parse_repeat(o.print).across * parse_repeat(o.print).down == 1);
+    Checkpoints checkpoints = plan_checkpoints(o, p, out, vector, memory.stream);
     if (g_interrupted.load()) throw Cancelled(); // during the checks above
     agree_checks();
     if (validate_only) {
@@ -561,7 +625,7 @@ int cmd_render(const Options& o, bool validate_only) {
         g_has_partial_output.store(false);
         static_cast<StreamedImage&>(*sink).finish();
     } else {
-        const Image img = render_checked(p, threads, o.quiet, stats, secs, true, memory.budget);
+        const Image img = render_checked(p, threads, o.quiet, stats, secs, true, memory.budget, &checkpoints);
         if (ranks::rank() != 0) return 0; // rank 0 writes
         ranks::set_phase(ranks::Phase::free);
         const Repeat r = parse_repeat(o.print);
@@ -573,13 +637,17 @@ int cmd_render(const Options& o, bool validate_only) {
                     print_resolution(o.print, img.width, img.height));
     }
     if (!o.quiet)
-        spdlog::info(
-            "{}: {} {} in {:.2f} s ({:.3g} {}/s, {}{} thread{}, {}), {} restarted chain{}, {} bad value{}{}",
-            out, stats.samples, stats.unit, secs, double(stats.samples) / std::max(secs, 1e-9), stats.unit,
-            ranks::size() > 1 ? std::to_string(ranks::size()) + " ranks x " : "", threads,
-            threads == 1 ? "" : "s", fp::simd::active_target(), stats.restarts,
-            stats.restarts == 1 ? "" : "s", stats.bad_values, stats.bad_values == 1 ? "" : "s",
-            stats.how.empty() ? "" : ", " + stats.how);
+        spdlog::info("{}: {} {} in {:.2f} s ({:.3g} {}/s, {}{} thread{}, {}), {} restarted chain{}, {} bad "
+                     "value{}{}{}",
+                     out, stats.samples, stats.unit, secs, double(stats.samples) / std::max(secs, 1e-9),
+                     stats.unit, ranks::size() > 1 ? std::to_string(ranks::size()) + " ranks x " : "",
+                     threads, threads == 1 ? "" : "s", fp::simd::active_target(), stats.restarts,
+                     stats.restarts == 1 ? "" : "s", stats.bad_values, stats.bad_values == 1 ? "" : "s",
+                     stats.how.empty() ? "" : ", " + stats.how,
+                     checkpoints.path.empty()
+                         ? ""
+                         : "; " + std::to_string(checkpoints.written) + " checkpoint" +
+                               (checkpoints.written == 1 ? "" : "s") + " to " + checkpoints.path);
     return 0;
 }
 
@@ -997,6 +1065,15 @@ int main(int argc, char** argv) {
     render->add_option("--memory", o.memory,
                        "Memory the render may take, such as 8G or 512M (default: what the machine has "
                        "available); a chaos-game image over it renders in strips, with the same bytes");
+    render->add_option("--checkpoint", o.checkpoint,
+                       "Save the render's state to FILE every --checkpoint-every and when it ends, so that "
+                       "--resume FILE continues it after a crash or a kill (chaos-game)");
+    render->add_option("--checkpoint-every", o.checkpoint_every,
+                       "Time between checkpoints, such as 30s, 5m or 1h (default: 5m)");
+    render->add_option("--resume", o.resume,
+                       "Continue the render saved in FILE (the same bytes as one uninterrupted render), or a "
+                       "finished one to more points with --set renderer.points=N; checkpoints go on in FILE "
+                       "unless --checkpoint names another");
     render->add_flag("-q,--quiet", o.quiet, "No progress bar, no summary");
     render->add_flag("--force", o.force,
                      "Replace an existing output that was not named with -o (the config's output.path or "

@@ -153,6 +153,21 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
     recipe.keys.emplace_back("output", std::move(out));
     recipe.key_marks.resize(recipe.keys.size());
     p.recipe = emit_yaml(recipe);
+    // What a checkpoint must match to be continued: the recipe but renderer.points, which a
+    // resumed render may raise.
+    CNode& rnode = recipe.keys[2].second;
+    for (std::size_t i = 0; i < rnode.keys.size(); ++i) {
+        if (rnode.keys[i].first != "points") continue;
+        try {
+            p.points = std::stoll(rnode.keys[i].second.scalar);
+        } catch (const std::exception&) {
+            p.points = -1;
+        }
+        rnode.keys.erase(rnode.keys.begin() + std::ptrdiff_t(i));
+        if (i < rnode.key_marks.size()) rnode.key_marks.erase(rnode.key_marks.begin() + std::ptrdiff_t(i));
+        break;
+    }
+    p.identity = emit_yaml(recipe);
     return p;
 }
 

@@ -40,6 +40,31 @@ void Runtime::combine(void* data, std::size_t bytes, std::size_t record,
 
 Runtime::~Runtime() = default;
 
+void Runtime::set_checkpoints(std::string path, double every_s, CheckpointHeader header,
+                              std::unique_ptr<CheckpointFile> resume) {
+    checkpoint_path_ = std::move(path);
+    checkpoint_every_ = every_s;
+    checkpoint_header_ = std::move(header);
+    resume_ = std::move(resume);
+    checkpoint_due_ =
+        std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                               std::chrono::duration<double>(checkpoint_every_));
+}
+
+bool Runtime::checkpoint_due() const {
+    return !checkpoint_path_.empty() && std::chrono::steady_clock::now() >= checkpoint_due_;
+}
+
+void Runtime::write_checkpoint(const std::function<void(CheckpointSink&)>& body) {
+    if (checkpoint_path_.empty()) return;
+    write_checkpoint_file(checkpoint_path_, checkpoint_header_, body);
+    ++written_;
+    // The next one a whole period after this one ended (a slow disk does not make them pile up).
+    checkpoint_due_ =
+        std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                               std::chrono::duration<double>(checkpoint_every_));
+}
+
 void Runtime::parallel_for(std::size_t n, const std::function<void(std::size_t, unsigned)>& task) {
     impl_->arena.execute([&] {
         // Grain 1: tasks are coarse (a block of chains, a tile); which worker runs which

@@ -137,6 +137,7 @@
 // Errors (ParamError, by parameter): "view": "the view must be [xmin, xmax, ymin, ymax] with
 // xmin < xmax" (or "... with ymin < ymax"); "maps": "the list of maps is empty"; "height":
 // "the image is too large: width * height must be below 4294967295 pixels".
+#include "chaos-game/checkpoint.hpp"
 #include "chaos-game/kernels.hpp"
 #include "chaos-game/sets.hpp"
 #include "chaos-game/state.hpp"
@@ -232,6 +233,7 @@ public:
     uint64_t work_units() const override;
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
     bool has_vector_output() const override { return sets_ == Sets::only; }
+    bool keeps_checkpoints() const override { return sets_ != Sets::only; }
     std::string render_vector(fp::RenderContext& ctx, fp::RenderStats& stats, fp::VectorFormat format,
                               const std::string& recipe) const override;
 
@@ -260,9 +262,25 @@ private:
         uint64_t bytes;
     };
     Plan plan(unsigned workers, uint64_t budget) const;
+    /// Runs task t's chains to their end (true), or, in a checkpointed render (keep), until a
+    /// checkpoint is due (false: their state is in t.saved).
     template <class T, bool Rules, bool Colour>
-    void run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
-                   fp::RenderContext& ctx, uint32_t row0, uint32_t rows) const;
+    bool run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderContext& ctx, uint32_t row0,
+                   uint32_t rows, Keeping* keep) const;
+    /// A checkpointed render's state from the payload it resumes from: its tasks, the chains'
+    /// final states, the histogram (into total, and last writes into `last`), the stats.
+    template <class T>
+    void resume(fp::CheckpointSource& in, std::vector<Task>& tasks, Keeping& keep, fp::Histogram& total,
+                std::vector<LastWrite>& last, BlockResult& base) const;
+    /// Writes the checkpoint: the tasks not done, the final states, the histogram folded into
+    /// total and `last`.
+    template <class T>
+    void save(fp::RenderContext& ctx, const std::vector<Task>& tasks, const Keeping& keep,
+              const fp::Histogram& total, const std::vector<LastWrite>& last, const BlockResult& base) const;
+    /// The workers' histograms added into total (and their last writes into `last`), then
+    /// cleared.
+    void fold(fp::RenderContext& ctx, std::vector<WorkerHist>& hists, fp::Histogram& total,
+              std::vector<LastWrite>& last, size_t px) const;
     template <class T>
     void choose_rules(Scratch<T>& s, size_t nb) const;
     template <class T>
@@ -290,7 +308,7 @@ private:
     void combine_ranks(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
                        std::vector<LastWrite>& rank_last) const;
     static void write_last(WorkerHist& hist, const uint32_t* idx, const uint64_t* dep, size_t nb, uint64_t n,
-                           uint64_t c0, uint32_t dummy);
+                           const uint32_t* chain, uint32_t dummy);
 
     /// The sets of the maps on the background, as a width x height picture.
     void draw_set_panel(cairo_t* cr) const;
@@ -754,62 +772,118 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
         for (size_t b = rank; b < spans.size(); b += ranks) mine.push_back(spans[b]);
         spans = std::move(mine);
     }
+    // A checkpointed render (`--checkpoint`, `--resume`; whole renders on one process: the host
+    // refuses the rest) keeps the chains' final states and stops for each checkpoint.
+    std::unique_ptr<Keeping> keeping;
+    if (ctx.checkpointing() || ctx.resume_from()) {
+        if (ranks > 1 || row0 != 0 || rows != uint32_t(frame_.height))
+            throw fp::InputError("checkpoints are kept of a whole render on one process (not in strips, not "
+                                 "over MPI ranks)");
+        keeping = std::make_unique<Keeping>();
+        keeping->finals.assign(chains_, ChainRec{0, 0, 0, 0, not_final, 0, 0, 0, 0, 0, 0, 0, 0});
+    }
+    Keeping* keep = keeping.get();
+    std::vector<Task> work;
+    // The bins' last writes a checkpoint has folded (pixel rule last), and the stats of the
+    // work it holds.
+    std::vector<LastWrite> folded_last;
+    BlockResult base;
+    const auto poll = [&ctx] {
+        if (ctx.cancelled()) throw fp::Cancelled();
+    };
+    if (keep) {
+        // The histogram first (a resumed one is read into it).
+        total.width = frame_.width;
+        total.height = int(rows);
+        assign_huge(total.bins, px, fp::HistBin{}, poll);
+        if (last) {
+            assign_huge(total.last, px, fp::LastColour{}, poll);
+            folded_last.assign(px, LastWrite{0, 0, 0, 0, 0, 0});
+        }
+    }
+    if (fp::CheckpointSource* in = ctx.resume_from()) {
+        resume<T>(*in, work, *keep, total, folded_last, base);
+        ctx.progress(keep->progress.load());
+    } else {
+        for (const Span& sp : spans) {
+            Task t;
+            t.c0 = sp.c0;
+            t.nb = sp.nb;
+            work.push_back(std::move(t));
+        }
+    }
     // Per worker: its block state and its histogram (one extra bin that takes the points not
     // plotted), both made by the worker itself on its first task (first touch).
     std::vector<std::unique_ptr<Scratch<T>>> scratch(workers);
     std::vector<WorkerHist> hists(workers);
-    std::vector<BlockResult> results(spans.size());
 
     // One task per worker; each takes the next item of the work list until none is left, in
     // order: item 0 allocates the total histogram, item 1 the image (tens of MiB of fresh
     // pages: page faults and zeroing, serial work that would otherwise follow the chains on
     // one thread; first, so that two workers take one each), then the blocks, the large ones
-    // first. Which worker runs which block does not change the image (exact merge).
-    std::atomic<size_t> next{0};
-    const size_t items = spans.size() + 2;
-    const auto poll = [&ctx] {
-        if (ctx.cancelled()) throw fp::Cancelled();
-    };
-    ctx.parallel_for(workers, [&](size_t, unsigned w) {
-        if (w >= workers) throw fp::InternalError("chaos-game: worker index out of range");
-        for (size_t it; (it = next.fetch_add(1, std::memory_order_relaxed)) < items;) {
-            if (ctx.cancelled()) throw fp::Cancelled();
-            if (it == 0) {
-                total.width = frame_.width;
-                total.height = int(rows);
-                assign_huge(total.bins, px, fp::HistBin{}, poll);
-                if (last) assign_huge(total.last, px, fp::LastColour{}, poll);
-                continue;
+    // first. Which worker runs which block does not change the image (exact merge). A
+    // checkpointed render goes in rounds: when a checkpoint is due, each worker stops its block
+    // at the next poll and takes no other; the workers' histograms are folded into the total,
+    // the checkpoint written, and the next round continues the blocks where they stopped.
+    for (bool first = true;; first = false) {
+        std::atomic<size_t> next{0};
+        const size_t head = first ? 2 : 0, items = work.size() + head;
+        if (keep) keep->stop.store(false);
+        ctx.parallel_for(workers, [&](size_t, unsigned w) {
+            if (w >= workers) throw fp::InternalError("chaos-game: worker index out of range");
+            for (size_t it; (it = next.fetch_add(1, std::memory_order_relaxed)) < items;) {
+                if (ctx.cancelled()) throw fp::Cancelled();
+                if (it == 0 && head) {
+                    if (keep) continue; // (made above)
+                    total.width = frame_.width;
+                    total.height = int(rows);
+                    assign_huge(total.bins, px, fp::HistBin{}, poll);
+                    if (last) assign_huge(total.last, px, fp::LastColour{}, poll);
+                    continue;
+                }
+                if (it == 1 && head) {
+                    if (pixels)
+                        assign_huge(*pixels, size_t(frame_.width) * size_t(frame_.height) * 3, 0.0f, poll);
+                    continue;
+                }
+                if (keep && keep->stop.load(std::memory_order_relaxed)) return;
+                Task& t = work[it - head];
+                if (t.done) continue;
+                if (!scratch[w]) scratch[w] = std::make_unique<Scratch<T>>(maps_.size());
+                if (!hists[w].bins.get() && !hists[w].hits.get()) hists[w].alloc(px, colour, last, poll);
+                if (rules_ && colour)
+                    t.done = run_block<T, true, true>(t, *scratch[w], hists[w], ctx, row0, rows, keep);
+                else if (rules_)
+                    t.done = run_block<T, true, false>(t, *scratch[w], hists[w], ctx, row0, rows, keep);
+                else if (colour)
+                    t.done = run_block<T, false, true>(t, *scratch[w], hists[w], ctx, row0, rows, keep);
+                else
+                    t.done = run_block<T, false, false>(t, *scratch[w], hists[w], ctx, row0, rows, keep);
+                if (!t.done) return; // stopped for a checkpoint
             }
-            if (it == 1) {
-                if (pixels)
-                    assign_huge(*pixels, size_t(frame_.width) * size_t(frame_.height) * 3, 0.0f, poll);
-                continue;
-            }
-            const size_t b = it - 2;
-            const uint64_t c0 = spans[b].c0;
-            const size_t nb = spans[b].nb;
-            if (!scratch[w]) scratch[w] = std::make_unique<Scratch<T>>(maps_.size());
-            if (!hists[w].bins.get() && !hists[w].hits.get()) hists[w].alloc(px, colour, last, poll);
-            if (rules_ && colour)
-                run_block<T, true, true>(c0, nb, *scratch[w], hists[w], results[b], ctx, row0, rows);
-            else if (rules_)
-                run_block<T, true, false>(c0, nb, *scratch[w], hists[w], results[b], ctx, row0, rows);
-            else if (colour)
-                run_block<T, false, true>(c0, nb, *scratch[w], hists[w], results[b], ctx, row0, rows);
-            else
-                run_block<T, false, false>(c0, nb, *scratch[w], hists[w], results[b], ctx, row0, rows);
-        }
-    });
+        });
+        if (!keep) break;
+        // Every task done: the last checkpoint holds the finished render (to continue to more
+        // points); else the one that is due.
+        fold(ctx, hists, total, folded_last, px);
+        const bool finished = std::all_of(work.begin(), work.end(), [](const Task& t) { return t.done; });
+        save<T>(ctx, work, *keep, total, folded_last, base);
+        if (finished) break;
+    }
     scratch.clear();
 
-    for (const auto& r : results) {
-        stats.samples += r.plotted;
-        stats.restarts += r.restarts;
-        stats.bad_values += r.bad;
+    stats.samples = base.plotted;
+    stats.restarts = base.restarts;
+    stats.bad_values = base.bad;
+    for (const auto& t : work) {
+        stats.samples += t.res.plotted;
+        stats.restarts += t.res.restarts;
+        stats.bad_values += t.res.bad;
     }
     stats.unit = "points";
 
+    // (A checkpointed render folded them into the total for its last checkpoint.)
+    if (keep) hists.clear();
     // Sum the workers' histograms (exact integer sums; rows in parallel).
     const size_t rows_per_task = 16;
     const size_t tasks = (size_t(rows) + rows_per_task - 1) / rows_per_task;
@@ -843,7 +917,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
         if (last) {
             // Each bin's last colour: the workers' entry with the largest (step, chain).
             for (size_t i = b0; i < b1; ++i) {
-                LastWrite best{0, 0, 0, 0, 0, 0};
+                LastWrite best = folded_last.empty() ? LastWrite{0, 0, 0, 0, 0, 0} : folded_last[i];
                 for (const auto& h : hists) {
                     const LastWrite* lw = h.last.get();
                     if (!lw) continue;
@@ -872,6 +946,178 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
         }
     }
     if (ranks > 1) combine_ranks(ctx, stats, total, rank_last);
+}
+
+// ---------------------------------------------------------------- checkpoints
+void ChaosGame::fold(fp::RenderContext& ctx, std::vector<WorkerHist>& hists, fp::Histogram& total,
+                     std::vector<LastWrite>& last, size_t px) const {
+    // Rows of bins in parallel, as the final sum; the spills and the flushed hits after.
+    const size_t per = size_t(1) << 16;
+    ctx.parallel_for((px + per - 1) / per, [&](size_t t, unsigned) {
+        const size_t b0 = t * per, b1 = std::min(px, b0 + per);
+        fp::HistBin* out = total.bins.data();
+        for (auto& h : hists) {
+            if (uint32_t* in = h.hits.get()) {
+                for (size_t i = b0; i < b1; ++i) out[i].hits += in[i], in[i] = 0;
+                if (!h.wide.empty())
+                    for (size_t i = b0; i < b1; ++i) out[i].hits += h.wide[i], h.wide[i] = 0;
+            } else if (Cnt4* in = h.bins.get()) {
+                for (size_t i = b0; i < b1; ++i) {
+                    out[i].hits += in[i][0];
+                    out[i].r += in[i][1];
+                    out[i].g += in[i][2];
+                    out[i].b += in[i][3];
+                    in[i] = Cnt4{0, 0, 0, 0};
+                }
+            }
+            if (LastWrite* lw = h.last.get()) {
+                for (size_t i = b0; i < b1; ++i) {
+                    const LastWrite& e = lw[i];
+                    if (e.step > last[i].step || (e.step == last[i].step && e.chain > last[i].chain))
+                        last[i] = e;
+                    lw[i] = LastWrite{0, 0, 0, 0, 0, 0};
+                }
+            }
+        }
+    });
+    for (auto& h : hists) {
+        for (const auto& [i, v] : h.spills) {
+            fp::HistBin& o = total.bins[i];
+            o.hits += v[0];
+            o.r += v[1];
+            o.g += v[2];
+            o.b += v[3];
+        }
+        h.spills.clear();
+        if (h.hits.get()) h.hits.get()[h.dummy] = 0;
+        if (h.bins.get()) h.bins.get()[h.dummy] = Cnt4{0, 0, 0, 0};
+        h.since = 0;
+    }
+}
+
+template <class T>
+void ChaosGame::save(fp::RenderContext& ctx, const std::vector<Task>& tasks, const Keeping& keep,
+                     const fp::Histogram& total, const std::vector<LastWrite>& last,
+                     const BlockResult& base) const {
+    PayloadHead head;
+    head.precision = uint32_t(sizeof(T));
+    head.points = points_, head.chains = chains_;
+    head.width = uint32_t(frame_.width), head.rows = uint32_t(total.height);
+    head.colour = colour_ ? 1 : 0, head.last = last.empty() ? 0 : 1;
+    head.samples = base.plotted, head.restarts = base.restarts, head.bad = base.bad;
+    for (const Task& t : tasks) {
+        head.samples += t.res.plotted, head.restarts += t.res.restarts, head.bad += t.res.bad;
+        if (!t.done) ++head.tasks;
+    }
+    head.progress = keep.progress.load();
+    for (const ChainRec& c : keep.finals) head.finals += c.step != not_final ? 1 : 0;
+    ctx.write_checkpoint([&](fp::CheckpointSink& out) {
+        out.write(&head, sizeof head);
+        for (const Task& t : tasks) {
+            if (t.done) continue;
+            // Saved chains (stopped mid-way), or fresh ones (never started: their ids).
+            const uint64_t kind = t.saved.empty() ? 0 : 1, n = t.size();
+            out.write(&kind, 8);
+            out.write(&n, 8);
+            if (kind == 1) {
+                out.write(t.saved.data(), n * sizeof(ChainRec));
+            } else {
+                std::vector<uint32_t> ids(n);
+                for (size_t i = 0; i < n; ++i) ids[i] = t.chain(i);
+                out.write(ids.data(), n * sizeof(uint32_t));
+            }
+        }
+        for (const ChainRec& c : keep.finals)
+            if (c.step != not_final) out.write(&c, sizeof c);
+        out.write(total.bins.data(), total.bins.size() * sizeof(fp::HistBin));
+        if (!last.empty()) out.write(last.data(), last.size() * sizeof(LastWrite));
+    });
+}
+
+template <class T>
+void ChaosGame::resume(fp::CheckpointSource& in, std::vector<Task>& tasks, Keeping& keep,
+                       fp::Histogram& total, std::vector<LastWrite>& last, BlockResult& base) const {
+    PayloadHead head;
+    in.read(&head, sizeof head);
+    // The envelope matched the recipe (but points): these only fail for a damaged payload.
+    if (head.version != PayloadHead{}.version || head.precision != sizeof(T) || head.chains != chains_ ||
+        head.width != uint32_t(frame_.width) || head.rows != uint32_t(total.height) ||
+        head.colour != (colour_ ? 1u : 0u) || head.last != (last.empty() ? 0u : 1u) ||
+        head.points > points_ || head.tasks > chains_ || head.finals > chains_)
+        throw fp::InputError("the checkpoint's payload does not fit this render (damaged?)");
+    base.plotted = head.samples, base.restarts = head.restarts, base.bad = head.bad;
+    keep.progress.store(head.progress);
+    // The points each chain gains over the checkpoint's.
+    const auto more = [&](uint64_t chain) {
+        return points_of(chain, points_, chains_) - points_of(chain, head.points, chains_);
+    };
+    const auto check_chain = [&](uint64_t chain) {
+        if (chain >= chains_)
+            throw fp::InputError("the checkpoint's payload names a chain that does not exist");
+    };
+    std::vector<uint32_t> fresh;
+    for (uint64_t t = 0; t < head.tasks; ++t) {
+        uint64_t kind = 0, n = 0;
+        in.read(&kind, 8);
+        in.read(&n, 8);
+        if (kind > 1 || n > block_size) throw fp::InputError("the checkpoint's payload is damaged");
+        if (kind == 0) {
+            std::vector<uint32_t> ids(n);
+            in.read(ids.data(), n * sizeof(uint32_t));
+            for (uint32_t c : ids) check_chain(c), fresh.push_back(c);
+            continue;
+        }
+        Task task;
+        task.saved.resize(n);
+        in.read(task.saved.data(), n * sizeof(ChainRec));
+        // The lanes still running, with the points they gain; those that finished are in the
+        // final states.
+        std::vector<ChainRec> running;
+        for (ChainRec c : task.saved) {
+            check_chain(c.chain);
+            if (!c.active) continue;
+            c.left += more(c.chain);
+            running.push_back(c);
+        }
+        task.saved = std::move(running);
+        if (!task.saved.empty()) tasks.push_back(std::move(task));
+    }
+    // Finished chains: final, or, with more points now, running on from their next step, in
+    // blocks of chains at the same step (a chain that never had a point starts fresh).
+    std::vector<ChainRec> again;
+    for (uint64_t f = 0; f < head.finals; ++f) {
+        ChainRec c;
+        in.read(&c, sizeof c);
+        check_chain(c.chain);
+        const uint64_t gain = c.idle > max_idle_restarts ? 0 : more(c.chain);
+        if (gain == 0) {
+            keep.finals[c.chain] = c;
+        } else if (c.step == 0) {
+            fresh.push_back(c.chain);
+        } else {
+            c.left = gain;
+            c.active = 1;
+            again.push_back(c);
+        }
+    }
+    std::stable_sort(again.begin(), again.end(),
+                     [](const ChainRec& a, const ChainRec& b) { return a.step < b.step; });
+    for (size_t i = 0; i < again.size();) {
+        Task task;
+        const uint64_t step = again[i].step;
+        while (i < again.size() && again[i].step == step && task.saved.size() < block_size)
+            task.saved.push_back(again[i++]);
+        tasks.push_back(std::move(task));
+    }
+    for (size_t i = 0; i < fresh.size(); i += block_size) {
+        Task task;
+        task.ids.assign(fresh.begin() + std::ptrdiff_t(i),
+                        fresh.begin() + std::ptrdiff_t(std::min(fresh.size(), i + block_size)));
+        tasks.push_back(std::move(task));
+    }
+    in.read(total.bins.data(), total.bins.size() * sizeof(fp::HistBin));
+    if (!last.empty()) in.read(last.data(), last.size() * sizeof(LastWrite));
+    if (in.left() != 0) throw fp::InputError("the checkpoint's payload is longer than this render's state");
 }
 
 // The ranks' shares folded into rank 0's (RenderContext::combine): exact sums of the bins and
@@ -1048,7 +1294,7 @@ FusedArgs<T> ChaosGame::fused_args(Scratch<T>& s, const BookArgs<T>& bv, uint32_
 
 // ---------------------------------------------------------------- last colours
 void ChaosGame::write_last(WorkerHist& hist, const uint32_t* idx, const uint64_t* dep, size_t nb, uint64_t n,
-                           uint64_t c0, uint32_t dummy) {
+                           const uint32_t* chain_of, uint32_t dummy) {
     LastWrite* lw = hist.last.get();
     // A worker's blocks do not come in chain order, and a bin may hold an entry of an earlier
     // block at a later step: compare. Within the step, chains come in increasing order.
@@ -1057,7 +1303,7 @@ void ChaosGame::write_last(WorkerHist& hist, const uint32_t* idx, const uint64_t
         const uint32_t b = idx[i];
         if (b == dummy) continue;
         LastWrite& e = lw[b];
-        const auto chain = uint32_t(c0 + i);
+        const uint32_t chain = chain_of[i];
         if (step > e.step || (step == e.step && chain > e.chain)) {
             const uint64_t v = dep[i]; // {1, r, g, b} in 16 bits each
             e = LastWrite{step, chain, uint16_t(v >> 16), uint16_t(v >> 32), uint16_t(v >> 48), 0};
@@ -1067,20 +1313,52 @@ void ChaosGame::write_last(WorkerHist& hist, const uint32_t* idx, const uint64_t
 
 // ---------------------------------------------------------------- one block of chains
 template <class T, bool Rules, bool Colour>
-void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& hist, BlockResult& res,
-                          fp::RenderContext& ctx, uint32_t row0, uint32_t rows) const {
+bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderContext& ctx, uint32_t row0,
+                          uint32_t rows, Keeping* keep) const {
     const size_t k = maps_.size();
-    const uint64_t per = points_ / chains_, extra = points_ % chains_;
+    const size_t nb = t.size();
+    BlockResult& res = t.res;
     const uint32_t none = uint32_t(k);
+    // A lane's state as a checkpoint records it, `step` the step it runs next.
+    const auto record = [&](size_t i, uint64_t step) {
+        return ChainRec{
+            double(s.x.get()[i]), double(s.y.get()[i]), s.rs.get()[i],  s.left.get()[i], step,
+            s.chain.get()[i],     s.prev.get()[i],      s.age.get()[i], s.idle.get()[i], s.active.get()[i],
+            s.cr.get()[i],        s.cg.get()[i],        s.cb.get()[i]};
+    };
 
-    // Initial state.
+    // Initial state: fresh chains at step 0, or where a checkpoint left them.
     uint64_t nominal = 0; // steps of this block without restarts, for progress
     size_t nlive = 0;
+    uint64_t n0 = 0;
     uint32_t* list = s.perm.get();
     for (size_t i = 0; i < nb; ++i) {
-        const uint64_t chain = c0 + i;
+        const uint64_t chain = t.chain(i);
+        s.chain.get()[i] = uint32_t(chain);
+        s.fin.get()[i] = 0;
+        if (!t.saved.empty()) {
+            const ChainRec& c = t.saved[i];
+            s.rs.get()[i] = c.rs;
+            s.ri.get()[i] = (chain << 1) | 1u;
+            s.left.get()[i] = c.left;
+            s.active.get()[i] = c.active;
+            s.prev.get()[i] = c.prev;
+            s.age.get()[i] = c.age;
+            s.idle.get()[i] = c.idle;
+            s.cr.get()[i] = c.cr, s.cg.get()[i] = c.cg, s.cb.get()[i] = c.cb;
+            s.x.get()[i] = T(c.x);
+            s.y.get()[i] = T(c.y);
+            n0 = c.step;
+            // (A lane that finished before the stop has its final state recorded already.)
+            s.fin.get()[i] = c.active ? 0 : 1;
+            if (c.active) {
+                nominal += (c.age < skip_ ? skip_ - c.age : 0) + c.left;
+                ++nlive;
+            }
+            continue;
+        }
         pcg_seed(seed_, chain, s.rs.get()[i], s.ri.get()[i]);
-        const uint64_t left = per + (chain < extra ? 1 : 0);
+        const uint64_t left = points_of(chain, points_, chains_);
         s.left.get()[i] = left;
         s.active.get()[i] = left > 0 ? 1u : 0u;
         s.prev.get()[i] = none;
@@ -1103,9 +1381,17 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
         if (left > 0) {
             nominal += skip_ + left;
             list[nlive++] = uint32_t(i);
+        } else if (keep) {
+            // No points: final before it starts (step 0 says so to a continued render).
+            keep->finals[chain] = record(i, 0);
+            s.fin.get()[i] = 1;
         }
     }
-    new_starts(s, list, nlive);
+    if (t.saved.empty()) new_starts(s, list, nlive);
+    const auto report = [&](uint64_t units) {
+        ctx.progress(units);
+        if (keep) keep->progress.fetch_add(units, std::memory_order_relaxed);
+    };
 
     // The bookkeeping's arrays and the constants of the deposit.
     BookArgs<T> bv{s.x.get(),   s.y.get(),    s.chosen.get(),  s.prev.get(),
@@ -1154,15 +1440,48 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
     // fused steps up to the next poll in one call, each depositing its own bins.
     const bool lean = fused_ && !Colour && nb <= lean_chains;
 
+    // The fused step's lagged deposits made now (at the block's end, or where it stops for a
+    // checkpoint).
+    const auto deposit_lag = [&] {
+        if (lag && Colour) {
+            uint32_t* const b32 = reinterpret_cast<uint32_t*>(bins);
+            for (size_t i = 0; i < nb; ++i) {
+                i = HWY_DYNAMIC_DISPATCH(deposit_colour)(b32, lag, lag_dep, i, nb, spill_hits);
+                if (i < nb) hist.spill(lag[i]);
+            }
+        } else if (lag) {
+            for (size_t i = 0; i < nb; ++i) ++hits[lag[i]];
+        }
+        lag = nullptr;
+        lag_dep = nullptr;
+    };
+
     uint64_t reported = 0;
     size_t live = nlive;
-    for (uint64_t n = 0; live > 0; ++n) {
-        if (n % poll_steps == 0 && n > 0) {
+    for (uint64_t n = n0; live > 0; ++n) {
+        if (n % poll_steps == 0 && n > n0) {
             if (ctx.cancelled()) throw fp::Cancelled();
-            const uint64_t done = std::min(nominal, n * uint64_t(nlive));
-            ctx.progress(done - reported);
+            const uint64_t done = std::min(nominal, (n - n0) * uint64_t(nlive));
+            report(done - reported);
             reported = done;
+            if (keep && (keep->stop.load(std::memory_order_relaxed) || ctx.checkpoint_due())) {
+                // A checkpoint: stop here, with the state the step-by-step bookkeeping would
+                // hold (a steady run settled, as at its end; the last step's restarts, none, are
+                // cleared for settle_steady), the lagged deposits made, and save every lane.
+                keep->stop.store(true, std::memory_order_relaxed);
+                if (steady_steps > 0) {
+                    const LaneTables<T>& lt = lane_tables<T, Colour>();
+                    if (lt.k == 1 && !lt.rules) pcg_jump(s.rs.get(), s.ri.get(), nb, steady_steps);
+                    std::memset(static_cast<void*>(restart), 0, nb * sizeof(uint32_t));
+                    res.plotted += settle_steady(s, nb, steady_steps);
+                }
+                deposit_lag();
+                t.saved.resize(nb);
+                for (size_t i = 0; i < nb; ++i) t.saved[i] = record(i, n);
+                return false;
+            }
         }
+        const size_t live_before = live;
 
         // 1-5 in one fused pass (the maps known kernels of one kind), or: 1-3. choose a map
         // per chain (k = does not move this step), group the chains by map, one step call per
@@ -1240,7 +1559,7 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
                 colourer_->update(chosen, fp::ColourState{cr, cg, cb, nb}, colours_.data(), moved);
             }
             sc = fp_chaos::bookkeep(bv, Colour);
-            if (Colour && last_) write_last(hist, idx, dep, nb, n, c0, bv.dummy);
+            if (Colour && last_) write_last(hist, idx, dep, nb, n, s.chain.get(), bv.dummy);
         }
 
         // 6. Deposit: one 4 x 32-bit add per chain, or one 32-bit increment when counting
@@ -1299,17 +1618,19 @@ void ChaosGame::run_block(uint64_t c0, size_t nb, Scratch<T>& s, WorkerHist& his
             }
             new_starts(s, list, m);
         }
-    }
-    if (lag && Colour) {
-        uint32_t* const b32 = reinterpret_cast<uint32_t*>(bins);
-        for (size_t i = 0; i < nb; ++i) {
-            i = HWY_DYNAMIC_DISPATCH(deposit_colour)(b32, lag, lag_dep, i, nb, spill_hits);
-            if (i < nb) hist.spill(lag[i]);
+        // 8. A checkpointed render records each chain's final state as it finishes or retires
+        // (for a render continued to more points).
+        if (keep && live < live_before) {
+            for (size_t i = 0; i < nb; ++i) {
+                if (active[i] || s.fin.get()[i]) continue;
+                keep->finals[s.chain.get()[i]] = record(i, n + 1);
+                s.fin.get()[i] = 1;
+            }
         }
-    } else if (lag) {
-        for (size_t i = 0; i < nb; ++i) ++hits[lag[i]];
     }
-    ctx.progress(nominal - std::min(nominal, reported));
+    deposit_lag();
+    report(nominal - std::min(nominal, reported));
+    return true;
 }
 
 // ---------------------------------------------------------------- schema

@@ -61,6 +61,14 @@ void Renderer::render_rows(RenderContext&, RenderStats&, RowSink&) const {
 }
 RowSink::~RowSink() = default;
 
+bool RenderContext::checkpointing() const { return false; }
+bool RenderContext::checkpoint_due() const { return false; }
+void RenderContext::write_checkpoint(const std::function<void(CheckpointSink&)>&) {}
+CheckpointSource* RenderContext::resume_from() { return nullptr; }
+bool Renderer::keeps_checkpoints() const { return false; }
+CheckpointSink::~CheckpointSink() = default;
+CheckpointSource::~CheckpointSource() = default;
+
 void HistogramSummary::begin(int w, int h) {
     *this = HistogramSummary{};
     width = w;

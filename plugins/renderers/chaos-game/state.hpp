@@ -241,7 +241,9 @@ struct Scratch {
     Buf<uint64_t> rs, ri, left;
     Buf<uint32_t> prev, age, idle;
     Buf<float> cr, cg, cb;
-    Buf<uint32_t> active; // 0 / 1
+    Buf<uint32_t> active;   // 0 / 1
+    Buf<uint32_t> chain;    // the chain of each lane
+    Buf<unsigned char> fin; // a checkpointed render: the lane's final state is recorded
     // per-step scratch
     Buf<unsigned char> inside; // k rows of block_size
     Buf<uint32_t> chosen, perm, idx, idx2, restart, plotf, cnt;
@@ -259,6 +261,7 @@ struct Scratch {
         const size_t B = block_size;
         x.alloc(B), y.alloc(B), rs.alloc(B), ri.alloc(B), left.alloc(B);
         prev.alloc(B), age.alloc(B), idle.alloc(B), cr.alloc(B), cg.alloc(B), cb.alloc(B), active.alloc(B);
+        chain.alloc(B), fin.alloc(B);
         inside.alloc(k * B);
         chosen.alloc(B), perm.alloc(B), idx.alloc(B), idx2.alloc(B), restart.alloc(B);
         plotf.alloc(B), cnt.alloc(k + 1), dep.alloc(B), dep2.alloc(B), full.alloc(B);
@@ -269,7 +272,7 @@ struct Scratch {
     static size_t staging(size_t k) { return k <= max_compress_maps ? k * seg_stride : block_size; }
     static uint64_t bytes(size_t k) {
         const uint64_t B = block_size;
-        return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + k + 8 * 4 + 16 + 1 + 4 + 2) +
+        return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + 5 + k + 8 * 4 + 16 + 1 + 4 + 2) +
                (2 * sizeof(T) + 4) * staging(k) + 12 * (k + 2) + 64 * 40;
     }
 };

@@ -27,10 +27,12 @@ namespace fp {
 /// and zoom where the region is fitted; ABI 10: RenderContext::rank, ranks and combine, for
 /// renders over Open MPI ranks; ABI 11: RenderContext::memory_budget, Renderer::memory_within,
 /// streams_rows and render_rows, RowSink,
-/// Colourer::resolve_rows and HistogramSummary, for renders in strips):
+/// Colourer::resolve_rows and HistogramSummary, for renders in strips; ABI 12:
+/// RenderContext::checkpointing, checkpoint_due, write_checkpoint and resume_from, CheckpointSink and
+/// CheckpointSource, Renderer::keeps_checkpoints, for checkpoints):
 /// the host refuses a plugin built for another value ("rebuild it against this SDK"), so a
 /// plugin always matches the headers the host was built with.
-constexpr std::uint32_t abi_version = 11;
+constexpr std::uint32_t abi_version = 12;
 
 struct PluginDescriptor {
     std::uint32_t abi = abi_version;

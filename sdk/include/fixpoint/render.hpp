@@ -37,6 +37,9 @@ struct RenderStats {
     std::string how;
 };
 
+class CheckpointSink;
+class CheckpointSource;
+
 /// The host's side of a render. Called per task, never per point.
 class RenderContext {
 public:
@@ -76,6 +79,43 @@ public:
     /// what the machine has available, shared by the ranks on it): a renderer that can work in
     /// less (strips) stays within it. Default: no limit. (Added in ABI 11.)
     virtual std::uint64_t memory_budget() const;
+
+    // Checkpoints (added in ABI 12: `fixpoint render --checkpoint FILE`, `--resume FILE`), for a
+    // renderer that keeps_checkpoints(). The host owns the file: its envelope (magic, versions,
+    // the recipe, a checksum) and its atomic replacement; the renderer owns the payload.
+
+    /// Whether the host keeps checkpoints of this render (`--checkpoint`, `--resume`): the
+    /// renderer then keeps what they need. Default: false.
+    virtual bool checkpointing() const;
+    /// True when the host wants a checkpoint (`--checkpoint-every` has passed since the last
+    /// one): the renderer brings its work to a point it can continue from, and calls
+    /// write_checkpoint. Polled often and cheaply. Default: false.
+    virtual bool checkpoint_due() const;
+    /// Saves the render's state now: `body` writes the payload, in pieces, to the sink; the
+    /// host replaces the checkpoint file with it atomically (a failed write throws fp::Error and
+    /// leaves the last checkpoint whole). Called from the
+    /// renderer's own thread, not from a task. Default: nothing is kept.
+    virtual void write_checkpoint(const std::function<void(CheckpointSink&)>& body);
+    /// The payload to continue from (`--resume`), positioned at its start, its envelope already
+    /// checked against the recipe; null for a render from the beginning. Default: null.
+    virtual CheckpointSource* resume_from();
+};
+
+/// Where a renderer writes its checkpoint's payload (RenderContext::write_checkpoint).
+class CheckpointSink {
+public:
+    virtual ~CheckpointSink();
+    virtual void write(const void* data, std::size_t bytes) = 0;
+};
+
+/// Where a renderer reads the payload it continues from (RenderContext::resume_from). read()
+/// throws fp::InputError ("the checkpoint ends early") past the payload's end.
+class CheckpointSource {
+public:
+    virtual ~CheckpointSource();
+    virtual void read(void* data, std::size_t bytes) = 0;
+    /// Bytes of the payload not yet read.
+    virtual std::uint64_t left() const = 0;
 };
 
 /// Folds for RenderContext::combine, with `record` = sizeof(T).
@@ -153,6 +193,14 @@ public:
     /// given, or the one the renderer fitted (mfs's points' box, chaos-game's fit_view).
     /// `fixpoint serve` pans and zooms from it. Default: none.
     virtual std::optional<Box> region() const;
+
+    /// Whether the renderer saves and resumes checkpoints (RenderContext::write_checkpoint,
+    /// resume_from) in a render() on one process; the host refuses `--checkpoint` otherwise.
+    /// A renderer that does promises the bytes of an uninterrupted render after any number of
+    /// checkpoints and resumes, and, where its recipe has `points`, continues a finished render
+    /// to more points with the bytes of a render of that many from the start. Default: false.
+    /// (Added in ABI 12.)
+    virtual bool keeps_checkpoints() const;
 };
 
 } // namespace fp

@@ -10,6 +10,7 @@
 #include <fixpoint/host/build.hpp>
 #include <fixpoint/render.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,6 +27,10 @@ struct Pipeline {
     /// The resolved recipe: every default filled in, the version; no output path (so that
     /// rendering a recipe gives the same bytes whatever it is written to).
     std::string recipe;
+    /// The recipe without renderer.points, and the points (-1: the renderer has none): a
+    /// checkpoint continues a render whose identity is the same, to as many points or more.
+    std::string identity;
+    std::int64_t points = -1;
     /// Things to tell the user before rendering (a plugin that differs from the one the
     /// recipe was made with), one line each, without a "warning:" prefix.
     std::vector<std::string> warnings;

@@ -1,11 +1,14 @@
 // The parallel runtime: a RenderContext on a oneTBB arena of a fixed number of threads.
 #pragma once
 
+#include <fixpoint/host/checkpoint.hpp>
 #include <fixpoint/render.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
+#include <string>
 
 namespace fp::host {
 
@@ -33,6 +36,18 @@ public:
 
     std::uint64_t done() const { return done_.load(std::memory_order_relaxed); }
 
+    // Checkpoints (host/checkpoint.hpp): written to `path` every `every_s` seconds and when the
+    // render ends, with `header`; `resume`: the checkpoint the render continues from (null: from
+    // the start).
+    void set_checkpoints(std::string path, double every_s, CheckpointHeader header,
+                         std::unique_ptr<CheckpointFile> resume);
+    bool checkpointing() const override { return !checkpoint_path_.empty(); }
+    bool checkpoint_due() const override;
+    void write_checkpoint(const std::function<void(CheckpointSink&)>& body) override;
+    CheckpointSource* resume_from() override { return resume_.get(); }
+    /// Checkpoints written so far.
+    unsigned checkpoints_written() const { return written_; }
+
 private:
     struct Impl;
     unsigned threads_;
@@ -40,6 +55,12 @@ private:
     bool distributed_;
     std::atomic<std::uint64_t> done_{0};
     std::uint64_t budget_ = UINT64_MAX;
+    std::string checkpoint_path_;
+    double checkpoint_every_ = 0;
+    CheckpointHeader checkpoint_header_;
+    std::unique_ptr<CheckpointFile> resume_;
+    std::chrono::steady_clock::time_point checkpoint_due_;
+    unsigned written_ = 0;
     std::unique_ptr<Impl> impl_;
 };
 
