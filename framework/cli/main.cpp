@@ -285,7 +285,7 @@ Checkpoints plan_checkpoints(const Options& o, const Pipeline& p, const std::str
     if (!p.renderer->keeps_checkpoints() || vector)
         throw InputError(p.renderer_mark.str() + ": renderer: " + p.renderer_type +
                          (vector ? " draws this picture without points" : " keeps no checkpoints") + " (" +
-                         opt + "; chaos-game renders keep them)");
+                         opt + "; chaos-game and orbit-trap renders keep them)");
     if (stream)
         throw InputError(opt + ": this render is beyond the memory budget and streams in strips; checkpoints "
                                "are kept of a render that fits (see --memory)");
@@ -1067,7 +1067,7 @@ int main(int argc, char** argv) {
                        "available); a chaos-game image over it renders in strips, with the same bytes");
     render->add_option("--checkpoint", o.checkpoint,
                        "Save the render's state to FILE every --checkpoint-every and when it ends, so that "
-                       "--resume FILE continues it after a crash or a kill (chaos-game)");
+                       "--resume FILE continues it after a crash or a kill (chaos-game, orbit-trap)");
     render->add_option("--checkpoint-every", o.checkpoint_every,
                        "Time between checkpoints, such as 30s, 5m or 1h (default: 5m)");
     render->add_option("--resume", o.resume,

@@ -120,10 +120,12 @@
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -220,11 +222,16 @@ public:
     uint64_t work_units() const override { return uint64_t(frame_.width) * uint64_t(frame_.height); }
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
     bool streams_rows() const override { return true; }
+    bool keeps_checkpoints() const override { return true; }
     uint64_t memory_within(unsigned workers, uint64_t budget) const override;
     void render_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink) const override;
 
 private:
     void set_tile();
+    /// render()'s tiles with checkpoints (below run's definition: "Checkpoints").
+    template <class T>
+    void run_checkpointed(fp::RenderContext& ctx, fp::Image& img, std::vector<TileStats>& per_tile,
+                          std::vector<Scratch<T>>& scratch) const;
     template <class T>
     fp::Image run(fp::RenderContext& ctx, fp::RenderStats& stats) const;
     /// The image by bands of `band_rows` rows into the sink (Bands, above).
@@ -404,6 +411,75 @@ TileStats OrbitTrap::tile(size_t t, Scratch<T>& s, float* image, size_t image_p0
     return st;
 }
 
+// Checkpoints (`fixpoint render --checkpoint`, `--resume`): the tiles go in rounds; when a
+// checkpoint is due, the tiles not yet begun wait, and the checkpoint holds which tiles are done,
+// their counts and the image so far (tiles not done are +0.0). A resumed render renders the
+// others: a tile's pixels depend on nothing but the tile, so the image is the same bytes.
+namespace {
+struct TilesHead {
+    uint32_t version = 1, samples = 0;
+    uint64_t width = 0, height = 0, tiles = 0, tile_pixels = 0;
+};
+static_assert(sizeof(TilesHead) == 40, "TilesHead is written as it is");
+} // namespace
+
+template <class T>
+void OrbitTrap::run_checkpointed(fp::RenderContext& ctx, fp::Image& img, std::vector<TileStats>& per_tile,
+                                 std::vector<Scratch<T>>& scratch) const {
+    const size_t npix = size_t(frame_.width) * size_t(frame_.height), tiles = per_tile.size();
+    TilesHead head;
+    head.samples = uint32_t(offsets_.size());
+    head.width = uint64_t(frame_.width), head.height = uint64_t(frame_.height);
+    head.tiles = tiles, head.tile_pixels = tile_pixels_;
+    std::vector<uint8_t> done(tiles, 0);
+    const auto pixels_of = [&](size_t t) {
+        return std::min(npix, (t + 1) * tile_pixels_) - t * tile_pixels_;
+    };
+    if (fp::CheckpointSource* in = ctx.resume_from()) {
+        TilesHead was;
+        in->read(&was, sizeof was);
+        if (std::memcmp(&was, &head, sizeof head) != 0)
+            throw fp::InputError("the checkpoint's payload does not fit this render (damaged?)");
+        in->read(done.data(), tiles);
+        in->read(per_tile.data(), tiles * sizeof(TileStats));
+        in->read(img.pixels.data(), img.pixels.size() * sizeof(float));
+        if (in->left() != 0)
+            throw fp::InputError("the checkpoint's payload is longer than this render's state");
+        uint64_t had = 0;
+        for (size_t t = 0; t < tiles; ++t) {
+            if (done[t] > 1) throw fp::InputError("the checkpoint's payload is damaged");
+            had += done[t] ? pixels_of(t) : 0;
+        }
+        ctx.progress(had);
+    }
+    for (;;) {
+        std::vector<size_t> todo;
+        for (size_t t = 0; t < tiles; ++t)
+            if (!done[t]) todo.push_back(t);
+        std::atomic<bool> stop{false};
+        ctx.parallel_for(todo.size(), [&](size_t i, unsigned worker) {
+            if (ctx.cancelled()) throw fp::Cancelled();
+            if (stop.load(std::memory_order_relaxed)) return;
+            if (ctx.checkpoint_due()) {
+                stop.store(true, std::memory_order_relaxed);
+                return;
+            }
+            const size_t t = todo[i];
+            per_tile[t] = tile<T>(t, scratch[worker], img.pixels.data(), 0, ctx);
+            done[t] = 1;
+            ctx.progress(pixels_of(t));
+        });
+        if (ctx.cancelled()) throw fp::Cancelled();
+        ctx.write_checkpoint([&](fp::CheckpointSink& out) {
+            out.write(&head, sizeof head);
+            out.write(done.data(), tiles);
+            out.write(per_tile.data(), tiles * sizeof(TileStats));
+            out.write(img.pixels.data(), img.pixels.size() * sizeof(float));
+        });
+        if (!stop.load()) return; // every tile done: that was the last checkpoint
+    }
+}
+
 template <class T>
 fp::Image OrbitTrap::run(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     const size_t npix = size_t(frame_.width) * size_t(frame_.height);
@@ -420,13 +496,19 @@ fp::Image OrbitTrap::run(fp::RenderContext& ctx, fp::RenderStats& stats) const {
     // alone); the others' pixels stay +0.0 (all bits zero), so a bitwise or gathers the image.
     const size_t rank = ctx.rank(), ranks = std::max(1u, ctx.ranks());
     const size_t mine = tiles > rank ? (tiles - rank + ranks - 1) / ranks : 0;
-    ctx.parallel_for(mine, [&](size_t i, unsigned worker) {
-        if (ctx.cancelled()) throw fp::Cancelled();
-        const size_t t = rank + i * ranks;
-        per_tile[t] = tile<T>(t, scratch[worker], img.pixels.data(), 0, ctx);
-        const size_t p0 = t * tile_pixels_;
-        ctx.progress(std::min(npix, p0 + tile_pixels_) - p0);
-    });
+    if (ctx.checkpointing() || ctx.resume_from()) {
+        if (ranks > 1)
+            throw fp::InputError("checkpoints are kept of a render on one process (not over MPI ranks)");
+        run_checkpointed<T>(ctx, img, per_tile, scratch);
+    } else {
+        ctx.parallel_for(mine, [&](size_t i, unsigned worker) {
+            if (ctx.cancelled()) throw fp::Cancelled();
+            const size_t t = rank + i * ranks;
+            per_tile[t] = tile<T>(t, scratch[worker], img.pixels.data(), 0, ctx);
+            const size_t p0 = t * tile_pixels_;
+            ctx.progress(std::min(npix, p0 + tile_pixels_) - p0);
+        });
+    }
     if (ctx.cancelled()) throw fp::Cancelled();
     stats = fp::RenderStats{};
     stats.samples = uint64_t(npix) * offsets_.size();

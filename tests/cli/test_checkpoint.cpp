@@ -180,11 +180,11 @@ TEST(Checkpoint, OptionsAreCheckedBeforeRendering) {
     EXPECT_EQ(refused(dir, {s, "-o", out, "--checkpoint", dir + "/c2.bin", "--vary", "renderer.seed=1,2"}),
               "--checkpoint and --resume keep one render: not with --vary");
     // A renderer that keeps none.
-    const std::string line = refused(
-        dir, {source_dir() + "/configs/orbit-trap/fig5a.yaml", "-o", out, "--checkpoint", dir + "/c2.bin"});
-    EXPECT_NE(
-        line.find(": renderer: orbit-trap keeps no checkpoints (--checkpoint; chaos-game renders keep them)"),
-        std::string::npos)
+    const std::string line = refused(dir, {source_dir() + "/configs/gumowski-mira/fig2-F.yaml", "-o", out,
+                                           "--checkpoint", dir + "/c2.bin"});
+    EXPECT_NE(line.find(": renderer: superfractal keeps no checkpoints (--checkpoint; chaos-game and "
+                        "orbit-trap renders keep them)"),
+              std::string::npos)
         << line;
     EXPECT_FALSE(fs::exists(dir + "/c2.bin"));
 }

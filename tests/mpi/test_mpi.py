@@ -256,6 +256,16 @@ def test_memory_check_counts_the_ranks_on_this_machine(tmp_path):
     assert not (tmp_path / "x.png").exists()
 
 
+def test_checkpoints_are_refused_on_ranks(tmp_path):
+    # Checkpoints are kept of a render on one process: under mpirun, one line before rendering.
+    r = mpirun(2, "render", SOURCE / "configs/inversion/fig6a.yaml", "-o", tmp_path / "x.png",
+               "--checkpoint", tmp_path / "ck.bin", *sets(points=20000))
+    assert r.returncode == 2, r.stderr
+    ours = [l for l in r.stderr.splitlines() if "checkpoint" in l]
+    assert ours == ["--checkpoint: checkpoints are kept of a render on one process, not under mpirun"], r.stderr
+    assert not (tmp_path / "x.png").exists() and not (tmp_path / "ck.bin").exists()
+
+
 def test_without_mpi_a_build_refuses_ranks(tmp_path):
     # (Runs in a build without MPI only; the sanitizer build of CI is one.)
     if BUILT:

@@ -1,5 +1,7 @@
-// chaos-game's checkpoints (chaos-game/checkpoint.hpp) without the CLI's timing: a context that
-// asks for a checkpoint at every n-th poll and keeps each payload in memory. For recipes over
+// The renderers' checkpoints without the CLI's timing: a context that asks for a checkpoint at
+// every n-th poll and keeps each payload in memory.
+//
+// chaos-game (chaos-game/checkpoint.hpp). For recipes over
 // every path of the renderer (hits only and colour through the fused step, the generic step
 // with an iteration scheme, last colours, restarts and retired chains, double chains, the lean
 // path of one orbit, one map whose streams jump at the end of a steady run, bins that spill
@@ -9,6 +11,8 @@
 //   - a finished render of a third of the points, continued to all of them, gives the bytes of
 //     a render of all of them from the start (the same stats too);
 //   - a payload cut short, or of another size of chains, is refused.
+// orbit-trap (orbit-trap.cpp's "Checkpoints"): stopped between tiles for checkpoints, resumed
+// from them, the same pixels and counts; a payload of another image refused.
 #include <fixpoint/fixpoint.hpp>
 #include <fixpoint/host/host.hpp>
 #include <fixpoint/host/runtime.hpp>
@@ -85,6 +89,7 @@ struct Render {
 };
 
 Render render(const std::string& yaml, fp::RenderContext& ctx) {
+    // (What a caller that asks for none gets: no checkpoint.)
     auto r = host().make<fp::Renderer>(yaml);
     EXPECT_TRUE(r->keeps_checkpoints());
     Render out;
@@ -253,6 +258,35 @@ TEST(ChaosCheckpoint, DamagedPayloadsAreRefused) {
     } catch (const fp::InputError& e) {
         EXPECT_STREQ(e.what(), "the checkpoint's payload does not fit this render (damaged?)");
     }
+}
+
+// An orbit-trap render (affine mapping, the circles of paper 04's Fig. 1a, 4 samples a pixel).
+const std::string orbit_trap =
+    "{type: orbit-trap, width: 96, height: 80, samples: 4, mapping: {type: affine, "
+    "coefficients: [1.1, 0.3, -0.2, 0.9, 0.05, 0]}, traps: {type: circles, preset: "
+    "fig-1a}}";
+
+TEST(OrbitTrapCheckpoint, StoppedAndResumedRendersAreUninterruptedOnes) {
+    const Render want = plain(orbit_trap);
+    EXPECT_GT(want.stats.drawn, 0u);
+    for (unsigned threads : {1u, 2u}) {
+        Keeper k(threads, 3);
+        expect_same(render(orbit_trap, k), want, "stopped for checkpoints");
+        ASSERT_GE(k.saved.size(), 3u);
+        for (std::size_t i : {std::size_t(0), k.saved.size() / 2, k.saved.size() - 2}) {
+            Keeper again(threads, 0, &k.saved[i]);
+            expect_same(render(orbit_trap, again), want, "resumed from checkpoint " + std::to_string(i));
+            ASSERT_EQ(again.saved.size(), 1u);
+            EXPECT_TRUE(again.saved.back() == k.saved.back());
+        }
+    }
+    // A payload of another image is refused.
+    Keeper k(2, 0);
+    render(orbit_trap, k);
+    Keeper other(2, 0, &k.saved.back());
+    std::string wider = orbit_trap;
+    wider.replace(wider.find("width: 96"), 9, "width: 97");
+    EXPECT_THROW(render(wider, other), fp::InputError);
 }
 
 } // namespace
