@@ -189,4 +189,26 @@ TEST(Checkpoint, OptionsAreCheckedBeforeRendering) {
     EXPECT_FALSE(fs::exists(dir + "/c2.bin"));
 }
 
+// A checkpoint that cannot be written (a full disk: the file-size limit, SIGXFSZ ignored, fails
+// every write past 4 KiB with EFBIG) stops the render with one line, exit 2, no image, and the
+// previous checkpoint whole and unchanged.
+TEST(Checkpoint, AFailedCheckpointWriteIsAnErrorAndKeepsThePreviousOne) {
+    const std::string dir = with_checkpoint("checkpoint_full_disk");
+    const std::string before = read_file(dir + "/ck.bin");
+    const std::string err = dir + "/err.txt";
+    const std::string script =
+        "cd '" + dir + "' || exit 1\ntrap '' XFSZ\nulimit -f 4\nexec '" + std::string(FIXPOINT_BIN) +
+        "' render -q s.yaml --set renderer.points=800000 -o out.png --resume ck.bin 2>'" + err + "'\n";
+    write_file(dir + "/full.sh", script);
+    const int status = std::system(("bash '" + dir + "/full.sh'").c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 2);
+    const std::string line = read_file(err);
+    EXPECT_EQ(line.rfind("cannot write the checkpoint 'ck.bin': ", 0), 0u) << line;
+    EXPECT_EQ(std::count(line.begin(), line.end(), '\n'), 1) << line;
+    EXPECT_FALSE(fs::exists(dir + "/out.png"));
+    EXPECT_FALSE(fs::exists(dir + "/ck.bin.partial"));
+    EXPECT_TRUE(read_file(dir + "/ck.bin") == before);
+}
+
 } // namespace
