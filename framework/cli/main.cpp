@@ -294,8 +294,13 @@ Checkpoints plan_checkpoints(const Options& o, const Pipeline& p, const std::str
     ck.path = o.checkpoint.empty() ? o.resume : o.checkpoint;
     ck.header = CheckpointHeader{FIXPOINT_VERSION, p.renderer_type, p.identity, p.points};
     std::error_code ec;
+    // (Spelled differently, or not there yet: compared as absolute paths with . and .. resolved.)
+    const auto same = [&ec](const std::string& a, const std::string& b) {
+        return fs::equivalent(a, b, ec) ||
+               fs::weakly_canonical(fs::absolute(a), ec) == fs::weakly_canonical(fs::absolute(b), ec);
+    };
     for (const auto& [name, other] : {std::pair{"the output", out}, std::pair{"the config", o.config}})
-        if (fs::equivalent(ck.path, other, ec) || fs::path(ck.path) == fs::path(other))
+        if (same(ck.path, other))
             throw InputError(opt + ": " + quote(ck.path, 200) + " is " + name +
                              ": a checkpoint needs a file of its own");
     if (!o.resume.empty()) {
@@ -529,7 +534,8 @@ int cmd_collection(const Options& o, bool validate_only) {
         captions.push_back(path.substr(path.rfind('.') + 1) + " = " + values[k]);
     }
     for (std::size_t k = 0; k < pipes.size(); ++k)
-        write_image(children[k], child_path(out, k + 1), pipes[k].bit_depth, pipes[k].recipe);
+        write_image(children[k], child_path(out, k + 1), pipes[k].bit_depth, pipes[k].recipe, {},
+                    pipes[k].tiled);
     bool text = true;
     const Image sheet = contact_sheet(children, captions, o.columns, &text);
     if (!text) spdlog::warn("warning: no font found for the captions (install fonts-dejavu-core)");
@@ -582,9 +588,19 @@ int cmd_render(const Options& o, bool validate_only) {
     const std::string& out = output.path;
     check_output_for(output, o);
     const bool vector = check_vector_output(p, out);
+    // output.tiled with a format that has none, at its place in the config.
+    std::uint64_t held = 0;
+    try {
+        if (!vector)
+            held = StreamedImage::held_bytes(out, p.renderer->width(), p.renderer->height(), p.tiled);
+    } catch (const InputError& e) {
+        if (p.tiled_mark.line > 0) throw InputError(p.tiled_mark.str() + ": " + e.what());
+        throw;
+    }
     // Beyond the budget, a raster image streams band by band (not when --repeat needs it whole).
-    const MemoryPlan memory = check_memory_within(
-        p, threads, requested, !vector && parse_repeat(o.print).across * parse_repeat(o.print).down == 1);
+    const MemoryPlan memory =
+        check_memory_within(p, threads, requested,
+                            !vector && parse_repeat(o.print).across * parse_repeat(o.print).down == 1, held);
     Checkpoints checkpoints = plan_checkpoints(o, p, out, vector, memory.stream);
     if (g_interrupted.load()) throw Cancelled(); // during the checks above
     agree_checks();
@@ -609,7 +625,7 @@ int cmd_render(const Options& o, bool validate_only) {
         if (ranks::rank() == 0) {
             auto image = std::make_unique<StreamedImage>(
                 out, p.renderer->width(), p.renderer->height(), p.bit_depth, p.recipe,
-                print_resolution(o.print, p.renderer->width(), p.renderer->height()));
+                print_resolution(o.print, p.renderer->width(), p.renderer->height()), p.tiled);
             const std::string tmp = image->temporary_path();
             if (tmp.size() < sizeof g_partial_output) {
                 std::memcpy(g_partial_output, tmp.c_str(), tmp.size() + 1);
@@ -634,7 +650,7 @@ int cmd_render(const Options& o, bool validate_only) {
                                        : "# the tile repeated " + o.print.repeat +
                                              " (--repeat); the recipe renders one tile\n" + p.recipe;
         write_image(repeat_image(img, r), out, p.bit_depth, recipe,
-                    print_resolution(o.print, img.width, img.height));
+                    print_resolution(o.print, img.width, img.height), p.tiled);
     }
     if (!o.quiet)
         spdlog::info("{}: {} {} in {:.2f} s ({:.3g} {}/s, {}{} thread{}, {}), {} restarted chain{}, {} bad "

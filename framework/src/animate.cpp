@@ -652,7 +652,7 @@ int animate(const Registry& reg, const AnimateOptions& o, const FrameRenderer& r
         RenderStats stats;
         double secs = 0;
         const Image img = render(p, stats, secs);
-        write_image(img, out, p.bit_depth, p.recipe);
+        write_image(img, out, p.bit_depth, p.recipe, {}, p.tiled);
         ++rendered;
         total += secs;
         info(out + ": frame " + std::to_string(k) + " of " + std::to_string(first) + ".." +

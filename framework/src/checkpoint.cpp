@@ -148,7 +148,9 @@ CheckpointFile::CheckpointFile(const std::string& path) : path_(path) {
     if (size < magic_bytes + 4 + trailer_bytes || std::fread(head, 1, sizeof head, f_) != sizeof head ||
         std::memcmp(head, magic, magic_bytes) != 0)
         fail("it is not a fixpoint checkpoint");
-    const std::uint32_t fmt = std::uint32_t(get64(head + magic_bytes) & 0xffffffffu);
+    const unsigned char* f = head + magic_bytes;
+    const std::uint32_t fmt = std::uint32_t(f[0]) | std::uint32_t(f[1]) << 8 | std::uint32_t(f[2]) << 16 |
+                              std::uint32_t(f[3]) << 24;
     if (fmt != format)
         fail("it has checkpoint format " + std::to_string(fmt) + "; this fixpoint reads format " +
              std::to_string(format));

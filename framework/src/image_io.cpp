@@ -72,9 +72,19 @@ void check_output(const std::string& path) {
 }
 
 // The writer and the spec of a raster image file: the same for a whole image and a streamed one.
+bool tiled_file(const std::string& path, int width, int height, Tiled tiled) {
+    const Format f = format_for(path);
+    const bool can = f == Format::Tiff || f == Format::Exr;
+    if (tiled == Tiled::Yes && !can)
+        throw InputError("output.tiled: '" + path +
+                         "': only TIFF and EXR images have tiles (write .tif or .exr)");
+    if (tiled == Tiled::Auto) return can && std::uint64_t(width) * std::uint64_t(height) > tiled_above;
+    return tiled == Tiled::Yes;
+}
+
 static std::pair<std::unique_ptr<OIIO::ImageOutput>, OIIO::ImageSpec>
 image_writer(const std::string& path, int width, int height, int channels, int bit_depth,
-             const std::string& recipe, const Resolution& resolution) {
+             const std::string& recipe, const Resolution& resolution, bool tiled) {
     const Format f = format_for(path);
     if (is_vector(f))
         throw InputError("'" + path +
@@ -97,8 +107,17 @@ image_writer(const std::string& path, int width, int height, int channels, int b
         spec.attribute("YResolution", float(resolution.y));
         spec.attribute("ResolutionUnit", "inch");
     }
+    if (tiled) {
+        spec.tile_width = spec.tile_height = tile_side;
+        spec.tile_depth = 1;
+    }
     auto out = OIIO::ImageOutput::create(oiio_format);
     if (!out) throw InternalError(std::string("OpenImageIO has no writer for ") + oiio_format);
+    if (tiled && !out->supports("tiles"))
+        throw InternalError(std::string("OpenImageIO's ") + oiio_format + " writer cannot write tiles");
+    // Tiles compressed on several threads reach the file in the order they finish (seen: one
+    // 8-bit TIFF in five differed in its tile offsets): one thread, so the bytes are the recipe's.
+    if (tiled) out->threads(1);
     if (!out->supports("ioproxy"))
         throw InternalError(std::string("OpenImageIO's ") + oiio_format +
                             " writer cannot write through a proxy");
@@ -106,8 +125,9 @@ image_writer(const std::string& path, int width, int height, int channels, int b
 }
 
 void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
-                 const Resolution& resolution) {
-    auto [out, spec] = image_writer(path, img.width, img.height, img.channels, bit_depth, recipe, resolution);
+                 const Resolution& resolution, Tiled tiled) {
+    auto [out, spec] = image_writer(path, img.width, img.height, img.channels, bit_depth, recipe, resolution,
+                                    tiled_file(path, img.width, img.height, tiled));
     const char* oiio_format = out->format_name();
     // OpenImageIO's writers do not all check their writes to a file: past a file-size limit (as
     // on a full disk) the PNG and EXR writers reported success over a truncated file. So the
@@ -169,6 +189,9 @@ struct StreamedImage::Impl {
     std::unique_ptr<OIIO::ImageOutput> out;
     int width = 0, height = 0, next = 0;
     bool done = false;
+    /// Tiled: the rows of the row of tiles being filled (from row `next` rounded down to a tile).
+    bool tiled = false;
+    std::vector<float> tile_rows;
 
     [[noreturn]] void fail(const std::string& why) {
         throw WriteError("cannot write '" + path + "': " + why);
@@ -178,13 +201,15 @@ struct StreamedImage::Impl {
 };
 
 StreamedImage::StreamedImage(const std::string& path, int width, int height, int bit_depth,
-                             const std::string& recipe, const Resolution& resolution)
+                             const std::string& recipe, const Resolution& resolution, Tiled tiled)
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.path = path;
     m.width = width;
     m.height = height;
-    auto [out, spec] = image_writer(path, width, height, 3, bit_depth, recipe, resolution);
+    m.tiled = tiled_file(path, width, height, tiled);
+    auto [out, spec] = image_writer(path, width, height, 3, bit_depth, recipe, resolution, m.tiled);
+    if (m.tiled) m.tile_rows.assign(std::size_t(tile_side) * std::size_t(width) * 3, 0.0f);
     m.out = std::move(out);
     m.tmp = temp_path_for(fs::path(path));
     m.fd = ::open(m.tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -209,6 +234,26 @@ void StreamedImage::rows(int y0, int rows, const float* rgb) {
     Impl& m = *impl_;
     if (y0 != m.next || rows < 0 || y0 + rows > m.height)
         throw InternalError("StreamedImage: rows out of order");
+    if (m.tiled) {
+        // Rows gather into a row of tiles, written once whole (or at the image's last row).
+        const std::size_t row = std::size_t(m.width) * 3;
+        for (int y = y0; y < y0 + rows; ++y) {
+            std::copy_n(rgb + std::size_t(y - y0) * row, row,
+                        m.tile_rows.data() + std::size_t(y % tile_side) * row);
+            if ((y + 1) % tile_side != 0 && y + 1 != m.height) continue;
+            const int ty = y / tile_side * tile_side;
+            // The last row of tiles reaches past the image: what the encoder pads the tiles
+            // with is zeros, as when it writes a whole image (the same bytes either way).
+            if (y + 1 == m.height)
+                std::fill(m.tile_rows.begin() + std::ptrdiff_t(std::size_t(y + 1 - ty) * row),
+                          m.tile_rows.end(), 0.0f);
+            if (!m.out->write_tiles(0, m.width, ty, y + 1, 0, 1, OIIO::TypeDesc::FLOAT, m.tile_rows.data()) ||
+                !m.file->failure().empty())
+                m.fail_writing();
+        }
+        m.next = y0 + rows;
+        return;
+    }
     // 64 rows at a time: the writer converts what it is given to the file's type in a buffer
     // of its own, which a whole band would make as large as a fifth of the band.
     for (int y = y0; y < y0 + rows; y += 64) {
@@ -221,6 +266,12 @@ void StreamedImage::rows(int y0, int rows, const float* rgb) {
 }
 
 std::string StreamedImage::temporary_path() const { return impl_->tmp.string(); }
+
+std::uint64_t StreamedImage::held_bytes(const std::string& path, int width, int height, Tiled tiled) {
+    return tiled_file(path, width, height, tiled)
+               ? std::uint64_t(tile_side) * std::uint64_t(width) * 3 * sizeof(float)
+               : 0;
+}
 
 void StreamedImage::finish() {
     Impl& m = *impl_;

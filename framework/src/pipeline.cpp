@@ -101,10 +101,15 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
                 if (!v.is_scalar() || (v.scalar != "8" && v.scalar != "16"))
                     fail(v.mark, "output.bit_depth: must be 8 or 16, got " + v.describe());
                 p.bit_depth = v.scalar == "8" ? 8 : 16;
+            } else if (k == "tiled") {
+                if (!v.is_scalar() || (v.scalar != "auto" && v.scalar != "true" && v.scalar != "false"))
+                    fail(v.mark, "output.tiled: must be auto, true or false, got " + v.describe());
+                p.tiled = v.scalar == "auto" ? Tiled::Auto : v.scalar == "true" ? Tiled::Yes : Tiled::No;
+                p.tiled_mark = v.mark;
             } else {
-                const auto near = suggest(k, {"path", "bit_depth"});
+                const auto near = suggest(k, {"path", "bit_depth", "tiled"});
                 fail(o->key_marks[i], "output: unknown key " + quote(k) +
-                                          (near.empty() ? " (expected path, bit_depth)"
+                                          (near.empty() ? " (expected path, bit_depth, tiled)"
                                                         : " (did you mean '" + near[0] + "'?)"));
             }
         }
@@ -149,7 +154,10 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
     recipe.keys.emplace_back("renderer", resolved(*typed));
     CNode out = map_node();
     out.keys.emplace_back("bit_depth", scalar_node(std::to_string(p.bit_depth)));
-    out.key_marks.resize(1);
+    // (Only when given: the bytes of a file, not its pixels; recipes before it stay as they were.)
+    if (p.tiled != Tiled::Auto)
+        out.keys.emplace_back("tiled", scalar_node(p.tiled == Tiled::Yes ? "true" : "false"));
+    out.key_marks.resize(out.keys.size());
     recipe.keys.emplace_back("output", std::move(out));
     recipe.key_marks.resize(recipe.keys.size());
     p.recipe = emit_yaml(recipe);
@@ -183,14 +191,16 @@ void check_memory(const Pipeline& p, unsigned threads) {
                          "; this machine has " + format_bytes(have) + " available");
 }
 
-MemoryPlan check_memory_within(const Pipeline& p, unsigned threads, std::uint64_t requested,
-                               bool can_stream) {
+MemoryPlan check_memory_within(const Pipeline& p, unsigned threads, std::uint64_t requested, bool can_stream,
+                               std::uint64_t held) {
     const unsigned local = ranks::on_this_machine();
     const std::uint64_t have = requested ? requested : available_memory(), budget = have / local;
     const std::uint64_t whole = p.renderer->memory_bytes(threads);
     if (whole <= budget) return {budget, false};
     const bool stream = can_stream && p.renderer->streams_rows();
-    const std::uint64_t need = stream ? p.renderer->memory_within(threads, budget) : whole;
+    // Streamed, the renderer has the budget less what the host holds beside it.
+    const std::uint64_t need =
+        stream ? p.renderer->memory_within(threads, budget > held ? budget - held : 0) + held : whole;
     if (need > budget) {
         // Over even in strips, or a renderer that cannot make them: say the least that works.
         const bool strips = need < whole;
@@ -202,7 +212,7 @@ MemoryPlan check_memory_within(const Pipeline& p, unsigned threads, std::uint64_
                          (requested ? "--memory gives " + format_bytes(requested)
                                     : "this machine has " + format_bytes(have) + " available"));
     }
-    return {budget, true};
+    return {budget - held, true};
 }
 
 std::string check_drawn(const Pipeline& p, const RenderStats& st) {

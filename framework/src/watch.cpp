@@ -107,7 +107,7 @@ int watch(const Registry& reg, const WatchOptions& o, const std::atomic<bool>& s
             }
             if (cancel.load()) return false;
             check_drawn(p, stats);
-            write_image(img, o.out, p.bit_depth, p.recipe);
+            write_image(img, o.out, p.bit_depth, p.recipe, {}, p.tiled);
             const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             o.info(o.out + ": " + what + " " + std::to_string(img.width) + "x" + std::to_string(img.height) +
                    ", " + std::to_string(stats.samples) + " " + stats.unit + " in " + format_seconds(secs) +

@@ -44,6 +44,11 @@ std::vector<Case> cases() {
          "bad.yaml:9:5: YAML syntax error: illegal block entry (a '#' after a space starts a comment: quote "
          "colours, as "
          "in \"#ff6b6b\")"},
+        // output.tiled: a value it does not take, and tiles for a PNG (which has none).
+        {"tiled_value", b + "output: {tiled: maybe}\n",
+         "bad.yaml:11:17: output.tiled: must be auto, true or false, got 'maybe'"},
+        {"tiled_png", b + "output: {tiled: true}\n",
+         "bad.yaml:11:17: output.tiled: 'out.png': only TIFF and EXR images have tiles (write .tif or .exr)"},
         {"alias", "a: &x 1\nrenderer: *x\n",
          "bad.yaml:1:4: YAML anchors are not supported: write the value out"},
         {"second_document", b + "---\nrenderer: {}\n",

@@ -175,6 +175,8 @@ TEST(Checkpoint, OptionsAreCheckedBeforeRendering) {
               "--checkpoint-every: expected a time such as 30s, 5m or 1.5h, got 'soon'");
     EXPECT_EQ(refused(dir, {s, "-o", out, "--checkpoint", out}),
               "--checkpoint: '" + out + "' is the output: a checkpoint needs a file of its own");
+    EXPECT_EQ(refused(dir, {s, "-o", out, "--checkpoint", dir + "/./out.png"}),
+              "--checkpoint: '" + dir + "/./out.png' is the output: a checkpoint needs a file of its own");
     EXPECT_EQ(refused(dir, {s, "-o", out, "--checkpoint", dir + "/no/such/c.bin"}),
               "--checkpoint: cannot write '" + dir + "/no/such/c.bin': no folder '" + dir + "/no/such'");
     EXPECT_EQ(refused(dir, {s, "-o", out, "--checkpoint", dir + "/c2.bin", "--vary", "renderer.seed=1,2"}),

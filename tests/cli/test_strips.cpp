@@ -129,6 +129,72 @@ TEST(Bands, OrbitTrapSameAsWhole) {
 
 // mfs (paper 05) draws its polygons band by band, the scene moved up by the band's first row: a
 // shift by whole pixels, so Cairo covers every pixel as on the whole surface.
+// Tiled TIFF and EXR (output.tiled; by default images of more than 8192 x 8192 pixels): the
+// streamed bands gather into rows of 256 x 256 tiles, with the same bytes as the whole image
+// written in tiles; an image whose height and width are not whole tiles, bands that are not
+// whole tiles either, 8 and 16 bits. output.tiled: false writes scanlines.
+namespace {
+bool tiff_is_tiled(const std::string& bytes) {
+    // The TileWidth tag (322), little-endian, as SHORT or LONG, in the first directory.
+    return bytes.find(std::string("\x42\x01\x03\x00", 4)) != std::string::npos ||
+           bytes.find(std::string("\x42\x01\x04\x00", 4)) != std::string::npos;
+}
+bool exr_is_tiled(const std::string& bytes) {
+    return bytes.find(std::string("tiles\0tiledesc\0", 15)) != std::string::npos;
+}
+} // namespace
+
+TEST(Bands, TiledFilesSameAsWhole) {
+    const std::string dir = scratch_dir("bands_tiled");
+    const std::string config = source_dir() + "/configs/orbit-trap/fig6a.yaml";
+    auto render = [&](const std::string& out, std::vector<std::string> extra) {
+        std::vector<std::string> args = {"render",
+                                         "--quiet",
+                                         config,
+                                         "-o",
+                                         dir + "/" + out,
+                                         "--set",
+                                         "renderer.width=700",
+                                         "--set",
+                                         "renderer.height=530",
+                                         "--set",
+                                         "renderer.samples=1"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        const auto r = run_cli(args);
+        EXPECT_EQ(r.rc, 0) << r.err;
+        return read_file(dir + "/" + out);
+    };
+    for (const char* depth : {"8", "16"}) {
+        const std::string bits = std::string("output.bit_depth=") + depth;
+        const std::string whole =
+            render(std::string("whole-") + depth + ".tif", {"--set", bits, "--set", "output.tiled=true"});
+        EXPECT_TRUE(tiff_is_tiled(whole));
+        // 3 MiB: bands of 92 rows, cutting the tiles.
+        const std::string bands =
+            render(std::string("bands-") + depth + ".tif",
+                   {"--set", bits, "--set", "output.tiled=true", "--memory", "3M", "--threads", "3"});
+        EXPECT_TRUE(bands == whole) << depth << " bits";
+        EXPECT_FALSE(tiff_is_tiled(render(std::string("lines-") + depth + ".tif", {"--set", bits})));
+    }
+    const std::string whole = render("whole.exr", {"--set", "output.tiled=true"});
+    EXPECT_TRUE(exr_is_tiled(whole));
+    EXPECT_TRUE(render("bands.exr", {"--set", "output.tiled=true", "--memory", "3M"}) == whole);
+    EXPECT_FALSE(exr_is_tiled(render("lines.exr", {"--set", "output.tiled=false"})));
+    // A chaos-game render in strips, tiled.
+    const std::string fig = source_dir() + "/configs/inversion/fig6a.yaml";
+    const std::vector<std::string> common = {
+        "render", "--quiet", fig, "--set", "renderer.points=300000", "--set", "output.tiled=true"};
+    auto chaos = [&](const std::string& out, std::vector<std::string> extra) {
+        std::vector<std::string> args = common;
+        args.insert(args.end(), {"-o", dir + "/" + out});
+        args.insert(args.end(), extra.begin(), extra.end());
+        const auto r = run_cli(args);
+        EXPECT_EQ(r.rc, 0) << r.err;
+        return read_file(dir + "/" + out);
+    };
+    EXPECT_TRUE(chaos("chaos-strips.tif", {"--memory", "30M"}) == chaos("chaos-whole.tif", {}));
+}
+
 TEST(Bands, MfsSameAsWhole) {
     const std::string dir = scratch_dir("bands_mfs");
     for (const char* name : {"fig4-left", "fig5-left", "fig6-left"}) {

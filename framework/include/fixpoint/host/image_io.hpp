@@ -35,12 +35,24 @@ struct Resolution {
     double x = 0, y = 0;
 };
 
+/// Tiles of a tiled TIFF or EXR: square, this many pixels a side (the size viewers of large
+/// images read fastest; the last row and column of tiles are cut by the image's edge).
+constexpr int tile_side = 256;
+/// `output.tiled`: auto (the default: TIFF and EXR images of more than tiled_above pixels),
+/// always, or never.
+enum class Tiled { Auto, Yes, No };
+constexpr std::uint64_t tiled_above = std::uint64_t(1) << 26; // 8192 x 8192
+/// Whether an image of width x height written to `path` is tiled. fp::InputError for Tiled::Yes
+/// with a format that has no tiles (PNG).
+bool tiled_file(const std::string& path, int width, int height, Tiled tiled);
+
 /// Write atomically (a temporary file beside the target, then rename): a failed write never
 /// leaves a partial file at `path`. PNG and TIFF take `bit_depth` 8 or 16; EXR is float.
 /// `recipe` goes into the ImageDescription metadata; a resolution, when given, into
-/// XResolution, YResolution and ResolutionUnit "inch" (TIFF's tags, PNG's pHYs chunk).
+/// XResolution, YResolution and ResolutionUnit "inch" (TIFF's tags, PNG's pHYs chunk). TIFF
+/// and EXR in tiles of tile_side where tiled_file says so.
 void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
-                 const Resolution& resolution = {});
+                 const Resolution& resolution = {}, Tiled tiled = Tiled::Auto);
 
 /// A write of the output that failed (a full disk): raised by a StreamedImage from inside a
 /// render, and reported as it is, not as the renderer's.
@@ -58,7 +70,9 @@ public:
 class StreamedImage final : public RowSink {
 public:
     StreamedImage(const std::string& path, int width, int height, int bit_depth, const std::string& recipe,
-                  const Resolution& resolution = {});
+                  const Resolution& resolution = {}, Tiled tiled = Tiled::Auto);
+    /// The memory a tiled file holds while its rows come (a row of tiles), 0 for scanlines.
+    static std::uint64_t held_bytes(const std::string& path, int width, int height, Tiled tiled);
     ~StreamedImage() override;
     void rows(int y0, int rows, const float* rgb) override;
     /// Closes the encoder, syncs the file and puts it at `path`. Throws fp::InputError.

@@ -4,10 +4,12 @@
 //   output:                             # optional
 //     path: fig4a.png                   #   default output path (-o overrides)
 //     bit_depth: 8                      #   8 or 16 for PNG and TIFF; EXR is always float
+//     tiled: auto                       #   TIFF/EXR in 256 x 256 tiles: auto (> 8192^2), true, false
 //   fixpoint_version: 0.1.0             # written into recipes; informational
 #pragma once
 
 #include <fixpoint/host/build.hpp>
+#include <fixpoint/host/image_io.hpp>
 #include <fixpoint/render.hpp>
 
 #include <cstdint>
@@ -24,6 +26,8 @@ struct Pipeline {
     std::string output_path;   ///< from the config; empty when not given
     Mark output_mark;          ///< where output.path stands (for messages about it)
     int bit_depth = 8;
+    Tiled tiled = Tiled::Auto; ///< output.tiled
+    Mark tiled_mark;           ///< where it stands (when given)
     /// The resolved recipe: every default filled in, the version; no output path (so that
     /// rendering a recipe gives the same bytes whatever it is written to).
     std::string recipe;
@@ -58,7 +62,9 @@ struct MemoryPlan {
 /// nothing that needs the whole image), it streams within the budget
 /// (Renderer::memory_within). Refuses (fp::InputError at the renderer) a render that needs more
 /// even so, saying the least it needs.
-MemoryPlan check_memory_within(const Pipeline& p, unsigned threads, std::uint64_t requested, bool can_stream);
+/// `held`: memory the host holds beside a streamed render (a tiled file's row of tiles).
+MemoryPlan check_memory_within(const Pipeline& p, unsigned threads, std::uint64_t requested, bool can_stream,
+                               std::uint64_t held = 0);
 
 /// Refuse writing `out` as SVG or PDF from a renderer without vector output (fp::InputError
 /// at the renderer); returns whether `out` is a vector format.
