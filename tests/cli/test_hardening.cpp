@@ -448,8 +448,12 @@ TEST(Hardening, InterruptIsPromptInEveryRenderer) {
         for (double delay : {0.5, 1.5}) {
             const auto [secs, rc] = interrupt_after(dir, config, delay);
             EXPECT_EQ(rc, 130) << config << " after " << delay << " s";
-            // Measured here: under 0.4 s. The bound leaves room for a loaded or sanitized run.
-            EXPECT_LT(secs, 3.0) << config << " after " << delay << " s";
+            // Measured here: under 0.4 s; in the ASan build about 2 s for the superfractal (its
+            // gigabyte of buffers released under the sanitizer), 3.3 s once with the other tests
+            // running beside it. The bounds leave room for a loaded run and stay well below the
+            // 10-16 s of the unpolled memsets this guards against.
+            const double bound = fp::test::cli_address_space_limited() ? 3.0 : 6.0; // (false: ASan)
+            EXPECT_LT(secs, bound) << config << " after " << delay << " s";
             EXPECT_FALSE(std::filesystem::exists(dir + "/out.png")) << config;
         }
 }
