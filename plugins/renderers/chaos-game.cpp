@@ -898,22 +898,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
         const size_t b0 = t * rows_per_task * size_t(frame_.width);
         const size_t b1 = std::min(px, b0 + rows_per_task * size_t(frame_.width));
         fp::HistBin* out = total.bins.data();
-        for (const auto& h : hists) {
-            if (const uint32_t* in = h.hits.get()) {
-                for (size_t i = b0; i < b1; ++i) out[i].hits += in[i];
-                if (!h.wide.empty())
-                    for (size_t i = b0; i < b1; ++i) out[i].hits += h.wide[i];
-                continue;
-            }
-            const Cnt4* in = h.bins.get();
-            if (!in) continue;
-            for (size_t i = b0; i < b1; ++i) {
-                out[i].hits += in[i][0];
-                out[i].r += in[i][1];
-                out[i].g += in[i][2];
-                out[i].b += in[i][3];
-            }
-        }
+        for (auto& h : hists) h.add_to(out, b0, b1, false);
         if (last) {
             // Each bin's last colour: the workers' entry with the largest (step, chain).
             for (size_t i = b0; i < b1; ++i) {
@@ -922,7 +907,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                     const LastWrite* lw = h.last.get();
                     if (!lw) continue;
                     const LastWrite& e = lw[i];
-                    if (e.step > best.step || (e.step == best.step && e.chain > best.chain)) best = e;
+                    if (later(e, best)) best = e;
                 }
                 total.last[i] = fp::LastColour{best.r, best.g, best.b};
                 if (!rank_last.empty()) rank_last[i] = best;
@@ -955,26 +940,11 @@ void ChaosGame::fold(fp::RenderContext& ctx, std::vector<WorkerHist>& hists, fp:
     const size_t per = size_t(1) << 16;
     ctx.parallel_for((px + per - 1) / per, [&](size_t t, unsigned) {
         const size_t b0 = t * per, b1 = std::min(px, b0 + per);
-        fp::HistBin* out = total.bins.data();
         for (auto& h : hists) {
-            if (uint32_t* in = h.hits.get()) {
-                for (size_t i = b0; i < b1; ++i) out[i].hits += in[i], in[i] = 0;
-                if (!h.wide.empty())
-                    for (size_t i = b0; i < b1; ++i) out[i].hits += h.wide[i], h.wide[i] = 0;
-            } else if (Cnt4* in = h.bins.get()) {
-                for (size_t i = b0; i < b1; ++i) {
-                    out[i].hits += in[i][0];
-                    out[i].r += in[i][1];
-                    out[i].g += in[i][2];
-                    out[i].b += in[i][3];
-                    in[i] = Cnt4{0, 0, 0, 0};
-                }
-            }
+            h.add_to(total.bins.data(), b0, b1, true);
             if (LastWrite* lw = h.last.get()) {
                 for (size_t i = b0; i < b1; ++i) {
-                    const LastWrite& e = lw[i];
-                    if (e.step > last[i].step || (e.step == last[i].step && e.chain > last[i].chain))
-                        last[i] = e;
+                    if (later(lw[i], last[i])) last[i] = lw[i];
                     lw[i] = LastWrite{0, 0, 0, 0, 0, 0};
                 }
             }
@@ -1138,7 +1108,7 @@ void ChaosGame::combine_ranks(fp::RenderContext& ctx, fp::RenderStats& stats, fp
             const auto* a = static_cast<const LastWrite*>(in);
             auto* b = static_cast<LastWrite*>(inout);
             for (size_t i = 0; i < n; ++i)
-                if (a[i].step > b[i].step || (a[i].step == b[i].step && a[i].chain > b[i].chain)) b[i] = a[i];
+                if (later(a[i], b[i])) b[i] = a[i];
         },
         false);
     for (size_t i = 0; i < rank_last.size(); ++i)

@@ -198,6 +198,10 @@ struct LastWrite {
     uint32_t chain;
     uint16_t r, g, b, pad;
 };
+/// Whether `a` comes after `b` in the order (step, chain) that decides a bin's last colour.
+inline bool later(const LastWrite& a, const LastWrite& b) {
+    return a.step > b.step || (a.step == b.step && a.chain > b.chain);
+}
 
 struct WorkerHist {
     HugeBuf<Cnt4> bins;
@@ -223,6 +227,28 @@ struct WorkerHist {
         Cnt4& b = bins.get()[i];
         if (i != dummy) spills.emplace_back(i, Bin4{b[0], b[1], b[2], b[3]});
         b = Cnt4{0, 0, 0, 0};
+    }
+    /// Adds bins [b0, b1) (hits, colour sums, flushed hits; not the spills) into `out`, and
+    /// with `clear` zeroes them here.
+    void add_to(fp::HistBin* out, size_t b0, size_t b1, bool clear) {
+        if (uint32_t* in = hits.get()) {
+            for (size_t i = b0; i < b1; ++i) out[i].hits += in[i];
+            if (!wide.empty())
+                for (size_t i = b0; i < b1; ++i) out[i].hits += wide[i];
+            if (clear) {
+                std::memset(static_cast<void*>(in + b0), 0, (b1 - b0) * sizeof(uint32_t));
+                if (!wide.empty())
+                    std::fill(wide.begin() + std::ptrdiff_t(b0), wide.begin() + std::ptrdiff_t(b1), 0);
+            }
+        } else if (Cnt4* in = bins.get()) {
+            for (size_t i = b0; i < b1; ++i) {
+                out[i].hits += in[i][0];
+                out[i].r += in[i][1];
+                out[i].g += in[i][2];
+                out[i].b += in[i][3];
+            }
+            if (clear) std::memset(static_cast<void*>(in + b0), 0, (b1 - b0) * sizeof(Cnt4));
+        }
     }
     [[gnu::noinline, gnu::cold]] void flush() {
         if (wide.empty()) wide.assign(dummy, 0);
