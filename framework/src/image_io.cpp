@@ -115,19 +115,37 @@ image_writer(const std::string& path, int width, int height, int channels, int b
     if (!out) throw InternalError(std::string("OpenImageIO has no writer for ") + oiio_format);
     if (tiled && !out->supports("tiles"))
         throw InternalError(std::string("OpenImageIO's ") + oiio_format + " writer cannot write tiles");
-    // Tiles compressed on several threads reach the file in the order they finish (seen: one
-    // 8-bit TIFF in five differed in its tile offsets): one thread, so the bytes are the recipe's.
-    if (tiled) out->threads(1);
+    if (tiled) out->threads(1); // (and one tile at a time: write_tile_row)
     if (!out->supports("ioproxy"))
         throw InternalError(std::string("OpenImageIO's ") + oiio_format +
                             " writer cannot write through a proxy");
     return {std::move(out), spec};
 }
 
+// One row of tiles (rows [ty, ty + rows) of a `width`-pixel RGB image at `rgb`), tile by tile in
+// order, each copied whole into a zeroed tile first. OpenImageIO's write_tiles, given many tiles
+// at once, compressed them concurrently and wrote them in the order they finished (one render in
+// fifteen had other tile offsets), and edge tiles must be whole: this way a whole write and a
+// streamed one give the same bytes.
+static bool write_tile_row(OIIO::ImageOutput& out, int width, int ty, int rows, const float* rgb,
+                           std::vector<float>& tile) {
+    tile.resize(std::size_t(tile_side) * tile_side * 3);
+    for (int tx = 0; tx < width; tx += tile_side) {
+        std::fill(tile.begin(), tile.end(), 0.0f);
+        const int cols = std::min(tile_side, width - tx);
+        for (int r = 0; r < rows; ++r)
+            std::copy_n(rgb + (std::size_t(r) * std::size_t(width) + std::size_t(tx)) * 3,
+                        std::size_t(cols) * 3, tile.data() + std::size_t(r) * tile_side * 3);
+        if (!out.write_tile(tx, ty, 0, OIIO::TypeDesc::FLOAT, tile.data())) return false;
+    }
+    return true;
+}
+
 void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
                  const Resolution& resolution, Tiled tiled) {
-    auto [out, spec] = image_writer(path, img.width, img.height, img.channels, bit_depth, recipe, resolution,
-                                    tiled_file(path, img.width, img.height, tiled));
+    const bool tiles = img.channels == 3 && tiled_file(path, img.width, img.height, tiled);
+    auto [out, spec] =
+        image_writer(path, img.width, img.height, img.channels, bit_depth, recipe, resolution, tiles);
     const char* oiio_format = out->format_name();
     // OpenImageIO's writers do not all check their writes to a file: past a file-size limit (as
     // on a full disk) the PNG and EXR writers reported success over a truncated file. So the
@@ -137,7 +155,14 @@ void write_image(const Image& img, const std::string& path, int bit_depth, const
     if (!out->set_ioproxy(&mem))
         throw InternalError(std::string("OpenImageIO's ") + oiio_format + " writer cannot write to memory");
     bool ok = out->open(path, spec);
-    if (ok) ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
+    if (ok && tiles) {
+        std::vector<float> tile;
+        for (int ty = 0; ok && ty < img.height; ty += tile_side)
+            ok = write_tile_row(*out, img.width, ty, std::min(tile_side, img.height - ty),
+                                img.pixels.data() + std::size_t(ty) * std::size_t(img.width) * 3, tile);
+    } else if (ok) {
+        ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
+    }
     if (ok) ok = out->close();
     if (!ok) throw InputError("cannot write '" + path + "': " + out->geterror());
     out.reset();
@@ -191,7 +216,7 @@ struct StreamedImage::Impl {
     bool done = false;
     /// Tiled: the rows of the row of tiles being filled (from row `next` rounded down to a tile).
     bool tiled = false;
-    std::vector<float> tile_rows;
+    std::vector<float> tile_rows, tile;
 
     [[noreturn]] void fail(const std::string& why) {
         throw WriteError("cannot write '" + path + "': " + why);
@@ -242,12 +267,7 @@ void StreamedImage::rows(int y0, int rows, const float* rgb) {
                         m.tile_rows.data() + std::size_t(y % tile_side) * row);
             if ((y + 1) % tile_side != 0 && y + 1 != m.height) continue;
             const int ty = y / tile_side * tile_side;
-            // The last row of tiles reaches past the image: what the encoder pads the tiles
-            // with is zeros, as when it writes a whole image (the same bytes either way).
-            if (y + 1 == m.height)
-                std::fill(m.tile_rows.begin() + std::ptrdiff_t(std::size_t(y + 1 - ty) * row),
-                          m.tile_rows.end(), 0.0f);
-            if (!m.out->write_tiles(0, m.width, ty, y + 1, 0, 1, OIIO::TypeDesc::FLOAT, m.tile_rows.data()) ||
+            if (!write_tile_row(*m.out, m.width, ty, y + 1 - ty, m.tile_rows.data(), m.tile) ||
                 !m.file->failure().empty())
                 m.fail_writing();
         }
