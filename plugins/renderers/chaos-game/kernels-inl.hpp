@@ -223,6 +223,7 @@ HWY_INLINE hn::Vec<DU> draw_allowed(DU du, const uint32_t* q, uint32_t k, hn::Ve
     tot = hn::Zero(du);
     auto vj = hn::Zero(du);
     const auto one = hn::Set(du, U(1));
+#pragma GCC unroll 16
     for (size_t j = 0; j < KMax; ++j) {
         if (j == k) break;
         tot = hn::IfThenElse(excluded(uint32_t(j), vj), tot, hn::Add(tot, hn::Set(du, U(q[j]))));
