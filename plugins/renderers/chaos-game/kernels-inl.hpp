@@ -205,6 +205,23 @@ HWY_INLINE hn::Mask<DU> count_down(DU du, uint64_t* left, hn::Mask<DU> dec) {
 }
 
 // ---------------------------------------------------------------- the draw
+/// v, hidden from the compiler's constant folding. A vector that counts up (j in every lane)
+/// costs one addition a map; once a loop over the maps is unrolled, GCC would fold each count
+/// into a constant and build it anew from a general register (three instructions a map on
+/// x86). An empty asm statement with the vector as operand, where GCC takes one: no
+/// instruction.
+template <class V>
+HWY_INLINE V opaque(V v) {
+#if HWY_TARGET != HWY_SCALAR && defined(__GNUC__) && (HWY_ARCH_X86 || HWY_ARCH_ARM)
+#if HWY_ARCH_X86
+    asm("" : "+v"(v.raw));
+#else
+    asm("" : "+w"(v.raw));
+#endif
+#endif
+    return v;
+}
+
 /// Rules on: the total allowed weight t, then u = high 32 bits of r * t and chosen = #{j :
 /// cum_j <= u}, cum_j the allowed weight of maps 0..j; `excluded(j, vj)` is the mask of the
 /// chains for which map j is not allowed (vj: j in every lane, kept as a vector that counts up,
@@ -213,28 +230,39 @@ HWY_INLINE hn::Mask<DU> count_down(DU du, uint64_t* left, hn::Mask<DU> dec) {
 /// memory between the loops (one store and one load a map, where keeping the masks as bits
 /// took a mask-to-bits and a bits-to-mask conversion, each several instructions on targets
 /// without mask registers).
+/// The sums are kept biased so that a signed comparison orders them (targets without unsigned
+/// comparisons, AVX2 among them, pay two more operations for each): 32-bit lanes carry
+/// cum_j + 2^31 (mod 2^32, which maps [0, 2^32) onto the signed range in order); 64-bit lanes
+/// need no bias, the sums being below 2^32. The last map is not compared: cum_{k-1} = t > u
+/// whenever t > 0, and with t = 0 (no map allowed) the choice is not used.
 template <size_t KMax, class DU, class Excluded>
 HWY_INLINE hn::Vec<DU> draw_allowed(DU du, const uint32_t* q, uint32_t k, hn::Vec<DU> r, hn::Vec<DU>& tot,
                                     Excluded&& excluded) {
     using U = hn::TFromD<DU>;
+    const hn::RebindToSigned<DU> di;
     constexpr size_t L = fp::simd::HWY_NAMESPACE::max_lanes<U>;
     alignas(HWY_MAX_BYTES) U cum[KMax * L];
+    const auto bias = hn::Set(du, sizeof(U) == 4 ? U(U(1) << (8 * sizeof(U) - 1)) : U(0));
     // (IfThenElse(m, a, Add(a, b)): one masked add where the target has them.)
-    tot = hn::Zero(du);
+    auto biased = bias;
     auto vj = hn::Zero(du);
     const auto one = hn::Set(du, U(1));
 #pragma GCC unroll 16
     for (size_t j = 0; j < KMax; ++j) {
         if (j == k) break;
-        tot = hn::IfThenElse(excluded(uint32_t(j), vj), tot, hn::Add(tot, hn::Set(du, U(q[j]))));
-        hn::Store(tot, du, cum + j * L);
-        vj = hn::Add(vj, one);
+        biased = hn::IfThenElse(excluded(uint32_t(j), vj), biased, hn::Add(biased, hn::Set(du, U(q[j]))));
+        hn::Store(biased, du, cum + j * L);
+        vj = opaque(hn::Add(vj, one));
     }
-    const auto u = mul_high32(du, r, tot);
+    tot = hn::Sub(biased, bias);
+    // cum_j <= u as v > cum_j with v = u + 1 (biased, still below the signed maximum: u < t <
+    // 2^32), so that each comparison reads its sum straight from memory.
+    const auto v = hn::BitCast(di, hn::Add(hn::Add(mul_high32(du, r, tot), bias), one));
     auto c = hn::Zero(du);
-    for (size_t j = 0; j < KMax; ++j) {
-        if (j == k) break;
-        c = hn::IfThenElse(hn::Gt(hn::Load(du, cum + j * L), u), c, hn::Add(c, one));
+    for (size_t j = 0; j + 1 < KMax; ++j) {
+        if (j + 1 == k) break;
+        c = hn::IfThenElse(hn::RebindMask(du, hn::Gt(v, hn::BitCast(di, hn::Load(du, cum + j * L)))),
+                           hn::Add(c, one), c);
     }
     return c;
 }
