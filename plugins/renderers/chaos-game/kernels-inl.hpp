@@ -212,12 +212,12 @@ HWY_INLINE hn::Mask<DU> count_down(DU du, uint64_t* left, hn::Mask<DU> dec) {
 /// instruction.
 template <class V>
 HWY_INLINE V opaque(V v) {
-#if HWY_TARGET != HWY_SCALAR && defined(__GNUC__) && (HWY_ARCH_X86 || HWY_ARCH_ARM)
-#if HWY_ARCH_X86
+// (x86 vector registers, and NEON's; SVE's vectors are sizeless types without `raw`, and the
+// emulated targets keep theirs in memory: those go without.)
+#if defined(__GNUC__) && HWY_ARCH_X86 && HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128
     asm("" : "+v"(v.raw));
-#else
+#elif defined(__GNUC__) && HWY_ARCH_ARM && HWY_TARGET == HWY_NEON
     asm("" : "+w"(v.raw));
-#endif
 #endif
     return v;
 }
