@@ -30,6 +30,16 @@ function(fixpoint_add_plugin name)
   # Nor errno from the math functions: std::sqrt then stays one (vectorisable) instruction,
   # with the same correctly rounded result.
   target_compile_options(${name} PRIVATE -fno-math-errno)
+  # Loops the compiler vectorises inside a kernel compiled for a 512-bit target (Highway's
+  # per-target functions, fixpoint/simd-inl.hpp's per-point loops) get full-width vectors: GCC
+  # prefers 256-bit ones by default. Here, not only in fixpoint's own tree, so that a plugin
+  # built against the installed SDK gets the built-in plugins' code (bench/external.sh). Only
+  # x86 compilers know the flag.
+  include(CheckCXXCompilerFlag)
+  check_cxx_compiler_flag(-mprefer-vector-width=512 FIXPOINT_PLUGIN_HAS_PREFER_512)
+  if(FIXPOINT_PLUGIN_HAS_PREFER_512)
+    target_compile_options(${name} PRIVATE -mprefer-vector-width=512)
+  endif()
   # GCC only: clang does not know the flag, and never emits GNU-unique symbols anyway.
   if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
     target_compile_options(${name} PRIVATE -fno-gnu-unique)
