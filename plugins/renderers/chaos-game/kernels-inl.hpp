@@ -235,9 +235,11 @@ HWY_INLINE V opaque(V v) {
 /// cum_j + 2^31 (mod 2^32, which maps [0, 2^32) onto the signed range in order); 64-bit lanes
 /// need no bias, the sums being below 2^32. The last map is not compared: cum_{k-1} = t > u
 /// whenever t > 0, and with t = 0 (no map allowed) the choice is not used.
+/// `wq`, when not null: the weights of the first wide_maps maps repeated over whole vectors, with a
+/// stride of `ws` lanes (LaneTables::wq).
 template <size_t KMax, class DU, class Excluded>
-HWY_INLINE hn::Vec<DU> draw_allowed(DU du, const uint32_t* q, uint32_t k, hn::Vec<DU> r, hn::Vec<DU>& tot,
-                                    Excluded&& excluded) {
+HWY_INLINE hn::Vec<DU> draw_allowed(DU du, const uint32_t* q, const hn::TFromD<DU>* wq, size_t ws, uint32_t k,
+                                    hn::Vec<DU> r, hn::Vec<DU>& tot, Excluded&& excluded) {
     using U = hn::TFromD<DU>;
     const hn::RebindToSigned<DU> di;
     constexpr size_t L = fp::simd::HWY_NAMESPACE::max_lanes<U>;
@@ -250,7 +252,9 @@ HWY_INLINE hn::Vec<DU> draw_allowed(DU du, const uint32_t* q, uint32_t k, hn::Ve
 #pragma GCC unroll 16
     for (size_t j = 0; j < KMax; ++j) {
         if (j == k) break;
-        biased = hn::IfThenElse(excluded(uint32_t(j), vj), biased, hn::Add(biased, hn::Set(du, U(q[j]))));
+        const auto qj = wq && j < fp_chaos::LaneTables<float>::wide_maps ? hn::Load(du, wq + j * ws)
+                                                                         : hn::Set(du, U(q[j]));
+        biased = hn::IfThenElse(excluded(uint32_t(j), vj), biased, hn::Add(biased, qj));
         hn::Store(biased, du, cum + j * L);
         vj = opaque(hn::Add(vj, one));
     }
@@ -269,10 +273,10 @@ HWY_INLINE hn::Vec<DU> draw_allowed(DU du, const uint32_t* q, uint32_t k, hn::Ve
 
 /// draw_allowed with the loops unrolled for up to 16 maps.
 template <class DU, class Excluded>
-HWY_INLINE hn::Vec<DU> draw_any(DU du, const uint32_t* q, uint32_t k, hn::Vec<DU> r, hn::Vec<DU>& tot,
-                                Excluded&& excluded) {
-    if (k <= 16) return draw_allowed<16>(du, q, k, r, tot, excluded);
-    return draw_allowed<fp_chaos::table_size>(du, q, k, r, tot, excluded);
+HWY_INLINE hn::Vec<DU> draw_any(DU du, const uint32_t* q, const hn::TFromD<DU>* wq, size_t ws, uint32_t k,
+                                hn::Vec<DU> r, hn::Vec<DU>& tot, Excluded&& excluded) {
+    if (k <= 16) return draw_allowed<16>(du, q, wq, ws, k, r, tot, excluded);
+    return draw_allowed<fp_chaos::table_size>(du, q, wq, ws, k, r, tot, excluded);
 }
 
 template <class DU>
@@ -286,9 +290,10 @@ HWY_INLINE void draw_rules_t(DU du, const fp_chaos::DrawArgs& args) {
         const auto act = hn::Ne(load32(du, a.active + i), zero);
         const auto r = pcg_next(du, a.rs + i, a.ri + i);
         auto tot = zero;
-        const auto c = draw_any(du, a.q, a.k, r, tot, [&](uint32_t j, hn::Vec<DU> vj) {
-            return hn::Or(hn::Not(zero_bytes(du, a.inside + j * a.row + i)), hn::Eq(p, vj));
-        });
+        const auto c = draw_any(
+            du, a.q, static_cast<const U*>(nullptr), 0, a.k, r, tot, [&](uint32_t j, hn::Vec<DU> vj) {
+                return hn::Or(hn::Not(zero_bytes(du, a.inside + j * a.row + i)), hn::Eq(p, vj));
+            });
         const auto some = hn::Ne(tot, zero);
         store32(du, hn::IfThenElse(hn::And(act, some), c, none), a.chosen + i);
         store32(du, hn::IfThenElseZero(hn::AndNot(some, act), one), a.restart + i);
@@ -720,13 +725,18 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         if constexpr (Rules) {
             const auto r = pcg_next(du, a.rs + i, a.ri + i);
             auto tot = zero;
-            c = draw_any(du, t.q, k, r, tot, [&](uint32_t j, hn::Vec<decltype(du)> vj) {
-                const auto previous = hn::Eq(p, vj);
-                if constexpr (K != fp_chaos::LaneKind::circle) return previous;
-                const auto dx = hn::Sub(x, hn::Set(d, t.p[0][j])), dy = hn::Sub(y, hn::Set(d, t.p[1][j]));
-                const auto in = hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Set(d, t.p[2][j]));
-                return hn::Or(hn::RebindMask(du, in), previous);
-            });
+            c = draw_any(du, t.q, &t.wq[0][0], t.wide_lanes, k, r, tot,
+                         [&](uint32_t j, hn::Vec<decltype(du)> vj) {
+                             const auto previous = hn::Eq(p, vj);
+                             if constexpr (K != fp_chaos::LaneKind::circle) return previous;
+                             // (The same values as broadcasts of t.p[.][j]: see LaneTables::wp.)
+                             const auto par = [&](int n) {
+                                 return j < t.wide_maps ? hn::Load(d, t.wp[n][j]) : hn::Set(d, t.p[n][j]);
+                             };
+                             const auto dx = hn::Sub(x, par(0)), dy = hn::Sub(y, par(1));
+                             const auto in = hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), par(2));
+                             return hn::Or(hn::RebindMask(du, in), previous);
+                         });
             some = hn::Ne(tot, zero);
         } else if (k == 1) {
             // One map: the draw's output is not needed, but the stream moves on as it would

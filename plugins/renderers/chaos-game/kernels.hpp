@@ -107,6 +107,14 @@ struct LaneTables {
     alignas(64) float cg[table_size] = {};
     alignas(64) float cb[table_size] = {};
     std::uint32_t q[table_size] = {};
+    /// The circles' parameters (cx, cy, r2) and the rules' weights of the first wide_maps maps,
+    /// each repeated over a vector of the widest target (256 bytes: SVE-2048): the draw reads
+    /// them as whole vector operands, where targets without broadcasting operands (AVX2,
+    /// SSE4, NEON) would spend an instruction a parameter and map on a broadcast.
+    static constexpr std::size_t wide_maps = 16;
+    static constexpr std::size_t wide_lanes = 256 / sizeof(T);
+    alignas(64) T wp[3][wide_maps][wide_lanes] = {};
+    alignas(64) U wq[wide_maps][wide_lanes] = {};
     std::uint32_t k = 0;
     LaneKind kind = LaneKind::circle;
     LaneColour colour = LaneColour::none;
