@@ -106,6 +106,8 @@ std::shared_ptr<const fp::Renderer> make_renderer(const Setup& s,
     bag.set("colourer", colourer);
     bag.set("reduction", s.reduction);
     bag.set("precision", std::string("float"));
+    // (A bag built by hand has no defaults: every parameter the renderer reads is set.)
+    bag.set("tile", false);
     return std::shared_ptr<const fp::Renderer>(dynamic_cast<const fp::Renderer*>(e->desc->create(bag)));
 }
 
