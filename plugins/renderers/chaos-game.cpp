@@ -525,11 +525,8 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
                     t.thr[j] = U(alias_thr_[j]);
                     t.alias[j] = U(alias_[j]);
                     t.cr[j] = colours_[j].r, t.cg[j] = colours_[j].g, t.cb[j] = colours_[j].b;
-                    if (j < t.wide_maps) {
-                        std::fill_n(t.wq[j], t.wide_lanes, U(q_[j]));
-                        for (int i = 0; i < 3; ++i) std::fill_n(t.wp[i][j], t.wide_lanes, t.p[i][j]);
-                    }
                 }
+                t.repeat_wide();
             };
             fill(*lanes_f_);
             fill(*lanes_d_);

@@ -131,6 +131,7 @@ TEST(ChaosKernel, FusedStepIsTheGenericStep) {
     for (std::size_t j = 0; j < cx.size(); ++j)
         t.p[0][j] = float(cx[j]), t.p[1][j] = float(cy[j]), t.p[2][j] = float(r2[j]), t.q[j] = q[j];
     t.k = uint32_t(cx.size());
+    t.repeat_wide();
     t.kind = fp_chaos::LaneKind::circle;
     t.colour = fp_chaos::LaneColour::none;
     t.rules = true;

@@ -115,6 +115,15 @@ struct LaneTables {
     static constexpr std::size_t wide_lanes = 256 / sizeof(T);
     alignas(64) T wp[3][wide_maps][wide_lanes] = {};
     alignas(64) U wq[wide_maps][wide_lanes] = {};
+    /// Fills wp and wq from p and q for the first k maps: once the other tables are set.
+    void repeat_wide() {
+        for (std::size_t j = 0; j < k && j < wide_maps; ++j) {
+            for (std::size_t l = 0; l < wide_lanes; ++l) {
+                wq[j][l] = U(q[j]);
+                for (int i = 0; i < 3; ++i) wp[i][j][l] = p[i][j];
+            }
+        }
+    }
     std::uint32_t k = 0;
     LaneKind kind = LaneKind::circle;
     LaneColour colour = LaneColour::none;
