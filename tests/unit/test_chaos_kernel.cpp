@@ -39,6 +39,19 @@ bool same_bits(T a, T b) {
     return std::memcmp(&a, &b, sizeof(T)) == 0;
 }
 
+// n circles of radius 0.35 on the unit circle, map j with weight j + 1 (above 16 maps, the
+// draw reads the later maps' parameters by broadcast, not from LaneTables' repeated copies).
+std::string ring_maps(int n) {
+    std::string m = "maps: [";
+    for (int j = 0; j < n; ++j) {
+        const double a = 2 * M_PI * j / n;
+        m += std::string(j ? ", " : "") + "{type: inversion, shape: {type: circle, centre: [" +
+             std::to_string(std::cos(a)) + ", " + std::to_string(std::sin(a)) +
+             "], radius: 0.35}, weight: " + std::to_string(j + 1) + "}";
+    }
+    return m + "]";
+}
+
 // The six circles of bench/circles.yaml (and ../shared/perf-reference/circles.cpp).
 std::string circles_maps(const std::string& extra = "") {
     std::string m = "maps: [";
@@ -261,6 +274,13 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
         // Hits only with few points per chain (50 or 51) and a skip of 3: the fused path's steady
         // runs end one step before the first chain would run out, then single steps finish.
         bench + "points: 5003, chains: 100, skip: 3, colourer: {type: density}, " + circles_maps(),
+        // 20 circles with unequal weights: the draw beyond 16 maps, in float and in double.
+        "type: chaos-game, width: 64, height: 64, view: [-1.4, 1.4, -1.4, 1.4], points: 100000, chains: 300, "
+        "colourer: {type: map-colour}, " +
+            ring_maps(20),
+        "type: chaos-game, width: 64, height: 64, view: [-1.4, 1.4, -1.4, 1.4], points: 100000, chains: 300, "
+        "precision: double, colourer: {type: density}, " +
+            ring_maps(20),
         // The same with colour (steady runs carry the colours too), and with the flame colourer
         // on an expanding map beside a contracting one: steady runs ended by restarts.
         bench + "points: 5003, chains: 100, skip: 3, colourer: {type: map-colour}, " + circles_maps(),
