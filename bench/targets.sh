@@ -8,6 +8,8 @@
 #       the same on an AVX2-class CPU: fixpoint pinned to AVX2, the references built for AVX2.
 # Prints a Markdown table (M points/s, or M pixel-iterations/s for orbit-trap).
 set -euo pipefail
+# (set -e ends the script at a failed measurement without a word: say where.)
+trap 'echo "bench/targets.sh: the command at line $LINENO failed" >&2' ERR
 cd "$(dirname "$0")/.."
 build=${1:-build}
 pairs=${2:-3}
