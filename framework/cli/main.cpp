@@ -296,8 +296,10 @@ Checkpoints plan_checkpoints(const Options& o, const Pipeline& p, const std::str
     std::error_code ec;
     // (Spelled differently, or not there yet: compared as absolute paths with . and .. resolved.)
     const auto same = [&ec](const std::string& a, const std::string& b) {
-        return fs::equivalent(a, b, ec) ||
-               fs::weakly_canonical(fs::absolute(a), ec) == fs::weakly_canonical(fs::absolute(b), ec);
+        if (fs::equivalent(a, b, ec)) return true;
+        const fs::path ca = fs::weakly_canonical(fs::absolute(a), ec);
+        if (ec || ca.empty()) return a == b; // (undecidable: only the same spelling)
+        return ca == fs::weakly_canonical(fs::absolute(b), ec) && !ec;
     };
     for (const auto& [name, other] : {std::pair{"the output", out}, std::pair{"the config", o.config}})
         if (same(ck.path, other))
@@ -477,8 +479,10 @@ int cmd_collection(const Options& o, bool validate_only) {
                          "': a collection is written as PNG, EXR or TIFF images and a contact "
                          "sheet, not as SVG or PDF");
     // The children's names come from the sheet's: named with -o, the sheet names them too.
-    for (std::size_t k = 0; k < pipes.size(); ++k)
+    for (std::size_t k = 0; k < pipes.size(); ++k) {
         check_output_for({child_path(out, k + 1), output.named, output.mark}, o);
+        check_tiled(pipes[k], child_path(out, k + 1));
+    }
     if (g_interrupted.load()) throw Cancelled(); // during the checks above
     agree_checks();
     if (validate_only) {
@@ -588,15 +592,9 @@ int cmd_render(const Options& o, bool validate_only) {
     const std::string& out = output.path;
     check_output_for(output, o);
     const bool vector = check_vector_output(p, out);
-    // output.tiled with a format that has none, at its place in the config.
-    std::uint64_t held = 0;
-    try {
-        if (!vector)
-            held = StreamedImage::held_bytes(out, p.renderer->width(), p.renderer->height(), p.tiled);
-    } catch (const InputError& e) {
-        if (p.tiled_mark.line > 0) throw InputError(p.tiled_mark.str() + ": " + e.what());
-        throw;
-    }
+    if (!vector) check_tiled(p, out);
+    const std::uint64_t held =
+        vector ? 0 : StreamedImage::held_bytes(out, p.renderer->width(), p.renderer->height(), p.tiled);
     // Beyond the budget, a raster image streams band by band (not when --repeat needs it whole).
     const MemoryPlan memory =
         check_memory_within(p, threads, requested,

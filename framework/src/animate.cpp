@@ -611,6 +611,7 @@ int animate(const Registry& reg, const AnimateOptions& o, const FrameRenderer& r
         if (k < first || k > last) continue;
         check_memory(p, o.threads);
         const std::string out = pat.path(k);
+        check_tiled(p, out);
         std::error_code ec;
         if (fs::equivalent(out, o.config, ec))
             throw InputError("cannot write " + quote(out, 200) + ": it is the config being animated");

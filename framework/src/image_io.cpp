@@ -122,20 +122,21 @@ image_writer(const std::string& path, int width, int height, int channels, int b
     return {std::move(out), spec};
 }
 
-// One row of tiles (rows [ty, ty + rows) of a `width`-pixel RGB image at `rgb`), tile by tile in
+// One row of tiles (rows [ty, ty + rows) of a `width`-pixel image of `ch` channels at `px`), tile by tile in
 // order, each copied whole into a zeroed tile first. OpenImageIO's write_tiles, given many tiles
 // at once, compressed them concurrently and wrote them in the order they finished (one render in
 // fifteen had other tile offsets), and edge tiles must be whole: this way a whole write and a
 // streamed one give the same bytes.
-static bool write_tile_row(OIIO::ImageOutput& out, int width, int ty, int rows, const float* rgb,
+static bool write_tile_row(OIIO::ImageOutput& out, int width, int ch, int ty, int rows, const float* px,
                            std::vector<float>& tile) {
-    tile.resize(std::size_t(tile_side) * tile_side * 3);
+    const std::size_t c = std::size_t(ch);
+    tile.resize(std::size_t(tile_side) * tile_side * c);
     for (int tx = 0; tx < width; tx += tile_side) {
         std::fill(tile.begin(), tile.end(), 0.0f);
         const int cols = std::min(tile_side, width - tx);
         for (int r = 0; r < rows; ++r)
-            std::copy_n(rgb + (std::size_t(r) * std::size_t(width) + std::size_t(tx)) * 3,
-                        std::size_t(cols) * 3, tile.data() + std::size_t(r) * tile_side * 3);
+            std::copy_n(px + (std::size_t(r) * std::size_t(width) + std::size_t(tx)) * c,
+                        std::size_t(cols) * c, tile.data() + std::size_t(r) * tile_side * c);
         if (!out.write_tile(tx, ty, 0, OIIO::TypeDesc::FLOAT, tile.data())) return false;
     }
     return true;
@@ -143,7 +144,7 @@ static bool write_tile_row(OIIO::ImageOutput& out, int width, int ty, int rows, 
 
 void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
                  const Resolution& resolution, Tiled tiled) {
-    const bool tiles = img.channels == 3 && tiled_file(path, img.width, img.height, tiled);
+    const bool tiles = tiled_file(path, img.width, img.height, tiled);
     auto [out, spec] =
         image_writer(path, img.width, img.height, img.channels, bit_depth, recipe, resolution, tiles);
     const char* oiio_format = out->format_name();
@@ -158,8 +159,10 @@ void write_image(const Image& img, const std::string& path, int bit_depth, const
     if (ok && tiles) {
         std::vector<float> tile;
         for (int ty = 0; ok && ty < img.height; ty += tile_side)
-            ok = write_tile_row(*out, img.width, ty, std::min(tile_side, img.height - ty),
-                                img.pixels.data() + std::size_t(ty) * std::size_t(img.width) * 3, tile);
+            ok = write_tile_row(*out, img.width, img.channels, ty, std::min(tile_side, img.height - ty),
+                                img.pixels.data() +
+                                    std::size_t(ty) * std::size_t(img.width) * std::size_t(img.channels),
+                                tile);
     } else if (ok) {
         ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
     }
@@ -267,7 +270,7 @@ void StreamedImage::rows(int y0, int rows, const float* rgb) {
                         m.tile_rows.data() + std::size_t(y % tile_side) * row);
             if ((y + 1) % tile_side != 0 && y + 1 != m.height) continue;
             const int ty = y / tile_side * tile_side;
-            if (!write_tile_row(*m.out, m.width, ty, y + 1 - ty, m.tile_rows.data(), m.tile) ||
+            if (!write_tile_row(*m.out, m.width, 3, ty, y + 1 - ty, m.tile_rows.data(), m.tile) ||
                 !m.file->failure().empty())
                 m.fail_writing();
         }

@@ -191,6 +191,15 @@ void check_memory(const Pipeline& p, unsigned threads) {
                          "; this machine has " + format_bytes(have) + " available");
 }
 
+void check_tiled(const Pipeline& p, const std::string& out) {
+    try {
+        (void)tiled_file(out, p.renderer->width(), p.renderer->height(), p.tiled);
+    } catch (const InputError& e) {
+        if (p.tiled_mark.line > 0) throw InputError(p.tiled_mark.str() + ": " + e.what());
+        throw;
+    }
+}
+
 MemoryPlan check_memory_within(const Pipeline& p, unsigned threads, std::uint64_t requested, bool can_stream,
                                std::uint64_t held) {
     const unsigned local = ranks::on_this_machine();

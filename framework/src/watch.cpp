@@ -94,7 +94,10 @@ int watch(const Registry& reg, const WatchOptions& o, const std::atomic<bool>& s
         passes.emplace_back(full, "full");
         // Every pass checked before the first writes: a version refused for its full image
         // leaves the last good image, not its draft.
-        for (const auto& pass : passes) check_memory(pass.first, o.threads);
+        for (const auto& pass : passes) {
+            check_memory(pass.first, o.threads);
+            check_tiled(pass.first, o.out);
+        }
         for (const auto& [p, what] : passes) {
             Runtime rt(o.threads, &cancel);
             RenderStats stats;

@@ -275,6 +275,11 @@ TEST(Animate, BadAnimationSectionsAreOneExactLine) {
          "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\n",
          "--frames '2..5': expected A..B (or one frame K) with 0 <= A <= B <= 2 (the animation has 3 frames)",
          {"animate", "--quiet", "bad.yaml", "-o", "f/%d.png", "--frames", "2..5"}},
+        // Tiles for PNG frames: refused at output.tiled before the first frame renders.
+        {"tiled_png",
+         "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\noutput: {tiled: true}\n",
+         "bad.yaml:16:17: output.tiled: 'f/0.png': only TIFF and EXR images have tiles (write .tif or .exr)",
+         {"animate", "--quiet", "bad.yaml", "-o", "f/%d.png"}},
         {"video_ext",
          "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\n",
          "--video 'v.avi': expected a .mp4, .mkv, .mov or .gif file",

@@ -49,6 +49,12 @@ std::vector<Case> cases() {
          "bad.yaml:11:17: output.tiled: must be auto, true or false, got 'maybe'"},
         {"tiled_png", b + "output: {tiled: true}\n",
          "bad.yaml:11:17: output.tiled: 'out.png': only TIFF and EXR images have tiles (write .tif or .exr)"},
+        // The same for a collection's children, before any child renders.
+        {"tiled_png_vary",
+         b + "output: {tiled: true}\n",
+         "bad.yaml:11:17: output.tiled: 'out-1.png': only TIFF and EXR images have tiles (write .tif or "
+         ".exr)",
+         {"--vary", "renderer.seed=1,2"}},
         {"alias", "a: &x 1\nrenderer: *x\n",
          "bad.yaml:1:4: YAML anchors are not supported: write the value out"},
         {"second_document", b + "---\nrenderer: {}\n",

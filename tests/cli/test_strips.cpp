@@ -127,8 +127,6 @@ TEST(Bands, OrbitTrapSameAsWhole) {
     EXPECT_EQ(read_file(dir + "/bands.exr"), read_file(dir + "/whole.exr"));
 }
 
-// mfs (paper 05) draws its polygons band by band, the scene moved up by the band's first row: a
-// shift by whole pixels, so Cairo covers every pixel as on the whole surface.
 // Tiled TIFF and EXR (output.tiled; by default images of more than 8192 x 8192 pixels): the
 // streamed bands gather into rows of 256 x 256 tiles, with the same bytes as the whole image
 // written in tiles; an image whose height and width are not whole tiles, bands that are not
@@ -195,6 +193,8 @@ TEST(Bands, TiledFilesSameAsWhole) {
     EXPECT_TRUE(chaos("chaos-strips.tif", {"--memory", "30M"}) == chaos("chaos-whole.tif", {}));
 }
 
+// mfs (paper 05) draws its polygons band by band, the scene moved up by the band's first row: a
+// shift by whole pixels, so Cairo covers every pixel as on the whole surface.
 TEST(Bands, MfsSameAsWhole) {
     const std::string dir = scratch_dir("bands_mfs");
     for (const char* name : {"fig4-left", "fig5-left", "fig6-left"}) {

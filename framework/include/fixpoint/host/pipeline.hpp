@@ -66,6 +66,10 @@ struct MemoryPlan {
 MemoryPlan check_memory_within(const Pipeline& p, unsigned threads, std::uint64_t requested, bool can_stream,
                                std::uint64_t held = 0);
 
+/// output.tiled against the file the image goes to: fp::InputError at output.tiled's place in
+/// the config (tiles for a PNG), checked before anything renders.
+void check_tiled(const Pipeline& p, const std::string& out);
+
 /// Refuse writing `out` as SVG or PDF from a renderer without vector output (fp::InputError
 /// at the renderer); returns whether `out` is a vector format.
 bool check_vector_output(const Pipeline& p, const std::string& out);
