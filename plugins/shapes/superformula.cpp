@@ -11,7 +11,9 @@
 // periodic: the boundary then has a radial jump on the ray theta = pi, which is part of the
 // boundary like any other; the set stays star-shaped from c.
 //
-// Inside: |p - c|^2 < r(theta)^2.
+// Inside: |p - c|^2 < r(theta)^2. Bounds of r proven from the parameters (prove_bounds) answer
+// first for the points well outside or well inside, without the transcendentals: the same
+// answers, for most of a chaos game's points.
 //
 // Ray exit from o in direction d: when o = c the answer is closed, t = r(theta(d)) / |d|.
 // Otherwise we find the root of f(t) = |o + t d - c| - r(theta(o + t d - c)), negative inside
@@ -51,6 +53,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <numbers>
@@ -63,7 +66,10 @@ namespace fp_superformula {
 struct Curve {
     double m4, inv_n1, n2, n3, inv_a, inv_b, scale; // m / 4, 1 / n1, n2, n3, 1 / a, 1 / b, scale
     double cx, cy, cr, sr;                          // centre; cosine and sine of the rotation
-    double r_lo, r_hi;                              // bounds of the radius
+    double r_lo, r_hi; // bounds of the radius (sampled, checked by the root finder)
+    /// Squared radii of the proven bounds (see Superformula::prove_bounds): |p - c|^2 >= out2
+    /// is outside and < in2 inside for every angle, without r(theta); +inf and 0 when none.
+    double out2, in2;
 };
 
 /// A ray's origin relative to the centre: w, |w| and f(0) = |w| - r(theta(w)) < 0.
@@ -150,6 +156,7 @@ public:
         if (!in_kernel(c_))
             throw fp::ParamError("superformula is too thin near its centre: the centre is not inside the "
                                  "kernel of its sampled boundary");
+        prove_bounds();
     }
 
     fp::Vec2 centre() const override { return c_; }
@@ -192,6 +199,37 @@ private:
         const double nw = std::hypot(wx, wy);
         const fp_superformula::Origin w{wx, wy, nw, nw - fp_superformula::radius_at(k_, wx, wy)};
         fp_superformula::ray(k_, &w, d, t);
+    }
+
+    /// Bounds of r over every angle that hold for the kernels' r (the inside test's shortcut:
+    /// in a chaos game most points lie far from most sets). With c = |cos u| and s = |sin u|,
+    /// both at most 1 and the larger at least 1/sqrt(2), each term is bounded:
+    ///   n >= 0: (c / a)^n lies in [0, a^-n], and one of the two terms is at least
+    ///           min((a sqrt 2)^-n2, (b sqrt 2)^-n3) when both exponents are >= 0;
+    ///   n < 0:  (c / a)^n >= a^-n (unbounded above: the set pinches, no inner bound).
+    /// r = scale (A + B)^(-1/n1) falls as A + B grows, so a lower bound L of A + B gives
+    /// r <= scale L^(-1/n1), an upper one U gives r >= scale U^(-1/n1). A margin of 1e-3 of
+    /// r covers the kernels' rounding (their transcendentals are good to about 1e-13 of r
+    /// within the limits below, where the exponents stay moderate); outside those limits, or
+    /// where a bound is not a normal number, the test computes r(theta) for every point.
+    void prove_bounds() {
+        k_.out2 = std::numeric_limits<double>::infinity();
+        k_.in2 = 0;
+        const double n2 = k_.n2, n3 = k_.n3, e = -k_.inv_n1;
+        if (!(k_.inv_n1 <= 1e3 && std::abs(n2) <= 1e3 && std::abs(n3) <= 1e3 &&
+              std::abs(k_.m4) * std::numbers::pi <= 1e5))
+            return;
+        const double h = std::numbers::sqrt2 / 2;
+        double lower = 0;
+        if (n2 < 0) lower = std::max(lower, std::pow(k_.inv_a, n2));
+        if (n3 < 0) lower = std::max(lower, std::pow(k_.inv_b, n3));
+        if (n2 >= 0 && n3 >= 0) lower = std::min(std::pow(k_.inv_a * h, n2), std::pow(k_.inv_b * h, n3));
+        const double r_max = k_.scale * std::pow(lower, e) * (1 + 1e-3);
+        if (std::isnormal(lower) && std::isnormal(r_max * r_max)) k_.out2 = r_max * r_max;
+        if (n2 < 0 || n3 < 0) return;
+        const double upper = std::pow(k_.inv_a, n2) + std::pow(k_.inv_b, n3);
+        const double r_min = k_.scale * std::pow(upper, e) * (1 - 1e-3);
+        if (std::isnormal(upper) && std::isnormal(r_min * r_min)) k_.in2 = r_min * r_min;
     }
 
     /// r(theta) with libm, for the setup (the batches use the kernels' own functions).
@@ -278,15 +316,41 @@ HWY_INLINE void blocks(D d, fp::Points<const T> p, Out* out, F&& body) {
     }
 }
 
+/// The inside test: |p - c|^2 against the proven bounds first (Curve::out2, in2), and
+/// r(theta) only for the points between them, gathered into whole vectors: in a chaos game
+/// most points lie far outside most sets. Each point's answer is the one r(theta) gives.
 template <class T>
 void inside_t(const Curve& c, fp::Points<const T> p, unsigned char* out) {
     const D d;
+    const std::size_t N = hn::Lanes(d);
     const auto cx = hn::Set(d, c.cx), cy = hn::Set(d, c.cy), one = hn::Set(d, 1.0);
-    blocks(d, p, out, [&](V x, V y) {
-        const auto qx = hn::Sub(x, cx), qy = hn::Sub(y, cy);
-        const auto r = radius(d, c, theta(d, c, qx, qy));
-        return hn::IfThenElseZero(hn::Lt(hn::Add(hn::Mul(qx, qx), hn::Mul(qy, qy)), hn::Mul(r, r)), one);
-    });
+    constexpr std::size_t chunk = 256;
+    std::uint32_t list[chunk];
+    alignas(HWY_MAX_BYTES) double bx[HWY_MAX_BYTES / 8] = {}, by[HWY_MAX_BYTES / 8] = {};
+    alignas(HWY_MAX_BYTES) double br[HWY_MAX_BYTES / 8];
+    for (std::size_t i0 = 0; i0 < p.n; i0 += chunk) {
+        const std::size_t n = std::min(chunk, p.n - i0);
+        std::size_t m = 0;
+        for (std::size_t k = 0; k < n; ++k) {
+            const double qx = double(p.x[i0 + k]) - c.cx, qy = double(p.y[i0 + k]) - c.cy;
+            const double q2 = qx * qx + qy * qy;
+            const bool in = q2 < c.in2;
+            out[i0 + k] = in ? 1 : 0;
+            list[m] = std::uint32_t(i0 + k);
+            m += (in || q2 >= c.out2) ? 0 : 1; // (NaN: listed)
+        }
+        for (std::size_t j = 0; j < m; j += N) {
+            const std::size_t l = std::min(N, m - j);
+            for (std::size_t k = 0; k < l; ++k)
+                bx[k] = double(p.x[list[j + k]]), by[k] = double(p.y[list[j + k]]);
+            const auto qx = hn::Sub(hn::Load(d, bx), cx), qy = hn::Sub(hn::Load(d, by), cy);
+            const auto r = radius(d, c, theta(d, c, qx, qy));
+            hn::Store(
+                hn::IfThenElseZero(hn::Lt(hn::Add(hn::Mul(qx, qx), hn::Mul(qy, qy)), hn::Mul(r, r)), one), d,
+                br);
+            for (std::size_t k = 0; k < l; ++k) out[list[j + k]] = br[k] != 0 ? 1 : 0;
+        }
+    }
 }
 void inside_f(const Curve& c, fp::Points<const float> p, unsigned char* out) { inside_t(c, p, out); }
 void inside_d(const Curve& c, fp::Points<const double> p, unsigned char* out) { inside_t(c, p, out); }

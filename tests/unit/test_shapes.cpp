@@ -7,11 +7,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <numbers>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -300,6 +302,59 @@ TEST(Superformula, InsideAgreesWithRayExit) {
             const float tf = ray_f(*s, o, d);
             EXPECT_NEAR(tf, t, 1e-5 * t);
         }
+}
+
+// The inside test answers from proven bounds of r without computing r(theta) for points far
+// outside or well inside. Its answers must be r(theta)'s: compared, over rings of points from
+// the centre to 1.5 times the farthest boundary point, with the exit of the ray from the
+// centre (the closed form r(theta) / |d| of the same kernels), for shapes whose bounds come
+// from each case of the proof (positive, zero and negative exponents, a != b, a small n1, a
+// non-integer m). Points within 1e-9 of the boundary are skipped: there the ray's rounding
+// decides. Mutation-checked: an outer bound of 0.95 times the proven one fails the pinched
+// shape (n3 < 0, whose bound is close), an inner bound 1.3 times too large two others.
+TEST(Superformula, InsideShortcutAgreesWithTheRadius) {
+    const char* shapes[] = {
+        "{type: superformula}",
+        "{type: superformula, m: 5, n1: 2, n2: 7, n3: 7, scale: 0.2523, rotation: 0.31416, centre: [1.3, "
+        "0.4]}",
+        "{type: superformula, m: 6, n1: 3, n2: 4, n3: 9, a: 1.3, b: 0.7, scale: 0.45, centre: [0.4, 0.3]}",
+        "{type: superformula, m: 3, n1: 0.8, n2: 1.5, n3: 1.5, b: 0.7, scale: 0.4}",
+        "{type: superformula, m: 4, n1: 0.3, n2: 0, n3: 2}",
+        "{type: superformula, m: 2.5, n1: 1, n2: 1, n3: 1}",
+        "{type: superformula, m: 4, n1: 5, n2: 2, n3: -0.5}",
+    };
+    for (const char* yaml : shapes) {
+        auto s = shape(yaml);
+        const Vec2 c = s->centre();
+        double far = 0;
+        for (const auto& q : s->outline(4096)) far = std::max(far, std::hypot(q.x - c.x, q.y - c.y));
+        std::vector<double> xs, ys, want;
+        std::vector<float> xf, yf;
+        constexpr int angles = 360, rings = 300;
+        for (int k = 0; k < angles; ++k) {
+            const double a = 2 * std::numbers::pi * (k + 0.29) / angles;
+            const Vec2 d{std::cos(a), std::sin(a)};
+            const double r = ray(*s, c, d) * std::hypot(d.x, d.y);
+            for (int j = 1; j <= rings; ++j) { // (not the centre: its angle is atan2(0, 0))
+                const double rho = 1.5 * far * j / rings;
+                if (std::abs(rho - r) < 1e-9 * r) continue;
+                xs.push_back(c.x + rho * d.x), ys.push_back(c.y + rho * d.y);
+                want.push_back(rho < r ? 1 : 0);
+            }
+        }
+        // Double points against the ray; float points against the double test of the same
+        // (rounded) point, since both batches compute in double.
+        std::vector<unsigned char> got(xs.size()), got_f(xs.size()), ref_f(xs.size());
+        s->inside(fp::Points<const double>{xs.data(), ys.data(), xs.size()}, got.data());
+        size_t wrong = 0, in = 0;
+        for (size_t i = 0; i < xs.size(); ++i) wrong += got[i] != want[i], in += want[i];
+        EXPECT_EQ(wrong, 0u) << yaml;
+        EXPECT_GT(in, xs.size() / 20) << yaml; // the rings cross the set
+        for (size_t i = 0; i < xs.size(); ++i) xf.push_back(float(xs[i])), yf.push_back(float(ys[i]));
+        s->inside(fp::Points<const float>{xf.data(), yf.data(), xf.size()}, got_f.data());
+        for (size_t i = 0; i < xs.size(); ++i) ref_f[i] = inside(*s, double(xf[i]), double(yf[i])) ? 1 : 0;
+        EXPECT_EQ(got_f, ref_f) << yaml;
+    }
 }
 
 TEST(Superformula, KernelExcludesTheTips) {
