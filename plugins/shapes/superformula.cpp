@@ -55,6 +55,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -70,7 +71,16 @@ struct Curve {
     /// Squared radii of the proven bounds (see Superformula::prove_bounds): |p - c|^2 >= out2
     /// is outside and < in2 inside for every angle, without r(theta); +inf and 0 when none.
     double out2, in2;
+    /// The same per sector of the pseudo-angle below (sector_count pairs in2, out2), or null.
+    const double* sectors;
 };
+
+/// Sectors of the inside test's bounds: equal steps of pseudo_angle.
+constexpr std::size_t sector_count = 256;
+
+// The sectors are equal steps of a pseudo-angle of (x, y) != 0 that increases with
+// atan2(y, x) from -2 to 2 without a transcendental: t = y / (|x| + |y|) where x >= 0, 2 - t
+// where x < 0 <= y, -2 - t where x, y < 0 (the kernels' classify; prove_bounds inverts it).
 
 /// A ray's origin relative to the centre: w, |w| and f(0) = |w| - r(theta(w)) < 0.
 struct Origin {
@@ -201,35 +211,86 @@ private:
         fp_superformula::ray(k_, &w, d, t);
     }
 
-    /// Bounds of r over every angle that hold for the kernels' r (the inside test's shortcut:
-    /// in a chaos game most points lie far from most sets). With c = |cos u| and s = |sin u|,
-    /// both at most 1 and the larger at least 1/sqrt(2), each term is bounded:
-    ///   n >= 0: (c / a)^n lies in [0, a^-n], and one of the two terms is at least
-    ///           min((a sqrt 2)^-n2, (b sqrt 2)^-n3) when both exponents are >= 0;
-    ///   n < 0:  (c / a)^n >= a^-n (unbounded above: the set pinches, no inner bound).
-    /// r = scale (A + B)^(-1/n1) falls as A + B grows, so a lower bound L of A + B gives
-    /// r <= scale L^(-1/n1), an upper one U gives r >= scale U^(-1/n1). A margin of 1e-3 of
-    /// r covers the kernels' rounding (their transcendentals are good to about 1e-13 of r
-    /// within the limits below, where the exponents stay moderate); outside those limits, or
-    /// where a bound is not a normal number, the test computes r(theta) for every point.
+    /// Bounds of r that hold for the kernels' r, for the inside test's shortcut (in a chaos
+    /// game most points lie far from most sets): over every angle, and over each of the
+    /// sectors of Curve::sectors. With c = |cos u| and s = |sin u| (u = m theta / 4), the
+    /// terms (c / a)^n2 and (s / b)^n3 are monotonic in c and s, so ranges of c and s bound
+    /// them (interval arithmetic); over every angle, c and s lie in [0, 1] and the larger is
+    /// at least 1/sqrt(2), so with n2, n3 >= 0 one term is at least min((a sqrt 2)^-n2,
+    /// (b sqrt 2)^-n3). r = scale (A + B)^(-1/n1) falls as A + B grows: bounds of A + B give
+    /// bounds of r. A margin of 1e-3 of r covers the kernels' rounding (their transcendentals
+    /// are good to about 1e-10 of r within the limits below, where the exponents stay
+    /// moderate); outside those limits, or where a bound is not finite and positive, the
+    /// test computes r(theta) for every point.
     void prove_bounds() {
         k_.out2 = std::numeric_limits<double>::infinity();
         k_.in2 = 0;
-        const double n2 = k_.n2, n3 = k_.n3, e = -k_.inv_n1;
+        k_.sectors = nullptr;
+        const double n2 = k_.n2, n3 = k_.n3;
         if (!(k_.inv_n1 <= 1e3 && std::abs(n2) <= 1e3 && std::abs(n3) <= 1e3 &&
               std::abs(k_.m4) * std::numbers::pi <= 1e5))
             return;
         const double h = std::numbers::sqrt2 / 2;
-        double lower = 0;
-        if (n2 < 0) lower = std::max(lower, std::pow(k_.inv_a, n2));
-        if (n3 < 0) lower = std::max(lower, std::pow(k_.inv_b, n3));
-        if (n2 >= 0 && n3 >= 0) lower = std::min(std::pow(k_.inv_a * h, n2), std::pow(k_.inv_b * h, n3));
-        const double r_max = k_.scale * std::pow(lower, e) * (1 + 1e-3);
-        if (std::isnormal(lower) && std::isnormal(r_max * r_max)) k_.out2 = r_max * r_max;
-        if (n2 < 0 || n3 < 0) return;
-        const double upper = std::pow(k_.inv_a, n2) + std::pow(k_.inv_b, n3);
-        const double r_min = k_.scale * std::pow(upper, e) * (1 - 1e-3);
-        if (std::isnormal(upper) && std::isnormal(r_min * r_min)) k_.in2 = r_min * r_min;
+        double lo = 0, hi = 0; // A + B over every angle
+        if (n2 >= 0 && n3 >= 0) lo = std::min(std::pow(k_.inv_a * h, n2), std::pow(k_.inv_b * h, n3));
+        const auto term = [](double b0, double b1, double inv, double n, double& t0, double& t1) {
+            t0 = std::pow(n >= 0 ? b0 * inv : b1 * inv, n);
+            t1 = std::pow(n >= 0 ? b1 * inv : b0 * inv, n);
+        };
+        double a0, a1, b0, b1;
+        term(0, 1, k_.inv_a, n2, a0, a1);
+        term(0, 1, k_.inv_b, n3, b0, b1);
+        lo = std::max(lo, a0 + b0), hi = a1 + b1;
+        squared(lo, hi, k_.in2, k_.out2);
+        // Per sector: the angles between the sector's ends (of the kernel's pseudo-angle,
+        // inverted exactly here), widened by 1e-9 for the pseudo-angle's rounding.
+        sect_.resize(2 * fp_superformula::sector_count);
+        const auto angle_of = [](double a) { // the inverse of the pseudo-angle
+            if (a >= -1 && a <= 1) return std::atan2(a, 1 - std::abs(a));
+            return a > 1 ? std::atan2(2 - a, 1 - a) : std::atan2(-2 - a, 1 + a);
+        };
+        const double pi = std::numbers::pi;
+        for (std::size_t k = 0; k < fp_superformula::sector_count; ++k) {
+            double& in2 = sect_[2 * k];
+            double& out2 = sect_[2 * k + 1];
+            in2 = k_.in2, out2 = k_.out2;
+            // (The two sectors at theta = +-pi keep the global bounds: the kernels' atan2
+            // may give -pi or pi there, and r jumps there when m is not an integer.)
+            if (k == 0 || k + 1 == fp_superformula::sector_count) continue;
+            const double step = 4.0 / double(fp_superformula::sector_count);
+            const double t0 = angle_of(-2 + step * double(k)) - 1e-9,
+                         t1 = angle_of(-2 + step * double(k + 1)) + 1e-9;
+            const double u0 = std::min(k_.m4 * t0, k_.m4 * t1), u1 = std::max(k_.m4 * t0, k_.m4 * t1);
+            // Does [u0, u1] hold a multiple of pi (plus `off`)?
+            const auto holds = [&](double off) {
+                return std::floor((u1 - off) / pi) >= std::ceil((u0 - off) / pi);
+            };
+            const double c0 = std::abs(std::cos(u0)), c1 = std::abs(std::cos(u1));
+            const double s0 = std::abs(std::sin(u0)), s1 = std::abs(std::sin(u1));
+            const bool wide = u1 - u0 >= pi;
+            const double cmin = wide || holds(pi / 2) ? 0 : std::min(c0, c1),
+                         cmax = wide || holds(0) ? 1 : std::max(c0, c1);
+            const double smin = wide || holds(0) ? 0 : std::min(s0, s1),
+                         smax = wide || holds(pi / 2) ? 1 : std::max(s0, s1);
+            term(cmin, cmax, k_.inv_a, n2, a0, a1);
+            term(smin, smax, k_.inv_b, n3, b0, b1);
+            double si, so;
+            squared(a0 + b0, a1 + b1, si, so);
+            in2 = std::max(in2, si), out2 = std::min(out2, so);
+        }
+        k_.sectors = sect_.data();
+    }
+
+    /// Squared bounds of r with the margin from bounds [lo, hi] of A + B: in2 = 0 and
+    /// out2 = +inf where a bound is not finite and positive (or A + B leaves the range where
+    /// the kernels' pow stays accurate).
+    void squared(double lo, double hi, double& in2, double& out2) const {
+        const double r_max = k_.scale * std::pow(lo, -k_.inv_n1) * (1 + 1e-3);
+        const double r_min = k_.scale * std::pow(hi, -k_.inv_n1) * (1 - 1e-3);
+        const bool lo_ok = lo >= 1e-300 && lo <= 1e300, hi_ok = hi >= 1e-300 && hi <= 1e300;
+        out2 = lo_ok && r_max > 0 && std::isfinite(r_max * r_max) ? r_max * r_max
+                                                                  : std::numeric_limits<double>::infinity();
+        in2 = hi_ok && r_min > 0 && std::isfinite(r_min * r_min) ? r_min * r_min : 0;
     }
 
     /// r(theta) with libm, for the setup (the batches use the kernels' own functions).
@@ -261,6 +322,7 @@ private:
     fp_superformula::Curve k_{}; ///< the parameters, as the batch kernels take them too
     double size_ = 0;
     std::vector<double> bx_, by_, nx_, ny_;
+    std::vector<double> sect_; ///< Curve::sectors' bounds
 };
 
 } // namespace
@@ -316,28 +378,90 @@ HWY_INLINE void blocks(D d, fp::Points<const T> p, Out* out, F&& body) {
     }
 }
 
-/// The inside test: |p - c|^2 against the proven bounds first (Curve::out2, in2), and
-/// r(theta) only for the points between them, gathered into whole vectors: in a chaos game
-/// most points lie far outside most sets. Each point's answer is the one r(theta) gives.
+/// The bounds' answers for N points (x, y): inside (the mask returned), outside, or `open`
+/// where they cannot tell (between the bounds of the point's sector, or a NaN). The sector
+/// comes from the pseudo-angle in the curve's frame (theta()'s rotation), its bounds by a
+/// gather.
+HWY_INLINE hn::Mask<D> classify(D d, const Curve& c, V x, V y, hn::Mask<D>& open) {
+    const hn::RebindToSigned<D> di;
+    const auto zero = hn::Zero(d), two = hn::Set(d, 2.0);
+    const auto qx = hn::Sub(x, hn::Set(d, c.cx)), qy = hn::Sub(y, hn::Set(d, c.cy));
+    const auto q2 = hn::Add(hn::Mul(qx, qx), hn::Mul(qy, qy));
+    auto in = hn::Lt(q2, hn::Set(d, c.in2));
+    open = hn::Not(hn::Or(in, hn::Ge(q2, hn::Set(d, c.out2)))); // (NaN: open)
+    const auto sel = hn::And(open, hn::Gt(q2, zero));
+    if (c.sectors && !hn::AllFalse(d, sel)) {
+        const auto cr = hn::Set(d, c.cr), sr = hn::Set(d, c.sr);
+        const auto rx = hn::Add(hn::Mul(cr, qx), hn::Mul(sr, qy)),
+                   ry = hn::Sub(hn::Mul(cr, qy), hn::Mul(sr, qx));
+        const auto t = hn::Div(ry, hn::Add(hn::Abs(rx), hn::Abs(ry)));
+        const auto a = hn::IfThenElse(
+            hn::Ge(rx, zero), t, hn::IfThenElse(hn::Ge(ry, zero), hn::Sub(two, t), hn::Sub(hn::Neg(two), t)));
+        const auto f = hn::Mul(hn::Add(a, two), hn::Set(d, double(sector_count / 4)));
+        // (f > 0 is false for NaN: sector 0, whose bounds are the global ones.)
+        const auto fc = hn::IfThenElseZero(hn::Gt(f, zero), hn::Min(f, hn::Set(d, double(sector_count - 1))));
+        const auto i2 = hn::ShiftLeft<1>(hn::ConvertTo(di, fc));
+        const auto lo = hn::GatherIndex(d, c.sectors, i2), hi = hn::GatherIndex(d, c.sectors + 1, i2);
+        const auto in_s = hn::Lt(q2, lo);
+        const auto open_s = hn::Not(hn::Or(in_s, hn::Ge(q2, hi)));
+        in = hn::Or(hn::AndNot(sel, in), hn::And(sel, in_s));
+        open = hn::Or(hn::AndNot(sel, open), hn::And(sel, open_s));
+    }
+    return in;
+}
+
+/// spread[b]: the bits of b as eight bytes 0 or 1, lowest bit first (masks to bytes).
+struct Spread {
+    unsigned char b[256][8];
+    constexpr Spread() : b{} {
+        for (int v = 0; v < 256; ++v)
+            for (int j = 0; j < 8; ++j) b[v][j] = static_cast<unsigned char>((v >> j) & 1);
+    }
+};
+constexpr Spread spread;
+
+/// The inside test: the bounds first (classify), and r(theta) only for the points they
+/// leave open, gathered into whole vectors: in a chaos game most points lie far outside most
+/// sets. Each point's answer is the one r(theta) gives.
 template <class T>
 void inside_t(const Curve& c, fp::Points<const T> p, unsigned char* out) {
     const D d;
+    const hn::Rebind<T, D> dt;
     const std::size_t N = hn::Lanes(d);
     const auto cx = hn::Set(d, c.cx), cy = hn::Set(d, c.cy), one = hn::Set(d, 1.0);
+    const auto load = [&](const T* v) {
+        if constexpr (sizeof(T) == 8)
+            return hn::LoadU(d, v);
+        else
+            return hn::PromoteTo(d, hn::LoadU(dt, v));
+    };
+    const hn::RebindToUnsigned<D> du;
     constexpr std::size_t chunk = 256;
-    std::uint32_t list[chunk];
+    std::uint64_t list[chunk + HWY_MAX_BYTES / 8]; // (room for CompressStore's whole vector)
     alignas(HWY_MAX_BYTES) double bx[HWY_MAX_BYTES / 8] = {}, by[HWY_MAX_BYTES / 8] = {};
     alignas(HWY_MAX_BYTES) double br[HWY_MAX_BYTES / 8];
+    std::uint8_t bits[HWY_MAX_BYTES / 8 + 8];
     for (std::size_t i0 = 0; i0 < p.n; i0 += chunk) {
         const std::size_t n = std::min(chunk, p.n - i0);
         std::size_t m = 0;
-        for (std::size_t k = 0; k < n; ++k) {
-            const double qx = double(p.x[i0 + k]) - c.cx, qy = double(p.y[i0 + k]) - c.cy;
-            const double q2 = qx * qx + qy * qy;
-            const bool in = q2 < c.in2;
-            out[i0 + k] = in ? 1 : 0;
-            list[m] = std::uint32_t(i0 + k);
-            m += (in || q2 >= c.out2) ? 0 : 1; // (NaN: listed)
+        for (std::size_t k = 0; k < n; k += N) {
+            const std::size_t i = i0 + k, l = std::min(N, n - k);
+            V x, y;
+            if (l == N) {
+                x = load(p.x + i), y = load(p.y + i);
+            } else { // (a padded copy for the last few)
+                for (std::size_t j = 0; j < l; ++j) bx[j] = double(p.x[i + j]), by[j] = double(p.y[i + j]);
+                x = hn::Load(d, bx), y = hn::Load(d, by);
+            }
+            hn::Mask<D> open;
+            const auto in = classify(d, c, x, y, open);
+            const std::size_t nbytes = hn::StoreMaskBits(d, in, bits);
+            for (std::size_t q = 0; q < nbytes && 8 * q < l; ++q)
+                std::memcpy(out + i + 8 * q, spread.b[bits[q]], std::min<std::size_t>(8, l - 8 * q));
+            const auto listed = hn::And(open, hn::FirstN(d, l));
+            if (!hn::AllFalse(d, listed))
+                m += hn::CompressStore(hn::Iota(du, std::uint64_t(i)), hn::RebindMask(du, listed), du,
+                                       list + m);
         }
         for (std::size_t j = 0; j < m; j += N) {
             const std::size_t l = std::min(N, m - j);

@@ -304,14 +304,15 @@ TEST(Superformula, InsideAgreesWithRayExit) {
         }
 }
 
-// The inside test answers from proven bounds of r without computing r(theta) for points far
-// outside or well inside. Its answers must be r(theta)'s: compared, over rings of points from
-// the centre to 1.5 times the farthest boundary point, with the exit of the ray from the
-// centre (the closed form r(theta) / |d| of the same kernels), for shapes whose bounds come
-// from each case of the proof (positive, zero and negative exponents, a != b, a small n1, a
-// non-integer m). Points within 1e-9 of the boundary are skipped: there the ray's rounding
-// decides. Mutation-checked: an outer bound of 0.95 times the proven one fails the pinched
-// shape (n3 < 0, whose bound is close), an inner bound 1.3 times too large two others.
+// The inside test answers from proven bounds of r, over every angle and over each of 256
+// sectors, without computing r(theta) for the points they decide. Its answers must be
+// r(theta)'s: compared, over rings of points from the centre to 1.5 times the farthest
+// boundary point, with the exit of the ray from the centre (the closed form r(theta) / |d| of
+// the same kernels), for shapes whose bounds come from each case of the proof (positive, zero
+// and negative exponents, a != b, a small n1, a non-integer m). Points within 1e-9 of the
+// boundary are skipped: there the ray's rounding decides. Mutation-checked, each failing all
+// seven shapes: outer bounds 0.99 times the proven ones, inner bounds 1.01 times, sectors'
+// first angles 0.01 later.
 TEST(Superformula, InsideShortcutAgreesWithTheRadius) {
     const char* shapes[] = {
         "{type: superformula}",
