@@ -4,8 +4,8 @@
 # Installs fixpoint from BUILD_DIR (default build) into a scratch prefix and builds copies of
 # two built-in plugins out of tree against that installed SDK, with only the CMake a plugin
 # author writes (find_package + fixpoint_add_plugin) and their registered names changed:
-#   superformula -> superformula-ext   on configs/inversion/fig6d.yaml (ten superformula sets:
-#                                      the shapes' ray-exit root finding takes most of the time)
+#   superformula -> superformula-ext   on configs/inversion/fig6d.yaml (five superformula sets:
+#                                      their inside tests and ray exits take most of the time)
 #   gumowski-mira -> gumowski-mira-ext on bench/gm-chains.yaml with `kernels: generic` (the
 #                                      renderer calls the plugin's batch, not its fused step)
 # Each is rendered with the built-in plugin and with the copy, 1 thread, in alternating runs;
