@@ -71,16 +71,15 @@ struct Curve {
     /// Squared radii of the proven bounds (see Superformula::prove_bounds): |p - c|^2 >= out2
     /// is outside and < in2 inside for every angle, without r(theta); +inf and 0 when none.
     double out2, in2;
-    /// The same per sector of the pseudo-angle below (sector_count pairs in2, out2), or null.
+    /// The same per sector (sector_count pairs in2, out2), or null.
     const double* sectors;
 };
 
-/// Sectors of the inside test's bounds: equal steps of pseudo_angle.
+/// Sectors of the inside test's bounds: equal steps of a pseudo-angle of (x, y) != 0 that
+/// increases with atan2(y, x) from -2 to 2 without a transcendental: t = y / (|x| + |y|)
+/// where x >= 0, 2 - t where x < 0 <= y, -2 - t where x, y < 0 (the kernels' classify;
+/// prove_bounds inverts it).
 constexpr std::size_t sector_count = 256;
-
-// The sectors are equal steps of a pseudo-angle of (x, y) != 0 that increases with
-// atan2(y, x) from -2 to 2 without a transcendental: t = y / (|x| + |y|) where x >= 0, 2 - t
-// where x < 0 <= y, -2 - t where x, y < 0 (the kernels' classify; prove_bounds inverts it).
 
 /// A ray's origin relative to the centre: w, |w| and f(0) = |w| - r(theta(w)) < 0.
 struct Origin {
