@@ -232,9 +232,13 @@ private:
         const double h = std::numbers::sqrt2 / 2;
         double lo = 0, hi = 0; // A + B over every angle
         if (n2 >= 0 && n3 >= 0) lo = std::min(std::pow(k_.inv_a * h, n2), std::pow(k_.inv_b * h, n3));
+        // The range [t0, t1] of (b inv)^n for b in [b0, b1]. With n < 0 the upper end grows
+        // without bound as b0 nears 0, and the kernels' cos and sin, good to about 1e-16
+        // there, would stray from it by more than the margin: below 1e-6 it is left open.
         const auto term = [](double b0, double b1, double inv, double n, double& t0, double& t1) {
             t0 = std::pow(n >= 0 ? b0 * inv : b1 * inv, n);
-            t1 = std::pow(n >= 0 ? b1 * inv : b0 * inv, n);
+            t1 = n < 0 && b0 < 1e-6 ? std::numeric_limits<double>::infinity()
+                                    : std::pow(n >= 0 ? b1 * inv : b0 * inv, n);
         };
         double a0, a1, b0, b1;
         term(0, 1, k_.inv_a, n2, a0, a1);
