@@ -168,6 +168,10 @@ public:
         prove_bounds();
     }
 
+    // (Not copied: k_.sectors points into this object's sect_.)
+    Superformula(const Superformula&) = delete;
+    Superformula& operator=(const Superformula&) = delete;
+
     fp::Vec2 centre() const override { return c_; }
 
     bool in_kernel(fp::Vec2 o) const override {
