@@ -317,8 +317,7 @@ TEST(Superformula, InsideAgreesWithRayExit) {
 TEST(Superformula, InsideShortcutAgreesWithTheRadius) {
     const char* shapes[] = {
         "{type: superformula}",
-        "{type: superformula, m: 5, n1: 2, n2: 7, n3: 7, scale: 0.2523, rotation: 0.31416, centre: [1.3, "
-        "0.4]}",
+        "{type: superformula, m: 5, n1: 2, n2: 7, n3: 7, scale: 0.25, rotation: 0.3, centre: [1.3, 0.4]}",
         "{type: superformula, m: 6, n1: 3, n2: 4, n3: 9, a: 1.3, b: 0.7, scale: 0.45, centre: [0.4, 0.3]}",
         "{type: superformula, m: 3, n1: 0.8, n2: 1.5, n3: 1.5, b: 0.7, scale: 0.4}",
         "{type: superformula, m: 4, n1: 0.3, n2: 0, n3: 2}",
