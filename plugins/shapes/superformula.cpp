@@ -63,6 +63,12 @@
 
 namespace fp_superformula {
 
+/// Sectors of the inside test's bounds: equal steps of a pseudo-angle of (x, y) != 0 that
+/// increases with atan2(y, x) from -2 to 2 without a transcendental: t = y / (|x| + |y|)
+/// where x >= 0, 2 - t where x < 0 <= y, -2 - t where x, y < 0 (the kernels' classify;
+/// prove_bounds inverts it).
+constexpr std::size_t sector_count = 256;
+
 /// The curve's parameters as the batch kernels take them.
 struct Curve {
     double m4, inv_n1, n2, n3, inv_a, inv_b, scale; // m / 4, 1 / n1, n2, n3, 1 / a, 1 / b, scale
@@ -71,15 +77,9 @@ struct Curve {
     /// Squared radii of the proven bounds (see Superformula::prove_bounds): |p - c|^2 >= out2
     /// is outside and < in2 inside for every angle, without r(theta); +inf and 0 when none.
     double out2, in2;
-    /// The same per sector (sector_count pairs in2, out2), or null.
-    const double* sectors;
+    /// The same per sector: sector_count pairs in2, out2 (the global ones where none tighter).
+    double sectors[2 * sector_count];
 };
-
-/// Sectors of the inside test's bounds: equal steps of a pseudo-angle of (x, y) != 0 that
-/// increases with atan2(y, x) from -2 to 2 without a transcendental: t = y / (|x| + |y|)
-/// where x >= 0, 2 - t where x < 0 <= y, -2 - t where x, y < 0 (the kernels' classify;
-/// prove_bounds inverts it).
-constexpr std::size_t sector_count = 256;
 
 /// A ray's origin relative to the centre: w, |w| and f(0) = |w| - r(theta(w)) < 0.
 struct Origin {
@@ -168,10 +168,6 @@ public:
         prove_bounds();
     }
 
-    // (Not copied: k_.sectors points into this object's sect_.)
-    Superformula(const Superformula&) = delete;
-    Superformula& operator=(const Superformula&) = delete;
-
     fp::Vec2 centre() const override { return c_; }
 
     bool in_kernel(fp::Vec2 o) const override {
@@ -228,7 +224,8 @@ private:
     void prove_bounds() {
         k_.out2 = std::numeric_limits<double>::infinity();
         k_.in2 = 0;
-        k_.sectors = nullptr;
+        for (std::size_t k = 0; k < fp_superformula::sector_count; ++k)
+            k_.sectors[2 * k] = k_.in2, k_.sectors[2 * k + 1] = k_.out2; // (none: every point computes r)
         const double n2 = k_.n2, n3 = k_.n3;
         if (!(k_.inv_n1 <= 1e3 && std::abs(n2) <= 1e3 && std::abs(n3) <= 1e3 &&
               std::abs(k_.m4) * std::numbers::pi <= 1e5))
@@ -251,15 +248,14 @@ private:
         squared(lo, hi, k_.in2, k_.out2);
         // Per sector: the angles between the sector's ends (of the kernel's pseudo-angle,
         // inverted exactly here), widened by 1e-9 for the pseudo-angle's rounding.
-        sect_.resize(2 * fp_superformula::sector_count);
         const auto angle_of = [](double a) { // the inverse of the pseudo-angle
             if (a >= -1 && a <= 1) return std::atan2(a, 1 - std::abs(a));
             return a > 1 ? std::atan2(2 - a, 1 - a) : std::atan2(-2 - a, 1 + a);
         };
         const double pi = std::numbers::pi;
         for (std::size_t k = 0; k < fp_superformula::sector_count; ++k) {
-            double& in2 = sect_[2 * k];
-            double& out2 = sect_[2 * k + 1];
+            double& in2 = k_.sectors[2 * k];
+            double& out2 = k_.sectors[2 * k + 1];
             in2 = k_.in2, out2 = k_.out2;
             // (The two sectors at theta = +-pi keep the global bounds: the kernels' atan2
             // may give -pi or pi there, and r jumps there when m is not an integer.)
@@ -285,7 +281,6 @@ private:
             squared(a0 + b0, a1 + b1, si, so);
             in2 = std::max(in2, si), out2 = std::min(out2, so);
         }
-        k_.sectors = sect_.data();
     }
 
     /// Squared bounds of r with the margin from bounds [lo, hi] of A + B: in2 = 0 and
@@ -329,7 +324,6 @@ private:
     fp_superformula::Curve k_{}; ///< the parameters, as the batch kernels take them too
     double size_ = 0;
     std::vector<double> bx_, by_, nx_, ny_;
-    std::vector<double> sect_; ///< Curve::sectors' bounds
 };
 
 } // namespace
@@ -397,7 +391,7 @@ HWY_INLINE hn::Mask<D> classify(D d, const Curve& c, V x, V y, hn::Mask<D>& open
     auto in = hn::Lt(q2, hn::Set(d, c.in2));
     open = hn::Not(hn::Or(in, hn::Ge(q2, hn::Set(d, c.out2)))); // (NaN: open)
     const auto sel = hn::And(open, hn::Gt(q2, zero));
-    if (c.sectors && !hn::AllFalse(d, sel)) {
+    if (!hn::AllFalse(d, sel)) {
         const auto cr = hn::Set(d, c.cr), sr = hn::Set(d, c.sr);
         const auto rx = hn::Add(hn::Mul(cr, qx), hn::Mul(sr, qy)),
                    ry = hn::Sub(hn::Mul(cr, qy), hn::Mul(sr, qx));

@@ -310,10 +310,12 @@ TEST(Superformula, InsideAgreesWithRayExit) {
 // r(theta)'s: compared, over rings of points from the centre to 1.5 times the farthest
 // boundary point, with the exit of the ray from the centre (the closed form r(theta) / |d| of
 // the same kernels), for shapes whose bounds come from each case of the proof (positive, zero
-// and negative exponents, a != b, a small n1, a non-integer m). Points within 1e-9 of the
-// boundary are skipped: there the ray's rounding decides. Mutation-checked, each failing all
-// seven shapes: outer bounds 0.99 times the proven ones, inner bounds 1.01 times, sectors'
-// first angles 0.01 later.
+// and negative exponents, a != b, a small n1, a non-integer m), and one beyond the bounds'
+// limits (no bounds: every point computes r). Points within 1e-9 of the boundary are
+// skipped: there the ray's rounding decides. Mutation-checked, each failing the seven shapes
+// with bounds on every target: outer bounds 0.99 times the proven ones, inner bounds 1.01
+// times, sectors' first angles 0.01 later; and sectors left unset without bounds fails the
+// eighth.
 TEST(Superformula, InsideShortcutAgreesWithTheRadius) {
     const char* shapes[] = {
         "{type: superformula}",
@@ -323,6 +325,7 @@ TEST(Superformula, InsideShortcutAgreesWithTheRadius) {
         "{type: superformula, m: 4, n1: 0.3, n2: 0, n3: 2}",
         "{type: superformula, m: 2.5, n1: 1, n2: 1, n3: 1}",
         "{type: superformula, m: 4, n1: 5, n2: 2, n3: -0.5}",
+        "{type: superformula, m: 4, n1: 1000, n2: 1500, n3: 1500}", // (beyond the bounds' limits: none)
     };
     for (const char* yaml : shapes) {
         auto s = shape(yaml);
