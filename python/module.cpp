@@ -302,6 +302,13 @@ py::dict describe_plugin(const std::string& name) {
 
 PYBIND11_MODULE(_fixpoint, m) {
     m.doc() = "fixpoint's C++ core; use the functions of the fixpoint package";
+    // The image module sits in the same tree as this module (not beside python's executable).
+    {
+        Dl_info info{};
+        if (dladdr(reinterpret_cast<void*>(&where_am_i), &info) && info.dli_fname)
+            set_image_module_path((fs::path(info.dli_fname).parent_path() / FIXPOINT_PY_IMAGE_MODULE_REL_PATH)
+                                      .lexically_normal());
+    }
     // fp::InputError (bad input, with its file:line:col) becomes fixpoint.Error, defined in
     // Python; fp::Cancelled a KeyboardInterrupt; other errors RuntimeError.
     py::register_exception_translator([](std::exception_ptr p) {

@@ -1,5 +1,5 @@
-// Image output through OpenImageIO, in its own translation unit: OIIO's headers bundle
-// their own fmt with exceptions turned off, which must not meet spdlog's fmt.
+// Image files: their formats, checks and atomic writes, and (through the image module,
+// framework/image/) OpenImageIO's encoding and decoding of raster images.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +14,13 @@
 
 namespace fp::host {
 
+/// Raster images are encoded and decoded by the image module (fixpoint-image.so, through
+/// OpenImageIO), loaded the first time one is read or written: a process that writes none
+/// (validate, describe, an error) does not pay for OpenImageIO's libraries. It is found
+/// beside the executable's folder (lib/fixpoint/ from bin/, in the build tree as installed);
+/// a library that links the host elsewhere (the Python module) names it here, before any
+/// image is read or written.
+void set_image_module_path(const std::string& path);
 enum class Format { Png, Exr, Tiff, Svg, Pdf };
 
 /// SVG and PDF: written by renderers with vector output (Renderer::render_vector).
