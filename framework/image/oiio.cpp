@@ -1,6 +1,8 @@
 // The image module: fixpoint's raster images through OpenImageIO (see image_module.hpp for
 // why this is a library of its own). Only the encoding and decoding live here; the host
 // decides formats and tiles, and does the atomic writes (framework/src/image_io.cpp).
+// Keep spdlog and fmt out of this file: OpenImageIO's headers bundle their own fmt, built
+// with exceptions turned off.
 #include "image_module.hpp"
 
 #include <fixpoint/errors.hpp>

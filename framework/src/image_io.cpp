@@ -153,6 +153,19 @@ struct StreamedImage::Impl {
     int height = 0, next = 0;
     bool done = false;
 
+    Impl() = default;
+    Impl(const Impl&) = delete;
+    Impl& operator=(const Impl&) = delete;
+    /// Unfinished (an error, a cancel, or a constructor that failed half way): the encoder
+    /// is dropped and the partial file removed.
+    ~Impl() {
+        if (enc) api->stream_free(enc);
+        if (done) return;
+        if (fd >= 0) ::close(fd);
+        std::error_code ec;
+        if (!tmp.empty()) fs::remove(tmp, ec);
+    }
+
     [[noreturn]] void fail(const std::string& why) {
         throw WriteError("cannot write '" + path + "': " + why);
     }
@@ -169,7 +182,10 @@ StreamedImage::StreamedImage(const std::string& path, int width, int height, int
     m.api = &image_api();
     m.tmp = temp_path_for(fs::path(path));
     m.fd = ::open(m.tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (m.fd < 0) m.fail(std::strerror(errno));
+    if (m.fd < 0) {
+        m.tmp.clear(); // (not ours to remove)
+        m.fail(std::strerror(errno));
+    }
     std::string error;
     m.enc = m.api->stream_open(path, f, m.fd, width, height, bit_depth, recipe, resolution, tiles, error);
     if (!m.enc) m.fail(error);
@@ -177,15 +193,7 @@ StreamedImage::StreamedImage(const std::string& path, int width, int height, int
 
 WriteError::~WriteError() = default;
 
-StreamedImage::~StreamedImage() {
-    Impl& m = *impl_;
-    if (m.enc) m.api->stream_free(m.enc);
-    if (m.done) return;
-    // Unfinished (an error, a cancel): the encoder is dropped and the partial file removed.
-    if (m.fd >= 0) ::close(m.fd);
-    std::error_code ec;
-    fs::remove(m.tmp, ec);
-}
+StreamedImage::~StreamedImage() = default;
 
 void StreamedImage::rows(int y0, int rows, const float* rgb) {
     Impl& m = *impl_;
