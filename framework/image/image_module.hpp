@@ -28,7 +28,7 @@ struct Stream;
 struct Api {
     std::uint32_t abi;
     /// The bytes of the file of a whole image: PNG, EXR or TIFF (`format`), tiled or not, as
-    /// fixpoint::host::write_image describes.
+    /// fp::host::write_image describes.
     std::vector<unsigned char> (*encode)(const Image& img, const std::string& path, Format format,
                                          int bit_depth, const std::string& recipe,
                                          const Resolution& resolution, bool tiled);
@@ -43,7 +43,7 @@ struct Api {
     /// Ends the encoding (the file is then whole, not yet synced); false as stream_rows.
     bool (*stream_close)(Stream* s, std::string& error);
     void (*stream_free)(Stream* s);
-    /// fixpoint::host::quantise_pixels.
+    /// fp::host::quantise_pixels.
     void (*quantise)(const Image& img, int bit_depth, void* out);
     /// A raster image's ImageDescription and Software attributes.
     std::pair<std::string, std::string> (*read_description)(const std::string& path);
