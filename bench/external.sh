@@ -18,7 +18,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cmake --install "$build" --prefix "$work/prefix" >"$work/install.log"
 fixpoint=("$work/prefix/bin/fixpoint")
-median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+. bench/lib.sh # median
 rate() { # config output [args] -> M points/s from the summary line
     "${fixpoint[@]}" --plugin-dir "$work/build" render "$1" -o "$2" --force --threads 1 "${@:3}" 2>&1 |
         tail -1 | sed -n 's/.*(\([0-9.e+-]*\) [a-z ]*\/s, .*/\1/p' | awk '{printf "%.3f", $1 / 1e6}'

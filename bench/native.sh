@@ -9,7 +9,7 @@ native=${2:?native build folder}
 pairs=${3:-3}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+. "$(dirname "${BASH_SOURCE[0]}")/lib.sh" # median
 rate() { # build config [args] -> M samples/s from the summary line
     "$1/bin/fixpoint" render "$2" -o "$out/x.png" --force --threads 1 "${@:3}" 2>&1 | tail -1 |
         sed -n 's/.*(\([0-9.e+-]*\) [a-z ]*\/s, .*/\1/p' | awk '{printf "%.1f", $1 / 1e6}'; }

@@ -23,7 +23,7 @@ rate() { # the points per second of a render's summary line
     "$fixpoint" render "$@" --force --set renderer.points="$points" 2>&1 |
         sed -n 's/.*(\([0-9.e+]*\) points\/s.*/\1/p'
 }
-median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
+. bench/lib.sh # median
 echo "CPU: $(sed -n 's/^model name\s*: //p' /proc/cpuinfo | head -1); $points points, $pairs pairs"
 for threads in 1 2; do
     : >"$work/c" && : >"$work/p"

@@ -13,7 +13,7 @@ ref=../shared/perf-reference
 out=$build/bench-ref
 mkdir -p "$out"
 mode=${2:-all}
-median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+. bench/lib.sh # median
 if [ "$mode" = all ]; then
 cmake --build "$build" --target fixpoint_bench -j"$(nproc)" >/dev/null
 g++ -O3 -march=native -fopenmp -o "$out/circles" "$ref/circles.cpp"

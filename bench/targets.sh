@@ -21,7 +21,7 @@ for k in circles ifs gm wallpaper; do
     # shellcheck disable=SC2086
     g++ -O3 $flags -fopenmp -o "$out/$k" "$ref/$k.cpp"
 done
-median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+. bench/lib.sh # median
 ref_rate() { "$out/$1" "${@:2}" reps=3 | grep '^SUMMARY' | tr ' ' '\n' | sed -n 's/^median_rate=//p' |
     awk '{printf "%.1f", $1 / 1e6}'; }
 fp_rate() { # config threads [args] -> M samples/s from the summary line
