@@ -3,12 +3,14 @@
 #   tests/startup.sh BUILD_DIR SOURCE_DIR
 # 1. No binary of the build has an empty entry in its RUNPATH (or RPATH): the dynamic loader
 #    reads one as the current folder, so the binary would load a library of a name it needs
-#    from wherever it is run (CMake pads build RUNPATHs with ':' unless told not to).
+#    from wherever it is run (CMake ends the build RUNPATH of a target it installs with ':').
 # 2. OpenImageIO (about 260 libraries) is loaded only by a process that reads or writes a
 #    raster image: not by --version, validate or a refused config; a render loads it (the
 #    image module, framework/image/) and writes its image.
+# 3. Without the image module, a render to a raster image is refused before it starts (a
+#    render of 1e11 points would outlast the timeout).
 set -euo pipefail
-build=$1
+build=$(cd "$1" && pwd)
 src=$2
 fail=0
 
@@ -63,5 +65,21 @@ if [ "$(head -c 8 "$tmp/c.png" | od -An -tx1 | tr -d ' \n')" != 89504e470d0a1a0a
     echo "FAIL: the render wrote no PNG"
     fail=1
 fi
+# 3. A tree of the build's executable, SDK library and plugins, without the image module.
+mkdir -p "$tmp/tree/bin" "$tmp/tree/lib/fixpoint"
+cp "$fixpoint" "$tmp/tree/bin/fixpoint"
+for f in "$build"/lib/libfixpoint_sdk.so*; do ln -s "$f" "$tmp/tree/lib/"; done
+ln -s "$build/lib/fixpoint/plugins" "$tmp/tree/lib/fixpoint/plugins"
+set +e
+err=$(timeout 60 "$tmp/tree/bin/fixpoint" render "$src/configs/inversion/fig6a.yaml" -o "$tmp/d.png" \
+    --set renderer.points=1e11 2>&1 >/dev/null)
+rc=$?
+set -e
+want="cannot write '$tmp/d.png': fixpoint's image module '$tmp/tree/lib/fixpoint/fixpoint-image.so' is missing (reinstall fixpoint)"
+if [ "$rc" -ne 2 ] || [ "$err" != "$want" ] || [ -e "$tmp/d.png" ]; then
+    echo "FAIL: a render without the image module: exit $rc, '$err' (want exit 2, '$want', no file)"
+    fail=1
+fi
+
 [ "$fail" -eq 0 ] && echo "startup: $checked binaries without an empty runpath entry; OpenImageIO loaded only to write"
 exit "$fail"

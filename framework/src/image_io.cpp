@@ -47,13 +47,15 @@ static fs::path temp_path_for(const fs::path& target) {
     return target.parent_path() / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
 }
 
+static void check_image_module(const std::string& path);
+
 void check_output(const std::string& path) {
     // A NUL ends the name the system sees: "x.sh\0.png" would pass the checks below as a PNG
     // and write "x.sh". Control characters are refused with it: no file name needs them.
     for (const char ch : path)
         if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f)
             throw InputError("cannot write " + quote(path, 200) + ": the name holds a control character");
-    format_for(path);
+    if (!is_vector(format_for(path))) check_image_module(path);
     const fs::path target(path);
     std::error_code ec;
     if (fs::is_directory(target, ec)) throw InputError("cannot write '" + path + "': it is a folder");
@@ -121,6 +123,22 @@ static const image_module::Api& image_api() {
                          " was built with another fixpoint (reinstall fixpoint)");
     module_api = api;
     return *api;
+}
+
+/// Before a render that writes a raster image to `path`: the image module is there (a look
+/// at its file, not a load, which takes 0.2 s: `validate` stays quick), so that a broken
+/// install is said before the render rather than after it.
+static void check_image_module(const std::string& path) {
+    std::string module;
+    {
+        const std::lock_guard<std::mutex> lock(module_mutex);
+        if (module_api) return;
+        module = module_path();
+    }
+    std::error_code ec;
+    if (!fs::is_regular_file(module, ec))
+        throw InputError("cannot write " + quote(path, 200) + ": fixpoint's image module " +
+                         quote(module, 200) + " is missing (reinstall fixpoint)");
 }
 
 /// The format of a raster image file at `path`. fp::InputError for SVG and PDF.
