@@ -21,6 +21,7 @@ namespace fp::host {
 /// a library that links the host elsewhere (the Python module) names it here, before any
 /// image is read or written.
 void set_image_module_path(const std::string& path);
+
 enum class Format { Png, Exr, Tiff, Svg, Pdf };
 
 /// SVG and PDF: written by renderers with vector output (Renderer::render_vector).
