@@ -323,6 +323,7 @@ void draw_alias(const fp_chaos::DrawArgs& args) {
 // ---------------------------------------------------------------- grouping by map
 template <class T>
 HWY_INLINE void group_t(const fp_chaos::GroupArgs<T>& args) {
+    namespace fs = fp::simd::HWY_NAMESPACE;
     const fp_chaos::GroupArgs<T> a = args; // a local copy: see fused_t
     uint32_t counts[fp_chaos::table_size] = {};
     const hn::ScalableTag<T> d;
@@ -340,11 +341,13 @@ HWY_INLINE void group_t(const fp_chaos::GroupArgs<T>& args) {
             const auto m = hn::RebindMask(d, mu);
             const size_t at = size_t(j) * a.stride + counts[j];
             // Compress in registers and store whole vectors (the segments have room for one
-            // past their end): a compressing store to memory is slow on some CPUs.
+            // past their end): a compressing store to memory is slow on some CPUs. (The SIMD
+            // layer's compress: Highway's copies a table at each call on some targets.)
             const size_t n = hn::CountTrue(d, m);
-            hn::StoreU(hn::Compress(x, m), d, a.gx + at);
-            hn::StoreU(hn::Compress(y, m), d, a.gy + at);
-            store32(du, hn::Compress(ix, mu), a.gi + at);
+            const auto order = fs::compress_order(d, m);
+            hn::StoreU(fs::compress(d, x, m, order), d, a.gx + at);
+            hn::StoreU(fs::compress(d, y, m, order), d, a.gy + at);
+            store32(du, fs::compress(du, ix, mu, order), a.gi + at);
             counts[j] += uint32_t(n);
         }
     }

@@ -30,6 +30,8 @@
 #include "batch.hpp"
 #include "reduce.hpp"
 
+#include <fixpoint/simd-inl.hpp>
+
 #include <hwy/highway.h>
 
 #include <algorithm>
@@ -41,6 +43,7 @@
 HWY_BEFORE_NAMESPACE();
 namespace fp_orbit_trap::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
+namespace fs = fp::simd::HWY_NAMESPACE;
 
 template <class T>
 HWY_INLINE size_t retire_t(Scratch<T>& s, size_t live, uint32_t iteration) {
@@ -73,8 +76,9 @@ HWY_INLINE size_t retire_t(Scratch<T>& s, size_t live, uint32_t iteration) {
                 s.iteration[id] = iteration;
             }
         const auto stay = hn::LoadMaskBits(d, bits);
-        hn::CompressBlendedStore(hn::LoadU(d, x + i), stay, d, x + keep);
-        hn::CompressBlendedStore(hn::LoadU(d, y + i), stay, d, y + keep);
+        const auto order = fs::compress_order(d, stay); // (the SIMD layer's: see simd-inl.hpp)
+        fs::compress_blended_store(d, hn::LoadU(d, x + i), stay, order, x + keep);
+        fs::compress_blended_store(d, hn::LoadU(d, y + i), stay, order, y + keep);
         for (size_t l = 0; l < m; ++l) { // (w <= i + l: each id is read before it is overwritten)
             ids[keep] = ids[i + l];
             keep += caught[i + l] < 0 ? 1 : 0;
@@ -152,8 +156,9 @@ HWY_INLINE size_t test_retire_t(const KnownCircles<T>& c, Scratch<T>& s, size_t 
             }
         }
         const auto stay = hn::AndNot(out, valid);
-        hn::CompressBlendedStore(vx, stay, d, x + keep);
-        hn::CompressBlendedStore(vy, stay, d, y + keep);
+        const auto order = fs::compress_order(d, stay);
+        fs::compress_blended_store(d, vx, stay, order, x + keep);
+        fs::compress_blended_store(d, vy, stay, order, y + keep);
         for (size_t l = 0; l < m; ++l) { // (keep <= i + l: each id is read before it is overwritten)
             ids[keep] = ids[i + l];
             keep += tr[l] < 0 ? 1 : 0;

@@ -227,6 +227,87 @@ HWY_INLINE auto finite(V x) {
     return hn::Eq(hn::Sub(x, x), hn::Zero(hn::DFromV<V>()));
 }
 
+// ---------------------------------------------------------------- compress
+// hn::Compress without the table copy. Highway 1.0.3 (Debian 12) finds the lane order of a
+// compress in a table declared `constexpr` but not `static` inside the function: for 64-bit
+// lanes of AVX-512 and for 32- and 64-bit lanes of AVX2 (CompressStore and
+// CompressBlendedStore too), and GCC builds that table on the stack at every call (`rep
+// movsq` of up to 2 KiB). The chaos game's grouping by map spent 29% of an AVX2 render of
+// configs/inversion/fig6a.yaml, and 62% of a double render on AVX-512, copying it. Here the
+// table is a constant of its own, for vectors of 2 to 8 lanes; wider vectors (AVX-512's
+// 32-bit lanes, which have a compress instruction; SVE) keep hn::Compress.
+namespace detail {
+/// For each mask of 8 lanes: the lanes it selects, then the others, in 4-bit fields.
+struct CompressTable {
+    std::uint32_t order[256];
+};
+constexpr CompressTable make_compress_table() {
+    CompressTable t{};
+    for (unsigned m = 0; m < 256; ++m) {
+        std::uint32_t packed = 0;
+        unsigned at = 0;
+        for (unsigned pass = 0; pass < 2; ++pass)
+            for (unsigned l = 0; l < 8; ++l)
+                if (((m >> l) & 1u) == (pass == 0 ? 1u : 0u)) packed |= std::uint32_t(l) << (4 * at++);
+        t.order[m] = packed;
+    }
+    return t;
+}
+inline constexpr CompressTable compress_table = make_compress_table();
+} // namespace detail
+
+/// Whether compress() takes the table path for vectors of D.
+template <class D>
+constexpr bool compress_by_table() {
+    return HWY_TARGET != HWY_SCALAR && hn::MaxLanes(D()) >= 2 && hn::MaxLanes(D()) <= 8;
+}
+
+/// The lane order that moves the lanes set in m to the front, for compress(); computed once
+/// for all the vectors moved by the same mask.
+template <class D>
+HWY_INLINE hn::Vec<hn::RebindToUnsigned<D>> compress_order(D d, hn::Mask<D> m) {
+    const hn::RebindToUnsigned<D> du;
+    using U = hn::TFromD<decltype(du)>;
+    if constexpr (compress_by_table<D>()) {
+        std::uint8_t bits[8] = {};
+        hn::StoreMaskBits(d, m, bits);
+        const auto packed = hn::Set(du, U(detail::compress_table.order[bits[0]]));
+        const auto shift = hn::ShiftLeft<2>(hn::Iota(du, U(0)));
+        return hn::And(packed >> shift, hn::Set(du, U(7)));
+    } else {
+        (void)d;
+        (void)m;
+        return hn::Zero(du);
+    }
+}
+
+/// hn::Compress(v, m): the lanes set in m first, in order (the other lanes hold other values
+/// of v); `order` is compress_order(d, m), of any tag with v's lane size.
+template <class D>
+HWY_INLINE hn::Vec<D> compress(D d, hn::Vec<D> v, hn::Mask<D> m, hn::Vec<hn::RebindToUnsigned<D>> order) {
+    if constexpr (compress_by_table<D>()) {
+        (void)m;
+        return hn::TableLookupLanes(v, hn::IndicesFromVec(d, order));
+    } else {
+        (void)d;
+        (void)order;
+        return hn::Compress(v, m);
+    }
+}
+
+/// hn::CompressBlendedStore(v, m, d, p): the lanes set in m stored from p, in order, and
+/// nothing past them (order: compress_order(d, m)).
+template <class D>
+HWY_INLINE void compress_blended_store(D d, hn::Vec<D> v, hn::Mask<D> m,
+                                       hn::Vec<hn::RebindToUnsigned<D>> order, hn::TFromD<D>* p) {
+    if constexpr (compress_by_table<D>()) {
+        hn::BlendedStore(compress(d, v, m, order), hn::FirstN(d, hn::CountTrue(d, m)), d, p);
+    } else {
+        (void)order;
+        hn::CompressBlendedStore(v, m, d, p);
+    }
+}
+
 } // namespace fp::simd::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
