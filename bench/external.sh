@@ -8,6 +8,8 @@
 #                                      their inside tests and ray exits take most of the time)
 #   gumowski-mira -> gumowski-mira-ext on bench/gm-chains.yaml with `kernels: generic` (the
 #                                      renderer calls the plugin's batch, not its fused step)
+#   s-iteration -> s-iteration-ext     on bench/circles.yaml with that scheme: the chaos game's
+#                                      fused step runs the program the copy's SchemeBase records
 # Each is rendered with the built-in plugin and with the copy, 1 thread, in alternating runs;
 # medians of PAIRS pairs (default 5). Each pair of images must hold the same image data.
 set -euo pipefail
@@ -59,6 +61,7 @@ external() { # source kind name
 }
 external plugins/shapes/superformula.cpp Shape superformula
 external plugins/transforms/gumowski-mira.cpp Transform gumowski-mira
+external plugins/iterations/s-iteration.cpp IterationScheme s-iteration
 echo "$(date -u +%FT%TZ), $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'); $pairs pairs, 1 thread"
 echo
 echo "| work | built in (M points/s) | out of tree | out of tree / built in | same image |"
@@ -87,3 +90,7 @@ row "superformula ring (inversion/fig6d), 2e6 points" configs/inversion/fig6d.ya
     --set renderer.points=2000000
 row "Gumowski-Mira, many chains, kernels: generic, 2e7 points" bench/gm-chains.yaml gumowski-mira \
     --set renderer.kernels=generic --set renderer.points=20000000
+sed 's/colourer: {type: density}/colourer: {type: density}\n  iteration: {type: s-iteration, alpha: 0.6, beta: 0.3}/' \
+    bench/circles.yaml >"$work/circles-s.yaml"
+row "S-iteration on bench/circles.yaml (fused step), 3e7 points" "$work/circles-s.yaml" s-iteration \
+    --set renderer.points=30000000

@@ -213,6 +213,31 @@ std::string picard(const IterationScheme& s, const Lane<T>& l) {
     return "";
 }
 
+// The promise of program() (iteration.hpp): where a scheme gives a program for a step, the
+// program computes step() there, bit for bit, special values too. A SchemeBase kernel that
+// reads or writes the points itself, outside c.t, c.copy and c.lin, fails it: its recorded
+// program lacks those operations.
+template <class T>
+std::string program_matches(const IterationScheme& s, const Lane<T>& l) {
+    const std::size_t n = n_points;
+    std::vector<T> p = l.start;
+    p[1] = std::numeric_limits<T>::infinity();
+    p[n + 2] = std::numeric_limits<T>::quiet_NaN();
+    SchemeProgram prog;
+    for (std::size_t i = 0; i < l.steps.size(); ++i) {
+        if (!s.program(*l.t, l.steps[i], sizeof(T) == 8, prog)) continue;
+        std::vector<T> want = p, got = p;
+        step_in_place(s, *l.t, want, l.steps[i]);
+        run_program(prog, *l.t, Points<T>{got.data(), got.data() + n, n});
+        if (const std::size_t j = first_difference(got, want); j != none)
+            return "iteration-scheme: program() does not compute step() " + l.at(i) + ": for the point " +
+                   point(p[j], p[n + j]) + " its instructions give " + point(got[j], got[n + j]) +
+                   ", step() " + point(want[j], want[n + j]) +
+                   " (a kernel that reads or writes the points itself overrides program() to return false)";
+    }
+    return "";
+}
+
 struct MapLanes {
     Lane<double> d;
     Lane<float> f;
@@ -378,6 +403,9 @@ void check_scheme(const IterationScheme& s, Findings& f) {
     for (const auto& m : maps)
         if (fd.empty()) fd = float_vs_double(m);
     f.check("iteration-scheme: the float path agrees with the double path", fd);
+    if (SchemeProgram prog; s.program(affine, 0, true, prog) || s.program(reflection, 0, true, prog))
+        f.check("iteration-scheme: program(): its instructions compute step(), bit for bit",
+                each([](auto& sc, auto& l) { return program_matches(sc, l); }));
     if (s.is_picard())
         f.check("iteration-scheme: is_picard(): step() is exactly T(p)",
                 each([](auto& sc, auto& l) { return picard(sc, l); }));

@@ -16,6 +16,14 @@ public:
         t.apply(p, mask);
     }
     bool is_picard() const override { return true; }
+    /// One map instruction (a switching process with a Picard child runs it as a program).
+    bool program(const fp::Transform&, std::uint64_t, bool, fp::SchemeProgram& out) const override {
+        out.size = 1;
+        out.regs = 1;
+        out.code[0].op = fp::SchemeProgram::Op::map;
+        out.code[0].dst = out.code[0].u = 0;
+        return true;
+    }
 };
 
 } // namespace

@@ -49,6 +49,10 @@ public:
         at(n).step(t, p, mask, n);
     }
 
+    /// Step n's child's program (none where that child has none).
+    bool program(const fp::Transform& t, std::uint64_t n, bool dbl, fp::SchemeProgram& out) const override {
+        return at(n).program(t, n, dbl, out);
+    }
     /// The most any child takes (a bound on the cost per step).
     void check_steps(const fp::Transform& t, std::uint64_t last_n) const override {
         for (const auto& s : schemes_) s->check_steps(t, last_n);

@@ -43,10 +43,14 @@
 //      arithmetic instead of following it in a loop of their own (about 20% of the render's
 //      time on one thread; bench/README.md).
 // Known kernels: when every map is a known kernel of one kind (Transform::kernel(): inversion
-// in a circle about its centre, affine, Gumowski-Mira) and the scheme is a plain Picard step,
-// steps 1-5 run instead as one fused pass per SIMD target, a vector of chains at a time with
-// the maps' parameters in registers and tables, no calls and no grouping
-// (chaos-game/kernels-inl.hpp's fused_t). It computes the same draws and the same operations
+// in a circle about its centre, affine, Gumowski-Mira) and the scheme is the Picard step or
+// one that writes its step as a program (IterationScheme::program: every scheme of paper 02
+// on fp::SchemeBase), steps 1-5 run instead as one fused pass per SIMD target, a vector of
+// chains at a time with the maps' parameters in registers and tables, no calls and no
+// grouping (chaos-game/kernels-inl.hpp's fused_t). A scheme's program is asked for at each
+// block step (its coefficients change with n) and must be the same for every map; a step
+// where it is not (Schu composing T more often than a program holds) takes the generic path,
+// the fused step's pending work settled first. It computes the same draws and the same operations
 // in the same order, so the image is the same bytes; `kernels: generic` turns it off
 // (tests/unit/test_chaos_kernel.cpp renders recipes both ways). While every chain of a block is
 // past its skip and far from its last point, the block runs steady (chaos-game/steady.hpp):
@@ -294,6 +298,11 @@ private:
     template <class T, bool Colour>
     FusedArgs<T> fused_args(Scratch<T>& s, const BookArgs<T>& bv, uint32_t* hits, const uint32_t* lag,
                             bool steady) const;
+    /// The scheme's step at step index n as the fused step's program (into `out`): false when
+    /// a map gives none, or the maps give different ones (that step then takes the generic
+    /// path).
+    template <class T>
+    bool lane_program(uint64_t n, LaneProgram<T>& out) const;
     /// The fused step's tables; Colour false: those of a pass that counts hits only.
     template <class T, bool Colour>
     const LaneTables<T>& lane_tables() const {
@@ -326,7 +335,10 @@ private:
     fp::Box start_box_; ///< where random start points are drawn (the view unless start_box)
     bool rules_ = true, double_ = false, colour_ = true;
     bool last_ = false;  ///< the colourer's pixel rule is last (paper 02's Algorithm 2 as written)
-    bool fused_ = false; ///< the fused step (kernels-inl.hpp's fused_t) runs every block step
+    bool fused_ = false; ///< the fused step (kernels-inl.hpp's fused_t) runs the block steps
+    /// With fused_: the scheme is not Picard, and the fused step runs its program
+    /// (IterationScheme::program) at each step where every map gives the same one.
+    bool program_ = false;
     std::shared_ptr<LaneTables<float>> lanes_f_, lanes_f_hits_;
     std::shared_ptr<LaneTables<double>> lanes_d_, lanes_d_hits_;
 
@@ -494,13 +506,24 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     const fp::ColourRule crule = colourer_->colour_rule();
     // (Last colours are kept by the generic path only: a mode for the papers' figures, not for
     // speed.)
-    if (p.string("kernels") == "auto" && iteration_->is_picard() && k <= fp_chaos::table_size &&
+    // A scheme other than Picard fuses when it gives the same program for every map at the
+    // first step (IterationScheme::program: paper 02's schemes on fp::SchemeBase do); each
+    // step's program is asked for again as the step runs.
+    const bool picard = iteration_->is_picard();
+    bool programmed = false;
+    if (!picard) {
+        LaneProgram<double> ld;
+        LaneProgram<float> lf;
+        programmed = double_ ? lane_program(0, ld) : lane_program(0, lf);
+    }
+    if (p.string("kernels") == "auto" && (picard || programmed) && k <= fp_chaos::table_size &&
         (!colour_ || crule != fp::ColourRule::none) && !last_) {
         std::vector<fp::KnownKernel> kk;
         for (const auto& m : maps_) kk.push_back(m->kernel());
         const auto kind = kk[0].kind;
         fused_ = kind != fp::KnownKernel::Kind::none;
         for (const auto& x : kk) fused_ = fused_ && x.kind == kind;
+        program_ = fused_ && !picard;
         if (fused_) {
             lanes_f_ = std::make_shared<LaneTables<float>>();
             lanes_d_ = std::make_shared<LaneTables<double>>();
@@ -1263,6 +1286,32 @@ FusedArgs<T> ChaosGame::fused_args(Scratch<T>& s, const BookArgs<T>& bv, uint32_
     return f;
 }
 
+static_assert(uint32_t(ProgOp::map) == uint32_t(fp::SchemeProgram::Op::map) &&
+              uint32_t(ProgOp::copy) == uint32_t(fp::SchemeProgram::Op::copy) &&
+              uint32_t(ProgOp::lin2) == uint32_t(fp::SchemeProgram::Op::lin2) &&
+              uint32_t(ProgOp::lin3) == uint32_t(fp::SchemeProgram::Op::lin3));
+
+template <class T>
+bool ChaosGame::lane_program(uint64_t n, LaneProgram<T>& out) const {
+    // (Asked at every block step: a program is a few dozen bytes to record and compare, and a
+    // kernel is recorded, not run.)
+    fp::SchemeProgram first, other;
+    const bool dbl = std::is_same_v<T, double>;
+    if (!iteration_->program(*maps_[0], n, dbl, first)) return false;
+    for (size_t j = 1; j < maps_.size(); ++j)
+        if (!iteration_->program(*maps_[j], n, dbl, other) || !other.same_as(first)) return false;
+    out.size = first.size;
+    out.regs = first.regs;
+    for (uint32_t i = 0; i < first.size; ++i) {
+        const fp::SchemeProgram::Instr& a = first.code[i];
+        auto& b = out.code[i];
+        b.op = ProgOp(uint32_t(a.op));
+        b.dst = a.dst, b.u = a.u, b.v = a.v, b.w = a.w;
+        for (size_t j = 0; j < fp::SchemeProgram::coefficients(a.op); ++j) b.k[j] = T(a.k[j]);
+    }
+    return true;
+}
+
 // ---------------------------------------------------------------- last colours
 void ChaosGame::write_last(WorkerHist& hist, const uint32_t* idx, const uint64_t* dep, size_t nb, uint64_t n,
                            const uint32_t* chain_of, uint32_t dummy) {
@@ -1409,7 +1458,8 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
     uint64_t steady_left = 0, steady_steps = 0, steady_wait = 0;
     // A block of few chains counting hits only runs lean (kernels-inl.hpp's fused_run_t): the
     // fused steps up to the next poll in one call, each depositing its own bins.
-    const bool lean = fused_ && !Colour && nb <= lean_chains;
+    // (Not with a scheme's program, which may change from step to step.)
+    const bool lean = fused_ && !program_ && !Colour && nb <= lean_chains;
 
     // The fused step's lagged deposits made now (at the block's end, or where it stops for a
     // checkpoint).
@@ -1427,6 +1477,19 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
         lag_dep = nullptr;
     };
 
+    // The end of a steady run before it ran its course (a checkpoint, or a step the fused step
+    // cannot take): the state the step-by-step bookkeeping would hold, as at its end; the last
+    // step's restarts, none, are cleared for settle_steady.
+    const auto end_steady = [&] {
+        if (steady_steps > 0) {
+            const LaneTables<T>& lt = lane_tables<T, Colour>();
+            if (lt.k == 1 && !lt.rules) pcg_jump(s.rs.get(), s.ri.get(), nb, steady_steps);
+            std::memset(static_cast<void*>(restart), 0, nb * sizeof(uint32_t));
+            res.plotted += settle_steady(s, nb, steady_steps);
+        }
+        steady_left = steady_steps = 0;
+    };
+
     uint64_t reported = 0;
     size_t live = nlive;
     for (uint64_t n = n0; live > 0; ++n) {
@@ -1440,12 +1503,7 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
                 // hold (a steady run settled, as at its end; the last step's restarts, none, are
                 // cleared for settle_steady), the lagged deposits made, and save every lane.
                 keep->stop.store(true, std::memory_order_relaxed);
-                if (steady_steps > 0) {
-                    const LaneTables<T>& lt = lane_tables<T, Colour>();
-                    if (lt.k == 1 && !lt.rules) pcg_jump(s.rs.get(), s.ri.get(), nb, steady_steps);
-                    std::memset(static_cast<void*>(restart), 0, nb * sizeof(uint32_t));
-                    res.plotted += settle_steady(s, nb, steady_steps);
-                }
+                end_steady();
                 deposit_lag();
                 t.saved.resize(nb);
                 for (size_t i = 0; i < nb; ++i) t.saved[i] = record(i, n);
@@ -1460,7 +1518,20 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
         // bin indices and colour values, branch-free over the block.
         Counts sc;
         uint64_t steps_run = 1;
-        if (fused_) {
+        // With a scheme's program: this step's, else (rare: no program at this n, or the maps'
+        // differ) the generic step, after the fused step's pending work is settled.
+        bool fz = fused_;
+        if (program_) {
+            fz = lane_program(n, s.program);
+            if (!fz) {
+                end_steady();
+                steady_wait = 0;
+                deposit_lag();
+                bv.idx = s.idx.get();
+                bv.dep = s.dep.get();
+            }
+        }
+        if (fz) {
             if (steady_left == 0) {
                 if (steady_wait > 0) {
                     --steady_wait;
@@ -1485,6 +1556,7 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
                 bv.idx = out;
                 bv.dep = dep_out;
                 FusedArgs<T> f = fused_args<T, Colour>(s, bv, hits, lag, steady);
+                if (program_) f.program = &s.program;
                 if constexpr (Colour) {
                     f.bins = reinterpret_cast<uint32_t*>(bins);
                     f.lag_dep = lag_dep;
@@ -1536,7 +1608,7 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
         // 6. Deposit: one 4 x 32-bit add per chain, or one 32-bit increment when counting
         // hits only (the unplotted land in the last bin).
         if constexpr (Colour) {
-            if (fused_) {
+            if (fz) {
                 // Deposited by the next pass (the last one's after the loop); the bins it
                 // found full spilled now.
                 for (uint32_t t = 0; t < nfull; ++t)
@@ -1556,7 +1628,7 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
         } else {
             if (lean) {
                 // (deposited by the lean run itself)
-            } else if (fused_) {
+            } else if (fz) {
                 lag = out;
                 out = out == s.idx.get() ? s.idx2.get() : s.idx.get();
             } else {
@@ -1675,7 +1747,8 @@ constexpr fp::ParamSpec params[] = {
     fp::param::real("set_fill", "opacity of the sets' fill (0: outlines only)").def("0.3").min(0).max(1),
     fp::param::string("kernels",
                       "auto: run maps that describe themselves as known kernels (inversions in circles "
-                      "about their centres, Picard step, rules on, float) in one fused vectorised pass; "
+                      "about their centres, affine and Gumowski-Mira maps, with the Picard step or a scheme "
+                      "written on fp::SchemeBase) in one fused vectorised pass; "
                       "generic: always through the plugins' batch calls. Same image either way")
         .def("auto")
         .one_of("auto|generic"),

@@ -146,6 +146,7 @@ std::string Transform::plane_map_problem() const { return {}; }
 unsigned IterationScheme::applications() const { return 1; }
 void IterationScheme::check_steps(const Transform&, std::uint64_t) const {}
 bool IterationScheme::is_picard() const { return false; }
+bool IterationScheme::program(const Transform&, std::uint64_t, bool, SchemeProgram&) const { return false; }
 bool NumberSystem::is_real() const { return false; }
 
 bool Renderer::has_vector_output() const { return false; }

@@ -48,6 +48,15 @@ TEST(ConformanceBroken, AFalsePicardPromiseIsFound) {
                                    "-0.7799489576926688)");
 }
 
+TEST(ConformanceBroken, AKernelTouchingThePointsItselfIsFound) {
+    expect_finding(
+        "hand-written",
+        "iteration-scheme: program() does not compute step() at step n = 0 (double, on the test "
+        "contraction): for the point (0.6348089102430801, -0.2694297947261113) its instructions give "
+        "(0.5665211518912268, -0.20685100950812146), step() (0.5, -0.20685100950812146) (a kernel "
+        "that reads or writes the points itself overrides program() to return false)");
+}
+
 // A race shows only when threads really run at once, and which step it hits first varies:
 // the test needs two CPUs, matches the message up to the step, and allows six runs (one run
 // finds it nearly always: 30 of 30 idle, 27 of 30 beside a second test run; CI runs the

@@ -369,6 +369,72 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
     EXPECT_EQ(render("{" + recipes[4] + "}", 1).stats.samples, 5003u);
 }
 
+// Schemes other than Picard in the fused step (IterationScheme::program, run by
+// kernels-inl.hpp's program_lanes): the same pixels and counts as the generic step, on 1, 2
+// and 3 threads. Two-, three- and four-instruction programs (lin2 and lin3), coefficients that
+// change with n, q-system numbers, float and double, hits only and colour, affine and
+// Gumowski-Mira maps, few chains; and Schu on a reflection beside a contraction, whose two
+// programs agree at even n only: the render changes path at every step (a steady run ended
+// early, the lagged deposits made), and on the contraction from n = 15 has no program at all.
+TEST(ChaosKernel, FusedSchemesAreTheGenericStep) {
+    const std::string bench = "type: chaos-game, width: 96, height: 96, view: [-0.8, 0.8, -0.8, 0.8], ";
+    const std::string Q = ", numbers: {type: q-system, A: 2, B: 1}";
+    const std::vector<std::string> recipes = {
+        bench + "points: 300000, iteration: {type: mann, alpha: 0.7}, colourer: {type: density}, " +
+            circles_maps(),
+        bench +
+            "points: 200000, chains: 100, iteration: {type: s-iteration, alpha: 0.6, beta: [0.3, 0.5]}, "
+            "colourer: {type: map-colour}, " +
+            circles_maps(", weight: 3, colour: [1, 0, 0]"),
+        bench +
+            "points: 100000, chains: 300, precision: double, iteration: {type: karakaya, alpha: 0.3, beta: "
+            "0.2, a: 0.25, b: 0.15, gamma: 0.5}, colourer: {type: flame}, " +
+            circles_maps(),
+        bench +
+            "points: 100000, skip: 3, iteration: {type: noor, alpha: [0.7, 0.9, 1.1], a: 0.4, gamma: 0.2}, "
+            "colourer: {type: density}, " +
+            circles_maps(),
+        bench + "points: 100000, precision: double, iteration: {type: mann, alpha: 0.3+0.2q" + Q +
+            "}, colourer: {type: density}, " + circles_maps(),
+        bench +
+            "points: 100000, iteration: {type: switching, schemes: [{type: ishikawa, alpha: 1+0.1q, a: "
+            "0.1q, numbers: {type: q-system, A: -3, B: 0}}, {type: ishikawa, alpha: 1+0.1q, a: 0.1q, "
+            "numbers: {type: q-system, A: 3, B: 0}}]}, colourer: {type: map-colour}, " +
+            circles_maps(),
+        bench + "points: 60000, chains: 3, skip: 2, iteration: {type: cr}, colourer: {type: density}, " +
+            circles_maps(),
+        "type: chaos-game, width: 64, height: 64, view: [0, 1, 0, 1], points: 100000, chains: 333, "
+        "iteration: {type: sp, alpha: 0.8}, colourer: {type: flame}, maps: [{type: affine, coefficients: "
+        "[0.5, "
+        "0, 0, 0.5, 0, 0]}, {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0], weight: 2}, {type: "
+        "affine, "
+        "coefficients: [0.5, 0, 0, 0.5, 0.25, 0.5]}]",
+        "type: chaos-game, width: 64, height: 64, view: [-15, 15, -15, 15], points: 100000, chains: 1, skip: "
+        "0, start: [0, 0.5], precision: double, iteration: {type: mann, alpha: 0.9}, colourer: {type: "
+        "density}, maps: [{type: gumowski-mira, mu: -0.31}]",
+        "type: chaos-game, width: 64, height: 64, view: [-1, 2, -1, 2], points: 60000, chains: 200, skip: 2, "
+        "iteration: {type: schu, alpha: 0.6, max_compositions: 1000}, colourer: {type: map-colour}, maps: "
+        "[{type: affine, coefficients: [1, 0, 0, -1, 0, 1]}, {type: affine, coefficients: [0.5, -0.2, 0.1, "
+        "0.6, 0.25, 0]}]",
+    };
+    for (const auto& r : recipes) {
+        const Render a = render("{" + r + "}", 1);
+        const Render b = render("{" + r + ", kernels: generic}", 1);
+        const Render c = render("{" + r + "}", 2);
+        const Render d = render("{" + r + "}", 3);
+        ASSERT_EQ(a.img.pixels.size(), b.img.pixels.size());
+        EXPECT_TRUE(a.img.pixels == b.img.pixels) << r;
+        EXPECT_TRUE(a.img.pixels == c.img.pixels) << r;
+        EXPECT_TRUE(a.img.pixels == d.img.pixels) << r;
+        EXPECT_EQ(a.stats.samples, b.stats.samples) << r;
+        EXPECT_EQ(a.stats.samples, d.stats.samples) << r;
+        EXPECT_EQ(a.stats.drawn, b.stats.drawn) << r;
+        EXPECT_EQ(a.stats.restarts, b.stats.restarts) << r;
+        EXPECT_EQ(a.stats.bad_values, b.stats.bad_values) << r;
+        EXPECT_GT(a.stats.drawn, 0u) << r;
+    }
+}
+
 // The single undamped orbit's shortcut (y + 0 = y: the damping term skipped) holds while the
 // term alpha (1 - 0.05 y^2) y is finite; beyond |y| = 6e154, 0.05 y^2 overflows and 0 times
 // infinity makes the point NaN. Mostly f(x') overflows there too, but with mu = 100 and

@@ -616,9 +616,8 @@ HWY_INLINE void apply_kind(D d, const hn::Vec<D> (&p)[6], hn::Vec<D>& x, hn::Vec
 
 /// The parameters of K the chosen maps c have (per_map), for apply_kind.
 template <fp_chaos::LaneKind K, class D>
-HWY_INLINE void apply_lanes(D d, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
-                            hn::Vec<hn::RebindToUnsigned<D>> c, hn::Vec<D>& x, hn::Vec<D>& y) {
-    hn::Vec<D> p[6];
+HWY_INLINE void gather_kind(D d, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
+                            hn::Vec<hn::RebindToUnsigned<D>> c, hn::Vec<D> (&p)[6]) {
     if constexpr (K == fp_chaos::LaneKind::affine) {
         per_maps(
             d, [&](size_t j) { return t.p[j]; }, t.k, c, p);
@@ -628,7 +627,57 @@ HWY_INLINE void apply_lanes(D d, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
             d, [&](size_t j) { return t.p[j]; }, t.k, c, q);
         for (int j = 0; j < 6; ++j) p[j] = j < 3 ? q[j] : hn::Zero(d);
     }
+}
+
+/// The Picard step: (x, y) <- T(x, y), T the chosen map of each lane.
+template <fp_chaos::LaneKind K, class D>
+HWY_INLINE void apply_lanes(D d, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
+                            hn::Vec<hn::RebindToUnsigned<D>> c, hn::Vec<D>& x, hn::Vec<D>& y) {
+    hn::Vec<D> p[6];
+    gather_kind<K>(d, t, c, p);
     apply_kind<K>(d, p, x, y);
+}
+
+/// A scheme's step (LaneProgram; fp::run_program's meaning, in the same operations): the
+/// registers in memory, a vector each (a few loads and stores an instruction, which stay in the
+/// store buffer and L1), the maps' parameters gathered once for all the map instructions.
+template <fp_chaos::LaneKind K, class D>
+HWY_INLINE void program_lanes(D d, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
+                              const fp_chaos::LaneProgram<hn::TFromD<D>>& pr,
+                              hn::Vec<hn::RebindToUnsigned<D>> c, hn::Vec<D>& x, hn::Vec<D>& y) {
+    using T = hn::TFromD<D>;
+    using Op = fp_chaos::ProgOp;
+    constexpr size_t L = fp::simd::HWY_NAMESPACE::max_lanes<T>;
+    alignas(HWY_MAX_BYTES) T rx[fp_chaos::LaneProgram<T>::max_regs * L];
+    alignas(HWY_MAX_BYTES) T ry[fp_chaos::LaneProgram<T>::max_regs * L];
+    hn::Vec<D> p[6];
+    gather_kind<K>(d, t, c, p);
+    hn::Store(x, d, rx);
+    hn::Store(y, d, ry);
+    for (uint32_t s = 0; s < pr.size; ++s) {
+        const auto& in = pr.code[s];
+        auto ux = hn::Load(d, rx + in.u * L), uy = hn::Load(d, ry + in.u * L);
+        if (in.op == Op::map) {
+            apply_kind<K>(d, p, ux, uy);
+        } else if (in.op != Op::copy) {
+            const auto k = [&](int j) { return hn::Set(d, in.k[j]); };
+            const auto vx = hn::Load(d, rx + in.v * L), vy = hn::Load(d, ry + in.v * L);
+            auto nx = hn::Add(hn::Add(hn::Mul(k(0), ux), hn::Mul(k(1), uy)),
+                              hn::Add(hn::Mul(k(4), vx), hn::Mul(k(5), vy)));
+            auto ny = hn::Add(hn::Add(hn::Mul(k(2), ux), hn::Mul(k(3), uy)),
+                              hn::Add(hn::Mul(k(6), vx), hn::Mul(k(7), vy)));
+            if (in.op == Op::lin3) {
+                const auto wx = hn::Load(d, rx + in.w * L), wy = hn::Load(d, ry + in.w * L);
+                nx = hn::Add(nx, hn::Add(hn::Mul(k(8), wx), hn::Mul(k(9), wy)));
+                ny = hn::Add(ny, hn::Add(hn::Mul(k(10), wx), hn::Mul(k(11), wy)));
+            }
+            ux = nx, uy = ny;
+        }
+        hn::Store(ux, d, rx + in.dst * L);
+        hn::Store(uy, d, ry + in.dst * L);
+    }
+    x = hn::Load(d, rx);
+    y = hn::Load(d, ry);
 }
 
 /// The chains' colours updated by the rule with the chosen maps' colours, where they moved.
@@ -754,7 +803,10 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         }
         const auto mv = hn::And(act, some);
         const auto rst = hn::IfThenElseZero(hn::AndNot(some, act), one);
-        apply_lanes<K>(d, t, c, x, y);
+        if (f.program)
+            program_lanes<K>(d, t, *f.program, c, x, y);
+        else
+            apply_lanes<K>(d, t, c, x, y);
         const auto mvf = hn::RebindMask(d, mv);
         x = hn::IfThenElse(mvf, x, x0);
         y = hn::IfThenElse(mvf, y, y0);
@@ -950,7 +1002,8 @@ HWY_NOINLINE fp_chaos::RunCounts orbit_run_t(const fp_chaos::FusedArgs<T>& args,
 template <class T>
 HWY_INLINE fp_chaos::RunCounts fused_run_any(const fp_chaos::FusedArgs<T>& f, uint64_t steps) {
     using K = fp_chaos::LaneKind;
-    if (f.book.nb == 1 && f.steady && f.tables->k == 1 && !f.tables->rules && f.draw.active[0] != 0) {
+    if (f.book.nb == 1 && f.steady && !f.program && f.tables->k == 1 && !f.tables->rules &&
+        f.draw.active[0] != 0) {
         switch (f.tables->kind) {
         case K::affine: return orbit_run_t<T, K::affine>(f, steps);
         case K::gumowski_mira: return orbit_run_t<T, K::gumowski_mira>(f, steps);

@@ -130,6 +130,22 @@ struct LaneTables {
     bool rules = true; ///< paper 01's rules (circles: their sets too); else the alias table
 };
 
+/// An iteration scheme's step as the fused step runs it: fp::SchemeProgram (scheme_program.hpp)
+/// with its coefficients rounded to the chains' precision, as run_program rounds them. Each map
+/// instruction applies the chain's chosen map (its parameters gathered once per vector).
+enum class ProgOp : std::uint32_t { map, copy, lin2, lin3 };
+template <class T>
+struct LaneProgram {
+    static constexpr std::size_t max_instrs = 16, max_regs = 8; // (fp::SchemeProgram's)
+    struct Instr {
+        ProgOp op;
+        std::uint32_t dst, u, v, w;
+        T k[12];
+    };
+    Instr code[max_instrs];
+    std::uint32_t size = 0, regs = 1;
+};
+
 /// The fused step: the draw, the maps, the colour and the bookkeeping of a block in one pass;
 /// with hits only, `lag` (or null) holds the previous step's bins, deposited into `hits`
 /// during it.
@@ -141,6 +157,8 @@ struct FusedArgs {
     std::uint32_t* hits;
     const std::uint32_t* lag;
     bool steady; ///< the block is in a steady run (see steady.hpp)
+    /// The scheme's step at this step index; null: the Picard step p <- T(p).
+    const LaneProgram<T>* program = nullptr;
     /// With colour: the worker's bins (4 counters each), the previous step's packed colours
     /// (beside `lag`, its bins), deposited during the pass like the hits; the bins whose hits
     /// reach `spill_at` are listed in `full` (count in *nfull) for the caller to spill.

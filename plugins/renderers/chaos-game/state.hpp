@@ -282,6 +282,8 @@ struct Scratch {
     Buf<T> sx, sy;
     Buf<uint32_t> pend;
     Buf<unsigned char> hit, any;
+    // the scheme's step at the current step index (the fused step with a scheme)
+    fp_chaos::LaneProgram<T> program;
 
     explicit Scratch(size_t k) {
         const size_t B = block_size;

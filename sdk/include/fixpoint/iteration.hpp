@@ -4,6 +4,7 @@
 
 #include <fixpoint/batch.hpp>
 #include <fixpoint/object.hpp>
+#include <fixpoint/scheme_program.hpp>
 #include <fixpoint/transform.hpp>
 
 #include <cstdint>
@@ -32,6 +33,14 @@ public:
     /// renderer may then run a Transform's KnownKernel in its own fused loop. The conformance
     /// suite checks the promise bit for bit. The default is false.
     virtual bool is_picard() const;
+
+    /// Step n on map t as a SchemeProgram (scheme_program.hpp), for a renderer that runs it in
+    /// its own vectorised loop: true and `out` filled when step() at n on t is exactly
+    /// run_program(out, t, .) for every point, in the precision asked for (`dbl`: double, else
+    /// float); false when the step is not such a program (the renderer calls step()). The
+    /// conformance suite checks the promise bit for bit. fp::SchemeBase records it from the
+    /// kernel; the default is false.
+    virtual bool program(const Transform& t, std::uint64_t n, bool dbl, SchemeProgram& out) const;
 };
 
 } // namespace fp

@@ -170,7 +170,8 @@ struct Sequence {
     /// number system (resolve()).
     bool bare_pair = false;
 
-    Vec2 at(std::uint64_t n) const { return values[n % values.size()]; }
+    /// (A constant without the division: renderers ask at every step.)
+    Vec2 at(std::uint64_t n) const { return values.size() == 1 ? values[0] : values[n % values.size()]; }
     /// The sequence as the scheme sees it, given whether it computes in the reals.
     Sequence resolve(bool real_numbers) const {
         if (!bare_pair || real_numbers) return {values, false};

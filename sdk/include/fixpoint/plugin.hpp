@@ -29,10 +29,12 @@ namespace fp {
 /// streams_rows and render_rows, RowSink,
 /// Colourer::resolve_rows and HistogramSummary, for renders in strips; ABI 12:
 /// RenderContext::checkpointing, checkpoint_due, write_checkpoint and resume_from, CheckpointSink and
-/// CheckpointSource, Renderer::keeps_checkpoints, for checkpoints):
+/// CheckpointSource, Renderer::keeps_checkpoints, for checkpoints; ABI 13:
+/// IterationScheme::program and SchemeProgram, for the chaos game's fused step with any
+/// scheme):
 /// the host refuses a plugin built for another value ("rebuild it against this SDK"), so a
 /// plugin always matches the headers the host was built with.
-constexpr std::uint32_t abi_version = 12;
+constexpr std::uint32_t abi_version = 13;
 
 struct PluginDescriptor {
     std::uint32_t abi = abi_version;

@@ -42,6 +42,12 @@
 // forms linear combinations with the matrices; the loops run on the best instruction set of
 // the CPU (fixpoint/scheme-inl.hpp, dispatched at run time) and give the same bits on all.
 //
+// SchemeBase also records the kernel as a SchemeProgram (IterationScheme::program): run on a
+// chunk of no points, c.t, c.copy and c.lin write instructions instead of computing, and a
+// renderer runs the program in its own vectorised loop (the chaos game's fused step). So a
+// kernel combines points only through those three; one that reads or writes the points itself
+// overrides program() to return false (the conformance suite finds one that does not).
+//
 // Including this header compiles those loops into the plugin (Highway's foreach_target), so
 // include it once per plugin, from the scheme's .cpp.
 #pragma once
@@ -51,6 +57,7 @@
 #include <fixpoint/iteration.hpp>
 #include <fixpoint/number_system.hpp>
 #include <fixpoint/params.hpp>
+#include <fixpoint/scheme_program.hpp>
 #include <fixpoint/transform.hpp>
 #include <fixpoint/types.hpp>
 
@@ -61,6 +68,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -73,6 +81,11 @@
 #include <hwy/foreach_target.h> // IWYU pragma: keep
 
 #include <fixpoint/scheme-inl.hpp>
+
+namespace fp {
+template <class D>
+class SchemeBase;
+}
 
 namespace fp::scheme {
 namespace detail {
@@ -132,6 +145,51 @@ consteval std::size_t sequence_index(const ParamSpec (&params)[N], std::string_v
     return index;
 }
 
+/// Writes a kernel's operations into a SchemeProgram instead of running them (SchemeBase::
+/// program): each buffer the kernel names (c.p first) becomes a register, by its address.
+class Recorder {
+public:
+    Recorder(const void* p, SchemeProgram& out) : out_(out) {
+        out_.size = 0;
+        out_.regs = 1;
+        reg_[0] = p;
+    }
+    void add(SchemeProgram::Op op, const void* dst, const void* u, const void* v = nullptr,
+             const void* w = nullptr, const double* k = nullptr, std::size_t nk = 0) {
+        if (out_.size == SchemeProgram::max_instrs) {
+            overflow = true;
+            return;
+        }
+        SchemeProgram::Instr& in = out_.code[out_.size++];
+        in.op = op;
+        in.u = reg(u);
+        in.v = v ? reg(v) : 0;
+        in.w = w ? reg(w) : 0;
+        in.dst = reg(dst);
+        // (Only the coefficients the instruction has: zeroing the rest took a third of a
+        // recording, and nothing reads them.)
+        if (nk == 8)
+            std::memcpy(in.k, k, 8 * sizeof(double));
+        else if (nk == 12)
+            std::memcpy(in.k, k, 12 * sizeof(double));
+    }
+    bool overflow = false; ///< more instructions or registers than a program holds
+
+private:
+    std::uint8_t reg(const void* b) {
+        for (std::uint32_t i = 0; i < out_.regs; ++i)
+            if (reg_[i] == b) return std::uint8_t(i);
+        if (out_.regs == SchemeProgram::max_regs) {
+            overflow = true;
+            return 0;
+        }
+        reg_[out_.regs] = b;
+        return std::uint8_t(out_.regs++);
+    }
+    SchemeProgram& out_;
+    const void* reg_[SchemeProgram::max_regs] = {};
+};
+
 /// True when `params` declares `numbers`, an object of kind number-system.
 template <std::size_t N>
 consteval bool declares_numbers(const ParamSpec (&params)[N]) {
@@ -162,26 +220,41 @@ struct Chunk {
 
     /// dst <- T(src) (dst may be src).
     void t(Buf<T>& dst, const Buf<T>& src) const {
+        if (rec_) return rec_->add(SchemeProgram::Op::map, &dst, &src);
         if (&dst != &src) copy(dst, src);
         map.apply(Points<T>{dst.x, dst.y, n}, nullptr);
     }
     /// dst <- src.
     void copy(Buf<T>& dst, const Buf<T>& src) const {
+        if (rec_) return rec_->add(SchemeProgram::Op::copy, &dst, &src);
         std::copy(src.x, src.x + n, dst.x);
         std::copy(src.y, src.y + n, dst.y);
     }
     /// dst <- A u + B v (matrices acting on points; dst may alias u or v).
     void lin(Buf<T>& dst, const Mat2& A, const Buf<T>& u, const Mat2& B, const Buf<T>& v) const {
+        if (rec_) {
+            const double r[8] = {A.a, A.b, A.c, A.d, B.a, B.b, B.c, B.d};
+            return rec_->add(SchemeProgram::Op::lin2, &dst, &u, &v, nullptr, r, 8);
+        }
         const T k[8] = {T(A.a), T(A.b), T(A.c), T(A.d), T(B.a), T(B.b), T(B.c), T(B.d)};
         detail::lin2(k, u.x, u.y, v.x, v.y, dst.x, dst.y, n);
     }
     /// dst <- A u + B v + C w (dst may alias any of them).
     void lin(Buf<T>& dst, const Mat2& A, const Buf<T>& u, const Mat2& B, const Buf<T>& v, const Mat2& C,
              const Buf<T>& w) const {
+        if (rec_) {
+            const double r[12] = {A.a, A.b, A.c, A.d, B.a, B.b, B.c, B.d, C.a, C.b, C.c, C.d};
+            return rec_->add(SchemeProgram::Op::lin3, &dst, &u, &v, &w, r, 12);
+        }
         const T k[12] = {T(A.a), T(A.b), T(A.c), T(A.d), T(B.a), T(B.b),
                          T(B.c), T(B.d), T(C.a), T(C.b), T(C.c), T(C.d)};
         detail::lin3(k, u.x, u.y, v.x, v.y, w.x, w.y, dst.x, dst.y, n);
     }
+
+private:
+    template <class D>
+    friend class fp::SchemeBase;
+    detail::Recorder* rec_ = nullptr; ///< set while SchemeBase::program records the kernel
 };
 
 /// The matrix of the number 1 (M(1) = I in every number system) and of 0.
@@ -276,6 +349,13 @@ public:
     void step(const Transform& t, Points<double> p, Mask m, std::uint64_t n) const override {
         run(t, p, m, n);
     }
+    /// The kernel's operations at step n on map t, recorded rather than run (on a chunk of no
+    /// points): the program the kernel computes, provided it combines points only through
+    /// c.t, c.copy and c.lin. A kernel that reads or writes the points itself overrides this to
+    /// return false (the conformance suite finds one that does not).
+    bool program(const Transform& t, std::uint64_t n, bool dbl, SchemeProgram& out) const override {
+        return dbl ? record<double>(t, n, out) : record<float>(t, n, out);
+    }
 
 protected:
     /// The matrices of the sequence parameters at step n.
@@ -287,6 +367,15 @@ protected:
     const NumberSystem& numbers() const { return *numbers_; }
 
 private:
+    template <class T>
+    bool record(const Transform& t, std::uint64_t n, SchemeProgram& out) const {
+        scheme::Chunk<T> c(t, 0);
+        scheme::detail::Recorder r(&c.p, out);
+        c.rec_ = &r;
+        static_cast<const D&>(*this).template kernel<T>(c, coefs(n), n);
+        return !r.overflow;
+    }
+
     template <class T>
     void run(const Transform& t, Points<T> p, Mask mask, std::uint64_t n) const {
         const Coefs k = coefs(n);
