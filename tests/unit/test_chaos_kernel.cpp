@@ -256,6 +256,26 @@ Render render(const std::string& yaml, unsigned threads) {
 
 // Each recipe rendered with the fused path allowed (auto) and forbidden (generic), on 1, 2 and
 // 3 threads (other splits of the chains into blocks): the same pixels and the same counts.
+void expect_fused_is_generic(const std::vector<std::string>& recipes) {
+    for (const auto& r : recipes) {
+        const Render a = render("{" + r + "}", 1);
+        const Render b = render("{" + r + ", kernels: generic}", 1);
+        const Render c = render("{" + r + "}", 2);
+        const Render d = render("{" + r + "}", 3);
+        ASSERT_EQ(a.img.pixels.size(), b.img.pixels.size());
+        EXPECT_TRUE(a.img.pixels == b.img.pixels) << r;
+        EXPECT_TRUE(a.img.pixels == c.img.pixels) << r;
+        EXPECT_TRUE(a.img.pixels == d.img.pixels) << r;
+        EXPECT_EQ(a.stats.samples, b.stats.samples) << r;
+        EXPECT_EQ(a.stats.samples, d.stats.samples) << r;
+        EXPECT_EQ(a.stats.drawn, b.stats.drawn) << r;
+        EXPECT_EQ(a.stats.restarts, b.stats.restarts) << r;
+        EXPECT_EQ(a.stats.bad_values, b.stats.bad_values) << r;
+        EXPECT_GT(a.stats.drawn, 0u) << r;
+    }
+}
+
+// Recipes of every fused path: the same as the generic step.
 TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
     const std::string bench = "type: chaos-game, width: 96, height: 96, view: [-0.8, 0.8, -0.8, 0.8], ";
     const std::vector<std::string> recipes = {
@@ -344,22 +364,7 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
         "colourer: {type: centroid-distance}, maps: [{type: gumowski-mira, mu: -0.31}, {type: gumowski-mira, "
         "alpha: 0.008, mu: -0.7}]",
     };
-    for (const auto& r : recipes) {
-        const Render a = render("{" + r + "}", 1);
-        const Render b = render("{" + r + ", kernels: generic}", 1);
-        const Render c = render("{" + r + "}", 2);
-        const Render d = render("{" + r + "}", 3);
-        ASSERT_EQ(a.img.pixels.size(), b.img.pixels.size());
-        EXPECT_TRUE(a.img.pixels == b.img.pixels) << r;
-        EXPECT_TRUE(a.img.pixels == c.img.pixels) << r;
-        EXPECT_TRUE(a.img.pixels == d.img.pixels) << r;
-        EXPECT_EQ(a.stats.samples, d.stats.samples) << r;
-        EXPECT_EQ(a.stats.samples, b.stats.samples) << r;
-        EXPECT_EQ(a.stats.drawn, b.stats.drawn) << r;
-        EXPECT_EQ(a.stats.restarts, b.stats.restarts) << r;
-        EXPECT_EQ(a.stats.bad_values, b.stats.bad_values) << r;
-        EXPECT_GT(a.stats.drawn, 0u) << r;
-    }
+    expect_fused_is_generic(recipes);
     // The overflowing orbit restarts (bad values), in the orbit path as in the generic one.
     for (size_t i = 4; i >= 2; --i)
         EXPECT_GT(render("{" + recipes[recipes.size() - i] + "}", 1).stats.bad_values, 40u);
@@ -417,22 +422,7 @@ TEST(ChaosKernel, FusedSchemesAreTheGenericStep) {
         "[{type: affine, coefficients: [1, 0, 0, -1, 0, 1]}, {type: affine, coefficients: [0.5, -0.2, 0.1, "
         "0.6, 0.25, 0]}]",
     };
-    for (const auto& r : recipes) {
-        const Render a = render("{" + r + "}", 1);
-        const Render b = render("{" + r + ", kernels: generic}", 1);
-        const Render c = render("{" + r + "}", 2);
-        const Render d = render("{" + r + "}", 3);
-        ASSERT_EQ(a.img.pixels.size(), b.img.pixels.size());
-        EXPECT_TRUE(a.img.pixels == b.img.pixels) << r;
-        EXPECT_TRUE(a.img.pixels == c.img.pixels) << r;
-        EXPECT_TRUE(a.img.pixels == d.img.pixels) << r;
-        EXPECT_EQ(a.stats.samples, b.stats.samples) << r;
-        EXPECT_EQ(a.stats.samples, d.stats.samples) << r;
-        EXPECT_EQ(a.stats.drawn, b.stats.drawn) << r;
-        EXPECT_EQ(a.stats.restarts, b.stats.restarts) << r;
-        EXPECT_EQ(a.stats.bad_values, b.stats.bad_values) << r;
-        EXPECT_GT(a.stats.drawn, 0u) << r;
-    }
+    expect_fused_is_generic(recipes);
 }
 
 // The single undamped orbit's shortcut (y + 0 = y: the damping term skipped) holds while the

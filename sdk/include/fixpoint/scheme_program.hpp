@@ -21,6 +21,7 @@
 #include <fixpoint/batch.hpp>
 #include <fixpoint/transform.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
