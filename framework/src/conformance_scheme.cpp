@@ -194,13 +194,21 @@ std::string masked(const IterationScheme& s, const Lane<T>& l) {
     return "";
 }
 
+// The lane's points with an infinity (the first point's x) and a NaN (the second's y): the
+// promises of is_picard() and program() hold for special values too.
+template <class T>
+std::vector<T> with_special_values(const Lane<T>& l) {
+    std::vector<T> p = l.start;
+    p[0] = std::numeric_limits<T>::infinity();
+    p[n_points + 1] = std::numeric_limits<T>::quiet_NaN();
+    return p;
+}
+
 // The promise renderers rely on (iteration.hpp): step() is exactly T(p), special values too.
 template <class T>
 std::string picard(const IterationScheme& s, const Lane<T>& l) {
     const std::size_t n = n_points;
-    std::vector<T> p = l.start;
-    p[0] = std::numeric_limits<T>::infinity();
-    p[n + 1] = std::numeric_limits<T>::quiet_NaN();
+    const std::vector<T> p = with_special_values(l);
     std::vector<T> want = p;
     l.t->apply(Points<T>{want.data(), want.data() + n, n}, nullptr);
     for (std::size_t i = 0; i < l.steps.size(); ++i) {
@@ -220,9 +228,7 @@ std::string picard(const IterationScheme& s, const Lane<T>& l) {
 template <class T>
 std::string program_matches(const IterationScheme& s, const Lane<T>& l) {
     const std::size_t n = n_points;
-    std::vector<T> p = l.start;
-    p[1] = std::numeric_limits<T>::infinity();
-    p[n + 2] = std::numeric_limits<T>::quiet_NaN();
+    const std::vector<T> p = with_special_values(l);
     SchemeProgram prog;
     for (std::size_t i = 0; i < l.steps.size(); ++i) {
         if (!s.program(*l.t, l.steps[i], sizeof(T) == 8, prog)) continue;

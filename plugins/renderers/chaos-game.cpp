@@ -506,24 +506,22 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     const fp::ColourRule crule = colourer_->colour_rule();
     // (Last colours are kept by the generic path only: a mode for the papers' figures, not for
     // speed.)
-    // A scheme other than Picard fuses when it gives the same program for every map at the
-    // first step (IterationScheme::program: paper 02's schemes on fp::SchemeBase do); each
-    // step's program is asked for again as the step runs.
-    const bool picard = iteration_->is_picard();
-    bool programmed = false;
-    if (!picard) {
-        LaneProgram<double> ld;
-        LaneProgram<float> lf;
-        programmed = double_ ? lane_program(0, ld) : lane_program(0, lf);
-    }
-    if (p.string("kernels") == "auto" && (picard || programmed) && k <= fp_chaos::table_size &&
+    if (p.string("kernels") == "auto" && k <= fp_chaos::table_size &&
         (!colour_ || crule != fp::ColourRule::none) && !last_) {
         std::vector<fp::KnownKernel> kk;
         for (const auto& m : maps_) kk.push_back(m->kernel());
         const auto kind = kk[0].kind;
         fused_ = kind != fp::KnownKernel::Kind::none;
         for (const auto& x : kk) fused_ = fused_ && x.kind == kind;
-        program_ = fused_ && !picard;
+        // A scheme other than Picard fuses when it gives the same program for every map at the
+        // first step (IterationScheme::program: paper 02's schemes on fp::SchemeBase do); each
+        // step's program is asked for again as the step runs.
+        program_ = fused_ && !iteration_->is_picard();
+        if (program_) {
+            LaneProgram<double> ld;
+            LaneProgram<float> lf;
+            fused_ = program_ = double_ ? lane_program(0, ld) : lane_program(0, lf);
+        }
         if (fused_) {
             lanes_f_ = std::make_shared<LaneTables<float>>();
             lanes_d_ = std::make_shared<LaneTables<double>>();
