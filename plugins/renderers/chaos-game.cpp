@@ -4,10 +4,15 @@
 // ----------------
 // Many independent chains p_0, p_1, ... each move by one of the maps in `maps` per step and
 // plot every point after the first `skip`. Under the inversion rules (paper 01: "not the
-// previous map, not a map whose set holds the point") the next map is drawn among the
-// allowed maps with probabilities proportional to `weight`; this is the paper's rejection
-// loop ("while j = l or inSet(S_l, p): draw again") without the loop: the draw is direct,
-// so a point deep inside several sets costs no more than any other. A chain with no allowed
+// previous map, not a map whose set holds the point") the next map is one of the allowed
+// maps with probabilities proportional to `weight`, drawn as the paper's Algorithm 1 does:
+// draw, and draw again while the map is the previous one or its set holds the point ("while
+// j = l or inSet(S_l, p)"), so that a step tests one set, not every map's. With equal weights
+// the draw is among the maps other than the previous one (which the loop would only reject),
+// else by weight among all. After 4 draws (kernels.hpp's rejection_draws) a chain still
+// rejected takes the direct draw among the allowed maps (their weights summed), so a point
+// deep inside several sets costs a bounded number of draws; the distribution is the same
+// either way. A chain with no allowed
 // map, or whose point becomes NaN or infinite, restarts from a fresh start point and is
 // counted (RenderStats::restarts, ::bad_values); a chain that restarts 100 times in a row
 // without plotting a point is retired, so no recipe spins forever. With the rules off the
@@ -25,10 +30,11 @@
 // One step of a block:
 //   1. inside tests: one Transform::contains call per map with a set on the whole block
 //      (rules on);
-//   2. the draw: one pcg32 output per chain; the total allowed weight and the cumulative
-//      search, branch-free, 16 chains per AVX-512 vector with the per-map tests as mask
-//      registers (or one pass over the block per map elsewhere); with the rules off, Walker's
-//      alias table;
+//   2. the draw: one pcg32 output per chain (a few more for the chains rejected: paper 01's
+//      loop, above), a vector of chains at a time; the rare chains still rejected after
+//      rejection_draws take the direct draw (the total allowed weight and the cumulative
+//      search, branch-free, the per-map tests as masks); with the rules off, Walker's alias
+//      table;
 //   3. grouping by map: each map's chains compressed into its own staging segment (AVX-512
 //      vcompress, up to 16 maps; a scalar counting sort otherwise), one IterationScheme::step
 //      call per map on its segment, expanded back in place;
@@ -95,8 +101,9 @@
 // -----------
 // A render is a pure function of its recipe, whatever the thread count:
 //   - chain i draws from its own stream, fp::chain_stream(seed, i) (pcg32, bit-identical; kept
-//     here as SoA state so the draws vectorise), exactly one output per step plus those of its
-//     own start points, so its path depends on nothing but (seed, i, its own history);
+//     here as SoA state so the draws vectorise), one output per step, those of its own draws
+//     again under the rules (only the rejected chains of a vector draw again) and those of
+//     its start points, so its path depends on nothing but (seed, i, its own history);
 //   - the number of chains and the points per chain are fixed by the recipe (chain i plots
 //     points / chains points, one more for i < points % chains), never by the thread count;
 //   - all map choices are integer arithmetic; float work is plain IEEE arithmetic compiled
@@ -345,6 +352,7 @@ private:
     std::vector<std::shared_ptr<const fp::Transform>> maps_;
     std::vector<uint32_t> region_maps_;       ///< indices of the maps with a set
     std::vector<uint32_t> q_;                 ///< integer weights (rules on)
+    bool uniform_ = true;                     ///< every weight the same (the rules' draw)
     std::vector<uint32_t> alias_thr_, alias_; ///< Walker's alias table (rules off)
     std::vector<fp::Rgb> colours_;            ///< k + 1 entries (the last one is never used)
     fp::Rgb initial_colour_;
@@ -471,6 +479,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     q_.resize(k);
     for (size_t j = 0; j < k; ++j)
         q_[j] = uint32_t(std::max(1.0, std::floor(w[j] / sum * double(1u << 31) + 0.5)));
+    uniform_ = std::all_of(w.begin(), w.end(), [&](double x) { return x == w[0]; });
 
     // Walker's alias table (Vose's construction) with 32-bit thresholds: column c =
     // floor(u * k), kept when the fraction's 32 bits are below thr[c], else alias[c].
@@ -530,6 +539,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
                 using U = typename std::remove_reference_t<decltype(t)>::U;
                 t.k = uint32_t(k);
                 t.rules = rules_;
+                t.uniform = uniform_;
                 t.kind = kind == fp::KnownKernel::Kind::circle_inversion ? LaneKind::circle
                          : kind == fp::KnownKernel::Kind::affine         ? LaneKind::affine
                                                                          : LaneKind::gumowski_mira;
@@ -1142,16 +1152,19 @@ void ChaosGame::combine_ranks(fp::RenderContext& ctx, fp::RenderStats& stats, fp
 // not a map whose set holds its point) with probability q_j / (sum of allowed q); k when none
 // is allowed or the chain is inactive; restart[i] = 1 for active chains with none allowed.
 // One Transform::contains call per map with a set on the whole block, then the draw
-// (kernels-inl.hpp's draw_rules: one pcg32 output r per chain, u = floor(r * total / 2^32) in
-// [0, total), chosen = #{j : cum_j <= u}, the first map whose cumulative weight passes u).
+// (kernels-inl.hpp's draw_rules and draw_paper: paper 01's loop, reading the drawn map's test
+// from those rows; after rejection_draws rejections the direct draw: one more pcg32 output r,
+// u = floor(r * total / 2^32) in [0, total), chosen = #{j : cum_j <= u}, the first map whose
+// cumulative weight passes u).
 template <class T>
 void ChaosGame::choose_rules(Scratch<T>& s, size_t nb) const {
     const fp::Points<const T> pts{s.x.get(), s.y.get(), nb};
     unsigned char* inside = s.inside.get();
     for (uint32_t j : region_maps_) maps_[j]->contains(pts, inside + size_t(j) * block_size);
-    DrawArgs a{s.rs.get(),     s.ri.get(),      s.prev.get(), s.active.get(),         inside,    block_size,
-               s.chosen.get(), s.restart.get(), nb,           uint32_t(maps_.size()), q_.data(), nullptr,
-               nullptr};
+    DrawArgs a{
+        s.rs.get(),     s.ri.get(),      s.prev.get(), s.active.get(),         inside,    block_size,
+        s.chosen.get(), s.restart.get(), nb,           uint32_t(maps_.size()), q_.data(), alias_thr_.data(),
+        alias_.data(),  uniform_};
     HWY_DYNAMIC_DISPATCH(draw_rules)(a);
 }
 

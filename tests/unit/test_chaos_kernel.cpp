@@ -135,6 +135,20 @@ uint32_t pcg_next(uint64_t& state, uint64_t inc) {
     return (x >> rot) | (x << ((32u - rot) & 31u));
 }
 
+// One draw of paper 01's loop (kernels-inl.hpp's draw_other): with equal weights a map other
+// than the previous one p, uniformly; else Walker's alias table over all k maps.
+uint32_t draw_other(uint32_t r, uint32_t p, uint32_t k, bool uniform, const uint32_t* thr,
+                    const uint32_t* alias) {
+    if (!uniform) {
+        const uint64_t m = uint64_t(r) * k;
+        const auto col = uint32_t(m >> 32);
+        return uint32_t(m) < thr[col] ? col : alias[col];
+    }
+    if (p == k) return uint32_t((uint64_t(r) * k) >> 32);
+    const uint32_t c = p + 1 + uint32_t((uint64_t(r) * (k - 1)) >> 32);
+    return c >= k ? c - k : c;
+}
+
 TEST(ChaosKernel, FusedStepIsTheGenericStep) {
     const std::vector<double> cx = {1, 0.309, -0.809, -0.809, 0.309, 0},
                               cy = {0, 0.951, 0.588, -0.588, -0.951, 0};
@@ -150,94 +164,123 @@ TEST(ChaosKernel, FusedStepIsTheGenericStep) {
     t.rules = true;
     const std::size_t k = cx.size();
 
-    for (const std::string& target : fp::simd::supported_targets())
-        for (std::size_t nb : {std::size_t(1), std::size_t(37), std::size_t(512)}) {
-            SCOPED_TRACE(target);
-            ASSERT_TRUE(fp::simd::force_target(target));
-            // The kernels work on whole vectors: arrays of a block's size (512).
-            std::vector<float> x(512), y(512);
-            std::vector<uint64_t> rs(512), ri(512);
-            std::vector<uint32_t> prev(512), active(512), chosen(512, 99), restart(512, 99);
-            // The bookkeeping's arrays: every chain past its skip (1), points to spare.
-            std::vector<uint32_t> age(512, 5), idle(512, 3), plotf(512), idx(512), hits(64 * 64 + 1);
-            std::vector<uint64_t> left(512, 1000), dep(512);
-            std::vector<float> cr(512), cg(512), cb(512);
-            fp::Rng g = fp::chain_stream(7, nb);
-            for (std::size_t i = 0; i < nb; ++i) {
-                // Points over [-1.5, 1.5]^2: some inside one or two circles; a few NaN and exact
-                // centres (an infinite factor).
-                x[i] = float(-1.5 + 3 * fp::uniform_double(g));
-                y[i] = float(-1.5 + 3 * fp::uniform_double(g));
-                if (i % 50 == 7) x[i] = std::numeric_limits<float>::quiet_NaN();
-                if (i % 50 == 11) x[i] = 0, y[i] = 0;
-                prev[i] = uint32_t(fp::uniform_below(g, uint32_t(k + 1)));
-                active[i] = i % 13 == 5 ? 0u : 1u;
-                rs[i] = uint64_t(g()) << 32 | g();
-                ri[i] = (uint64_t(i) << 1) | 1u;
-            }
-            std::vector<float> ex = x, ey = y;
-            std::vector<uint64_t> ers = rs;
-            std::vector<uint32_t> echosen(nb), erestart(nb);
-            for (std::size_t i = 0; i < nb; ++i) {
-                std::vector<bool> ok(k);
-                uint32_t tot = 0;
-                for (std::size_t j = 0; j < k; ++j) {
-                    const float dx = x[i] - float(cx[j]), dy = y[i] - float(cy[j]);
-                    ok[j] = !(dx * dx + dy * dy < float(r2[j])) && prev[i] != j;
-                    tot += ok[j] ? q[j] : 0u;
+    // Walker's table for the weights' draw (its values only matter as lookups here).
+    for (std::size_t j = 0; j < k; ++j)
+        t.thr[j] = 0x40000000u * uint32_t(j % 4), t.alias[j] = uint32_t(4 - j % 4);
+
+    for (const bool uniform : {true, false})
+        for (const std::string& target : fp::simd::supported_targets())
+            for (std::size_t nb : {std::size_t(1), std::size_t(37), std::size_t(512)}) {
+                SCOPED_TRACE(target);
+                SCOPED_TRACE(uniform ? "equal weights" : "weights");
+                t.uniform = uniform;
+                ASSERT_TRUE(fp::simd::force_target(target));
+                // The kernels work on whole vectors: arrays of a block's size (512).
+                std::vector<float> x(512), y(512);
+                std::vector<uint64_t> rs(512), ri(512);
+                std::vector<uint32_t> prev(512), active(512), chosen(512, 99), restart(512, 99);
+                // The bookkeeping's arrays: every chain past its skip (1), points to spare.
+                std::vector<uint32_t> age(512, 5), idle(512, 3), plotf(512), idx(512), hits(64 * 64 + 1);
+                std::vector<uint64_t> left(512, 1000), dep(512);
+                std::vector<float> cr(512), cg(512), cb(512);
+                fp::Rng g = fp::chain_stream(7, nb);
+                for (std::size_t i = 0; i < nb; ++i) {
+                    // Points over [-1.5, 1.5]^2: some inside one or two circles; a few NaN and exact
+                    // centres (an infinite factor).
+                    x[i] = float(-1.5 + 3 * fp::uniform_double(g));
+                    y[i] = float(-1.5 + 3 * fp::uniform_double(g));
+                    if (i % 50 == 7) x[i] = std::numeric_limits<float>::quiet_NaN();
+                    if (i % 50 == 11) x[i] = 0, y[i] = 0;
+                    prev[i] = uint32_t(fp::uniform_below(g, uint32_t(k + 1)));
+                    active[i] = i % 13 == 5 ? 0u : 1u;
+                    rs[i] = uint64_t(g()) << 32 | g();
+                    ri[i] = (uint64_t(i) << 1) | 1u;
                 }
-                const uint32_t u = uint32_t((uint64_t(pcg_next(ers[i], ri[i])) * tot) >> 32);
-                uint32_t cum = 0, c = 0;
-                for (std::size_t j = 0; j < k; ++j) {
-                    cum += ok[j] ? q[j] : 0u;
-                    c += cum <= u ? 1u : 0u;
+                std::vector<float> ex = x, ey = y;
+                std::vector<uint64_t> ers = rs;
+                std::vector<uint32_t> echosen(nb), erestart(nb);
+                std::size_t again = 0, direct = 0; // chains that drew again, that took the direct draw
+                for (std::size_t i = 0; i < nb; ++i) {
+                    std::vector<bool> ok(k);
+                    uint32_t tot = 0;
+                    for (std::size_t j = 0; j < k; ++j) {
+                        const float dx = x[i] - float(cx[j]), dy = y[i] - float(cy[j]);
+                        ok[j] = !(dx * dx + dy * dy < float(r2[j])) && prev[i] != j;
+                        tot += ok[j] ? q[j] : 0u;
+                    }
+                    // Paper 01's loop: draw while the map is not allowed, at most rejection_draws
+                    // times (an inactive chain draws once), then the direct draw among the allowed.
+                    const auto draw = [&] {
+                        return draw_other(pcg_next(ers[i], ri[i]), prev[i], uint32_t(k), uniform, t.thr,
+                                          t.alias);
+                    };
+                    uint32_t c = draw();
+                    again += active[i] && !ok[c];
+                    for (int d = 1; active[i] && !ok[c] && d < fp_chaos::rejection_draws; ++d) c = draw();
+                    bool some = true;
+                    if (active[i] && !ok[c]) {
+                        ++direct;
+                        const uint32_t u = uint32_t((uint64_t(pcg_next(ers[i], ri[i])) * tot) >> 32);
+                        uint32_t cum = 0;
+                        c = 0;
+                        for (std::size_t j = 0; j < k; ++j) {
+                            cum += ok[j] ? q[j] : 0u;
+                            c += cum <= u ? 1u : 0u;
+                        }
+                        some = tot != 0;
+                    }
+                    const bool mv = active[i] && some;
+                    echosen[i] = mv ? c : uint32_t(k);
+                    erestart[i] = active[i] && !some ? 1u : 0u;
+                    if (mv) {
+                        const float ox = float(cx[c]), oy = float(cy[c]);
+                        const float dx = x[i] - ox, dy = y[i] - oy, s = float(r2[c]) / (dx * dx + dy * dy);
+                        ex[i] = ox + s * dx;
+                        ey[i] = oy + s * dy;
+                    }
                 }
-                const bool mv = active[i] && tot != 0;
-                echosen[i] = mv ? c : uint32_t(k);
-                erestart[i] = active[i] && tot == 0 ? 1u : 0u;
-                if (mv) {
-                    const float ox = float(cx[c]), oy = float(cy[c]);
-                    const float dx = x[i] - ox, dy = y[i] - oy, s = float(r2[c]) / (dx * dx + dy * dy);
-                    ex[i] = ox + s * dx;
-                    ey[i] = oy + s * dy;
+                const std::vector<uint32_t> prev0 = prev, active0 = active;
+                fp_chaos::FusedArgs<float> f{};
+                f.tables = &t;
+                f.draw = fp_chaos::DrawArgs{
+                    rs.data(),      ri.data(), prev.data(), active.data(), nullptr, 0,      chosen.data(),
+                    restart.data(), nb,        uint32_t(k), nullptr,       nullptr, nullptr};
+                f.book = fp_chaos::BookArgs<float>{x.data(),   y.data(),    chosen.data(),  prev.data(),
+                                                   age.data(), idle.data(), restart.data(), plotf.data(),
+                                                   idx.data(), left.data(), active.data(),  cr.data(),
+                                                   cg.data(),  cb.data(),   dep.data(),     nb};
+                f.book.xmin = -1.5f, f.book.xmax = 1.5f, f.book.ymin = -1.5f, f.book.ymax = 1.5f;
+                f.book.scx = f.book.scy = 64.0f / 3.0f;
+                f.book.W = f.book.H = 64, f.book.dummy = 64 * 64, f.book.skip = 1, f.book.none = uint32_t(k);
+                f.hits = hits.data();
+                fp_chaos::Counts counts;
+                {
+                    using namespace fp_chaos; // (static dispatch names N_<target>::fused_f)
+                    counts = HWY_DYNAMIC_DISPATCH(fused_f)(f);
+                }
+                uint64_t plotted = 0;
+                for (std::size_t i = 0; i < nb; ++i) {
+                    const bool mv = echosen[i] < k;
+                    // The chosen map becomes the previous one; the bad values (NaN, the centres'
+                    // infinities) restart their chains (bit 1); the rest plot.
+                    EXPECT_EQ(prev[i], mv ? echosen[i] : prev0[i]) << nb << " " << i;
+                    const bool fin = std::isfinite(ex[i]) && std::isfinite(ey[i]);
+                    EXPECT_EQ(restart[i], erestart[i] | (mv && !fin ? 2u : 0u)) << nb << " " << i;
+                    EXPECT_EQ(left[i], mv && fin ? 999u : 1000u) << nb << " " << i;
+                    EXPECT_EQ(active[i], active0[i]) << nb << " " << i;
+                    plotted += mv && fin;
+                    EXPECT_EQ(rs[i], ers[i]) << nb << " " << i;
+                    EXPECT_TRUE(same_bits(x[i], ex[i])) << nb << " " << i << " " << x[i] << " " << ex[i];
+                    EXPECT_TRUE(same_bits(y[i], ey[i])) << nb << " " << i << " " << y[i] << " " << ey[i];
+                }
+                EXPECT_EQ(counts.plotted, plotted);
+                // The block of 512 takes both branches of the loop: draws again, and the direct
+                // draw after rejection_draws rejections.
+                if (nb == 512) {
+                    EXPECT_GT(again, direct) << uniform;
+                    EXPECT_GT(direct, 0u) << uniform;
                 }
             }
-            const std::vector<uint32_t> prev0 = prev, active0 = active;
-            fp_chaos::FusedArgs<float> f{};
-            f.tables = &t;
-            f.draw = fp_chaos::DrawArgs{
-                rs.data(),      ri.data(), prev.data(), active.data(), nullptr, 0,      chosen.data(),
-                restart.data(), nb,        uint32_t(k), nullptr,       nullptr, nullptr};
-            f.book = fp_chaos::BookArgs<float>{x.data(),   y.data(),    chosen.data(),  prev.data(),
-                                               age.data(), idle.data(), restart.data(), plotf.data(),
-                                               idx.data(), left.data(), active.data(),  cr.data(),
-                                               cg.data(),  cb.data(),   dep.data(),     nb};
-            f.book.xmin = -1.5f, f.book.xmax = 1.5f, f.book.ymin = -1.5f, f.book.ymax = 1.5f;
-            f.book.scx = f.book.scy = 64.0f / 3.0f;
-            f.book.W = f.book.H = 64, f.book.dummy = 64 * 64, f.book.skip = 1, f.book.none = uint32_t(k);
-            f.hits = hits.data();
-            fp_chaos::Counts counts;
-            {
-                using namespace fp_chaos; // (static dispatch names N_<target>::fused_f)
-                counts = HWY_DYNAMIC_DISPATCH(fused_f)(f);
-            }
-            uint64_t plotted = 0;
-            for (std::size_t i = 0; i < nb; ++i) {
-                const bool mv = echosen[i] < k;
-                // The chosen map becomes the previous one; the bad values (NaN, the centres'
-                // infinities) restart their chains (bit 1); the rest plot.
-                EXPECT_EQ(prev[i], mv ? echosen[i] : prev0[i]) << nb << " " << i;
-                const bool fin = std::isfinite(ex[i]) && std::isfinite(ey[i]);
-                EXPECT_EQ(restart[i], erestart[i] | (mv && !fin ? 2u : 0u)) << nb << " " << i;
-                EXPECT_EQ(left[i], mv && fin ? 999u : 1000u) << nb << " " << i;
-                EXPECT_EQ(active[i], active0[i]) << nb << " " << i;
-                plotted += mv && fin;
-                EXPECT_EQ(rs[i], ers[i]) << nb << " " << i;
-                EXPECT_TRUE(same_bits(x[i], ex[i])) << nb << " " << i << " " << x[i] << " " << ex[i];
-                EXPECT_TRUE(same_bits(y[i], ey[i])) << nb << " " << i << " " << y[i] << " " << ey[i];
-            }
-            EXPECT_EQ(counts.plotted, plotted);
-        }
     fp::simd::force_target("");
 }
 

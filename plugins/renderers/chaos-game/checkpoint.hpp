@@ -68,7 +68,9 @@ struct Keeping {
 /// The payload's fixed part (after it: the pending tasks, the final states, the histogram and,
 /// with last colours, the bins' last writes).
 struct PayloadHead {
-    uint32_t version = 1;
+    /// 2: the rules' draw became paper 01's loop (the streams' outputs are used otherwise, so a
+    /// checkpoint of version 1 would resume into other bytes).
+    uint32_t version = 2;
     uint32_t precision = 4; ///< sizeof the chains' float type
     uint64_t points = 0, chains = 0;
     uint32_t width = 0, rows = 0;

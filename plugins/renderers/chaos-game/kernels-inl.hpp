@@ -171,6 +171,24 @@ HWY_INLINE void pcg_skip(DU, uint64_t* rs, const uint64_t* ri) {
 #endif
 }
 
+/// pcg_next for the lanes of m: the other lanes' states stay as they were (their outputs are
+/// not to be used). For the draws again of the rejection loop, which only the rejected chains
+/// make (a chain's stream must not depend on its neighbours in the vector): rare, so plain.
+template <class DU>
+HWY_INLINE hn::Vec<DU> pcg_next_masked(DU du, uint64_t* rs, const uint64_t* ri, hn::Mask<DU> m) {
+    using U = hn::TFromD<DU>;
+    constexpr size_t L = fp::simd::HWY_NAMESPACE::max_lanes<U>;
+    const size_t n = hn::Lanes(du);
+    uint64_t saved[L];
+    alignas(HWY_MAX_BYTES) U keep[L];
+    for (size_t l = 0; l < n; ++l) saved[l] = rs[l];
+    hn::Store(hn::VecFromMask(du, m), du, keep);
+    const auto r = pcg_next(du, rs, ri);
+    for (size_t l = 0; l < n; ++l)
+        if (keep[l] == 0) rs[l] = saved[l];
+    return r;
+}
+
 // ---------------------------------------------------------------- points left
 /// left[i] -= 1 where `dec`; returns the lanes whose count is still non-zero.
 template <class DU>
@@ -280,31 +298,89 @@ HWY_INLINE hn::Vec<DU> draw_any(DU du, const uint32_t* q, const hn::TFromD<DU>* 
 }
 
 template <class DU>
+HWY_INLINE hn::Vec<DU> alias_lanes(DU du, hn::Vec<DU> r, uint32_t k, const hn::TFromD<DU>* thr,
+                                   const hn::TFromD<DU>* alias);
+
+/// One draw of paper 01's loop from r: with every weight the same, a map other than the
+/// previous one p, c = (p + 1 + floor(r (k - 1) / 2^32)) mod k (p = k, no previous map:
+/// floor(r k / 2^32)); else a map by weight from Walker's alias table (thr, alias), which
+/// may be p (the loop rejects it, as the paper's does).
+template <class DU>
+HWY_INLINE hn::Vec<DU> draw_other(DU du, hn::Vec<DU> r, hn::Vec<DU> p, uint32_t k, bool uniform,
+                                  const hn::TFromD<DU>* thr, const hn::TFromD<DU>* alias) {
+    using U = hn::TFromD<DU>;
+    if (!uniform) return alias_lanes(du, r, k, thr, alias);
+    const auto vk = hn::Set(du, U(k));
+    const auto first = hn::Eq(p, vk);
+    const auto m = hn::IfThenElse(first, vk, hn::Set(du, U(k - 1)));
+    const auto c = hn::Add(hn::IfThenZeroElse(first, hn::Add(p, hn::Set(du, U(1)))), mul_high32(du, r, m));
+    return hn::IfThenElse(hn::Lt(c, vk), c, hn::Sub(c, vk));
+}
+
+/// Paper 01's Algorithm 1 for a vector of chains: "l = random number; while j = l or
+/// inSet(S_l, p): l = random number". Each chain draws (draw_other: one output of its stream,
+/// every lane, as every step takes) and draws again while the map drawn is its previous one
+/// or `inside(c)` (the mask of the chains whose point lies in map c's set), up to
+/// rejection_draws draws, each again from the streams of the rejected chains only. The few
+/// still rejected then take the direct draw among the allowed maps (draw_any with `excluded`,
+/// from one more output of their streams), which also finds the chains with no allowed map
+/// (`some` false: the loop would not end). Each accepted draw is one of the allowed maps with
+/// probability q_j / (their sum), so the rules' distribution is the direct draw's; a draw
+/// costs one test of one set where the direct draw tests every map's.
+template <class DU, class Inside, class Excluded>
+HWY_INLINE hn::Vec<DU> draw_paper(DU du, uint64_t* rs, const uint64_t* ri, hn::Vec<DU> p, hn::Mask<DU> act,
+                                  uint32_t k, bool uniform, const hn::TFromD<DU>* thr,
+                                  const hn::TFromD<DU>* alias, const uint32_t* q, const hn::TFromD<DU>* wq,
+                                  size_t ws, Inside&& inside, Excluded&& excluded, hn::Mask<DU>& some) {
+    const auto rejected = [&](hn::Vec<DU> c) { return hn::Or(hn::Eq(c, p), inside(c)); };
+    auto c = draw_other(du, pcg_next(du, rs, ri), p, k, uniform, thr, alias);
+    auto bad = hn::And(act, rejected(c));
+    some = hn::Eq(p, p);
+    if (HWY_LIKELY(hn::AllFalse(du, bad))) return c;
+    for (int t = 1; t < fp_chaos::rejection_draws; ++t) {
+        c = hn::IfThenElse(bad, draw_other(du, pcg_next_masked(du, rs, ri, bad), p, k, uniform, thr, alias),
+                           c);
+        bad = hn::And(bad, rejected(c));
+        if (hn::AllFalse(du, bad)) return c;
+    }
+    auto tot = hn::Zero(du);
+    const auto direct = draw_any(du, q, wq, ws, k, pcg_next_masked(du, rs, ri, bad), tot, excluded);
+    some = hn::Not(hn::And(bad, hn::Eq(tot, hn::Zero(du))));
+    return hn::IfThenElse(bad, direct, c);
+}
+
+template <class DU>
 HWY_INLINE void draw_rules_t(DU du, const fp_chaos::DrawArgs& args) {
     const fp_chaos::DrawArgs a = args; // a local copy: see fused_t
     using U = hn::TFromD<DU>;
+    constexpr size_t L = fp::simd::HWY_NAMESPACE::max_lanes<U>;
     const size_t N = hn::Lanes(du);
     const auto none = hn::Set(du, U(a.k)), one = hn::Set(du, U(1)), zero = hn::Zero(du);
     for (size_t i = 0; i < a.nb; i += N) {
         const auto p = load32(du, a.prev + i);
-        const auto act = hn::Ne(load32(du, a.active + i), zero);
-        const auto r = pcg_next(du, a.rs + i, a.ri + i);
-        auto tot = zero;
-        const auto c = draw_any(
-            du, a.q, static_cast<const U*>(nullptr), 0, a.k, r, tot, [&](uint32_t j, hn::Vec<DU> vj) {
+        const auto live = hn::FirstN(du, a.nb - i < N ? a.nb - i : N);
+        const auto act = hn::And(live, hn::Ne(load32(du, a.active + i), zero));
+        // The drawn maps' tests, read from the block's rows of inside bytes.
+        const auto inside = [&](hn::Vec<DU> c) {
+            alignas(HWY_MAX_BYTES) U cs[L], in[L];
+            hn::Store(c, du, cs);
+            for (size_t l = 0; l < N; ++l) in[l] = a.inside[size_t(cs[l]) * a.row + i + l];
+            return hn::Ne(hn::Load(du, in), zero);
+        };
+        hn::Mask<DU> some;
+        const auto c = draw_paper(
+            du, a.rs + i, a.ri + i, p, act, a.k, a.uniform, a.thr, a.alias, a.q,
+            static_cast<const U*>(nullptr), 0, inside,
+            [&](uint32_t j, hn::Vec<DU> vj) {
                 return hn::Or(hn::Not(zero_bytes(du, a.inside + j * a.row + i)), hn::Eq(p, vj));
-            });
-        const auto some = hn::Ne(tot, zero);
+            },
+            some);
         store32(du, hn::IfThenElse(hn::And(act, some), c, none), a.chosen + i);
         store32(du, hn::IfThenElseZero(hn::AndNot(some, act), one), a.restart + i);
     }
 }
 
 void draw_rules(const fp_chaos::DrawArgs& a) { draw_rules_t(hn::ScalableTag<uint32_t>(), a); }
-
-template <class DU>
-HWY_INLINE hn::Vec<DU> alias_lanes(DU du, hn::Vec<DU> r, uint32_t k, const hn::TFromD<DU>* thr,
-                                   const hn::TFromD<DU>* alias);
 
 /// Rules off: Walker's alias table (alias_lanes), one pcg32 output per chain; the tables
 /// padded to whole vectors.
@@ -775,21 +851,35 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         hn::Vec<decltype(du)> c;
         hn::Mask<decltype(du)> some;
         if constexpr (Rules) {
-            const auto r = pcg_next(du, a.rs + i, a.ri + i);
-            auto tot = zero;
-            c = draw_any(du, t.q, &t.wq[0][0], t.wide_lanes, k, r, tot,
-                         [&](uint32_t j, hn::Vec<decltype(du)> vj) {
-                             const auto previous = hn::Eq(p, vj);
-                             if constexpr (K != fp_chaos::LaneKind::circle) return previous;
-                             // (The same values as broadcasts of t.p[.][j]: see LaneTables::wp.)
-                             const auto par = [&](int n) {
-                                 return j < t.wide_maps ? hn::Load(d, t.wp[n][j]) : hn::Set(d, t.p[n][j]);
-                             };
-                             const auto dx = hn::Sub(x, par(0)), dy = hn::Sub(y, par(1));
-                             const auto in = hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), par(2));
-                             return hn::Or(hn::RebindMask(du, in), previous);
-                         });
-            some = hn::Ne(tot, zero);
+            // Paper 01's loop: for circles, the drawn circle's set (Circle::inside, dx * dx +
+            // dy * dy < r2, NaN allowed) tested with its parameters in lanes; the direct draw's
+            // `excluded` tests every circle (the same values as broadcasts of t.p[.][j]: see
+            // LaneTables::wp).
+            const auto inside = [&](hn::Vec<decltype(du)> cc) {
+                if constexpr (K != fp_chaos::LaneKind::circle) {
+                    return hn::Ne(cc, cc);
+                } else {
+                    hn::Vec<D> q[3];
+                    per_maps(
+                        d, [&](size_t j) { return t.p[j]; }, k, cc, q);
+                    const auto dx = hn::Sub(x, q[0]), dy = hn::Sub(y, q[1]);
+                    return hn::RebindMask(du, hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), q[2]));
+                }
+            };
+            c = draw_paper(
+                du, a.rs + i, a.ri + i, p, act, k, t.uniform, t.thr, t.alias, t.q, &t.wq[0][0], t.wide_lanes,
+                inside,
+                [&](uint32_t j, hn::Vec<decltype(du)> vj) {
+                    const auto previous = hn::Eq(p, vj);
+                    if constexpr (K != fp_chaos::LaneKind::circle) return previous;
+                    const auto par = [&](int n) {
+                        return j < t.wide_maps ? hn::Load(d, t.wp[n][j]) : hn::Set(d, t.p[n][j]);
+                    };
+                    const auto dx = hn::Sub(x, par(0)), dy = hn::Sub(y, par(1));
+                    const auto in = hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), par(2));
+                    return hn::Or(hn::RebindMask(du, in), previous);
+                },
+                some);
         } else if (k == 1) {
             // One map: the draw's output is not needed, but the stream moves on as it would
             // (start points after restarts come from it): here, or in a steady run at its end,

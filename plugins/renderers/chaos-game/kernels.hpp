@@ -17,7 +17,11 @@ constexpr std::size_t table_size = 64;
 /// The most chains of a lean run (chaos-game.cpp's run_block; state.hpp's lean_chains).
 constexpr std::size_t lean_max = 64;
 
-/// The draw of a map per chain (paper 01's rules as masks, or Walker's alias table).
+/// The draws of paper 01's rejection loop (kernels-inl.hpp's draw_paper) before the direct draw
+/// among the allowed maps settles the chains still rejected.
+constexpr int rejection_draws = 4;
+
+/// The draw of a map per chain (paper 01's rules, or Walker's alias table).
 struct DrawArgs {
     std::uint64_t* rs;           ///< pcg32 states, advanced by one output per chain
     const std::uint64_t* ri;     ///< pcg32 increments
@@ -31,7 +35,8 @@ struct DrawArgs {
     std::uint32_t k;             ///< maps
     const std::uint32_t* q;      ///< rules: integer weights (sum below 2^32)
     const std::uint32_t* thr;    ///< alias: thresholds
-    const std::uint32_t* alias;  ///< alias: the other map of each column
+    const std::uint32_t* alias;  ///< alias: the other map of each column (rules: also when not uniform)
+    bool uniform = false;        ///< rules: every weight the same
 };
 
 /// Bookkeeping of a step (see chaos_bookkeep.hpp's description).
@@ -127,7 +132,8 @@ struct LaneTables {
     std::uint32_t k = 0;
     LaneKind kind = LaneKind::circle;
     LaneColour colour = LaneColour::none;
-    bool rules = true; ///< paper 01's rules (circles: their sets too); else the alias table
+    bool rules = true;    ///< paper 01's rules (circles: their sets too); else the alias table
+    bool uniform = false; ///< rules: every weight the same (see DrawArgs)
 };
 
 /// An iteration scheme's step as the fused step runs it: fp::SchemeProgram (scheme_program.hpp)
