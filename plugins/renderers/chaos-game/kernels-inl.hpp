@@ -325,8 +325,9 @@ HWY_INLINE hn::Vec<DU> draw_other(DU du, hn::Vec<DU> r, hn::Vec<DU> p, uint32_t 
 /// still rejected then take the direct draw among the allowed maps (draw_any with `excluded`,
 /// from one more output of their streams), which also finds the chains with no allowed map
 /// (`some` false: the loop would not end). Each accepted draw is one of the allowed maps with
-/// probability q_j / (their sum), so the rules' distribution is the direct draw's; a draw
-/// costs one test of one set where the direct draw tests every map's.
+/// probability proportional to its weight (Walker's table and q both hold the weights to 2^-31),
+/// so the rules' distribution is the direct draw's; a draw costs one test of one set where the
+/// direct draw tests every map's.
 template <class DU, class Inside, class Excluded>
 HWY_INLINE hn::Vec<DU> draw_paper(DU du, uint64_t* rs, const uint64_t* ri, hn::Vec<DU> p, hn::Mask<DU> act,
                                   uint32_t k, bool uniform, const hn::TFromD<DU>* thr,

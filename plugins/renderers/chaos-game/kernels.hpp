@@ -34,8 +34,8 @@ struct DrawArgs {
     std::size_t nb;              ///< chains
     std::uint32_t k;             ///< maps
     const std::uint32_t* q;      ///< rules: integer weights (sum below 2^32)
-    const std::uint32_t* thr;    ///< alias: thresholds
-    const std::uint32_t* alias;  ///< alias: the other map of each column (rules: also when not uniform)
+    const std::uint32_t* thr;    ///< alias (and rules with unequal weights): Walker's thresholds
+    const std::uint32_t* alias;  ///< alias (and rules with unequal weights): each column's other map
     bool uniform = false;        ///< rules: every weight the same
 };
 
