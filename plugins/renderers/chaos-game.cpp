@@ -353,7 +353,7 @@ private:
     std::vector<uint32_t> region_maps_;       ///< indices of the maps with a set
     std::vector<uint32_t> q_;                 ///< integer weights (rules on)
     bool uniform_ = true;                     ///< every weight the same (the rules' draw)
-    std::vector<uint32_t> alias_thr_, alias_; ///< Walker's alias table (rules off)
+    std::vector<uint32_t> alias_thr_, alias_; ///< Walker's alias table (rules off; on, with unequal weights)
     std::vector<fp::Rgb> colours_;            ///< k + 1 entries (the last one is never used)
     fp::Rgb initial_colour_;
     std::shared_ptr<const fp::IterationScheme> iteration_;

@@ -16,10 +16,12 @@
 
 namespace fp_chaos {
 HWY_EXPORT(fused_f);
+HWY_EXPORT(draw_rules);
 } // namespace fp_chaos
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -295,6 +297,75 @@ Render render(const std::string& yaml, unsigned threads) {
     Render out;
     out.img = r->render(rt, out.stats);
     return out;
+}
+
+// Paper 01's loop gives each allowed map its share: 4 maps of weights 1, 2, 3, 4 (or all
+// equal), every chain's previous map 0 and its point inside map 2's set, so maps 1 and 3 are
+// allowed, with probabilities 2/6 and 4/6 (1/2 and 1/2). 400 draws of 512 chains (the generic
+// step's draw_rules, on every target): each share within 4 standard deviations (0.0042 at
+// p = 1/3), never a map not allowed; and with every map but the previous one holding the point,
+// every chain restarts.
+TEST(ChaosKernel, RulesDrawGivesEachAllowedMapItsShare) {
+    constexpr std::size_t B = 512, k = 4;
+    for (const bool uniform : {false, true}) {
+        const std::vector<double> w =
+            uniform ? std::vector<double>{1, 1, 1, 1} : std::vector<double>{1, 2, 3, 4};
+        // Integer weights and Walker's table (Vose's construction), as the renderer makes them.
+        std::vector<uint32_t> q(k), thr(fp_chaos::table_size, 0), alias(fp_chaos::table_size, 0);
+        std::vector<double> sc(k);
+        std::vector<uint32_t> small, large;
+        for (std::size_t j = 0; j < k; ++j) {
+            q[j] = uint32_t(w[j] / 10 * double(1u << 31));
+            sc[j] = w[j] / (uniform ? 4 : 10) * double(k);
+            thr[j] = 0xffffffffu, alias[j] = uint32_t(j);
+            (sc[j] < 1 ? small : large).push_back(uint32_t(j));
+        }
+        while (!small.empty() && !large.empty()) {
+            const uint32_t sm = small.back(), l = large.back();
+            small.pop_back();
+            thr[sm] = uint32_t(std::floor(sc[sm] * 4294967296.0)), alias[sm] = l;
+            sc[l] = (sc[l] + sc[sm]) - 1.0;
+            if (sc[l] < 1.0) large.pop_back(), small.push_back(l);
+        }
+        for (const std::string& target : fp::simd::supported_targets()) {
+            SCOPED_TRACE(target);
+            SCOPED_TRACE(uniform ? "equal weights" : "weights 1, 2, 3, 4");
+            ASSERT_TRUE(fp::simd::force_target(target));
+            std::vector<uint64_t> rs(B), ri(B);
+            for (std::size_t i = 0; i < B; ++i) rs[i] = fp::mix64(i + 1), ri[i] = (uint64_t(i) << 1) | 1u;
+            std::vector<uint32_t> prev(B, 0), active(B, 1), chosen(B), restart(B);
+            std::vector<unsigned char> inside(k * B, 0);
+            std::fill(inside.begin() + 2 * B, inside.begin() + 3 * B, 1);
+            fp_chaos::DrawArgs a{
+                rs.data(),     ri.data(),      prev.data(), active.data(), inside.data(), B,
+                chosen.data(), restart.data(), B,           uint32_t(k),   q.data(),      thr.data(),
+                alias.data(),  uniform};
+            std::vector<std::size_t> count(k + 1, 0);
+            constexpr int rounds = 400;
+            for (int r = 0; r < rounds; ++r) {
+                {
+                    using namespace fp_chaos;
+                    HWY_DYNAMIC_DISPATCH(draw_rules)(a);
+                }
+                for (std::size_t i = 0; i < B; ++i) {
+                    ++count[chosen[i]];
+                    EXPECT_EQ(restart[i], 0u);
+                }
+            }
+            const double n = double(rounds * B), p1 = uniform ? 0.5 : 1.0 / 3;
+            EXPECT_EQ(count[0] + count[2] + count[k], 0u);
+            EXPECT_NEAR(double(count[1]) / n, p1, 4 * std::sqrt(p1 * (1 - p1) / n));
+            EXPECT_NEAR(double(count[3]) / n, 1 - p1, 4 * std::sqrt(p1 * (1 - p1) / n));
+            // No allowed map: maps 1 and 3 hold the point too.
+            std::fill(inside.begin() + B, inside.end(), 1);
+            {
+                using namespace fp_chaos;
+                HWY_DYNAMIC_DISPATCH(draw_rules)(a);
+            }
+            EXPECT_EQ(std::count(chosen.begin(), chosen.end(), uint32_t(k)), std::ptrdiff_t(B));
+            EXPECT_EQ(std::count(restart.begin(), restart.end(), 1u), std::ptrdiff_t(B));
+        }
+    }
 }
 
 // Each recipe rendered with the fused path allowed (auto) and forbidden (generic), on 1, 2 and
