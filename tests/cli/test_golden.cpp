@@ -71,10 +71,13 @@ INSTANTIATE_TEST_SUITE_P(
                     Golden{"inversion/fig6c.yaml", "fig6c.png", {"renderer.points=400000"}}),
     golden_name);
 
-// Paper 02: SP iteration with q-system parameters in Q_{-1.5,0.2} (Fig. 7(c)).
+// Paper 02: SP iteration with q-system parameters in Q_{-1.5,0.2} (Fig. 7(c)). 1.6e6 points:
+// a clang build (CI's sanitizer build) renders this recipe in float with a few chains apart
+// from GCC's (with the rules off too; in double the two agree), and at 4e5 points those chains
+// made 0.24% of the pixels differ; at 1.6e6, 0.05%.
 INSTANTIATE_TEST_SUITE_P(Paper02, GoldenImage,
                          testing::Values(Golden{
-                             "iterations/fig7c.yaml", "iterations_fig7c.png", {"renderer.points=400000"}}),
+                             "iterations/fig7c.yaml", "iterations_fig7c.png", {"renderer.points=1600000"}}),
                          golden_name);
 
 // Paper 03: the superfractal of two Gumowski-Mira maps coloured by distance from the centroid
