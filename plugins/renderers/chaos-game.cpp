@@ -481,32 +481,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         q_[j] = uint32_t(std::max(1.0, std::floor(w[j] / sum * double(1u << 31) + 0.5)));
     uniform_ = std::all_of(w.begin(), w.end(), [&](double x) { return x == w[0]; });
 
-    // Walker's alias table (Vose's construction) with 32-bit thresholds: column c =
-    // floor(u * k), kept when the fraction's 32 bits are below thr[c], else alias[c].
-    alias_thr_.assign(k, 0xffffffffu);
-    alias_.resize(k);
-    std::vector<double> sc(k);
-    std::vector<uint32_t> small, large;
-    for (size_t j = 0; j < k; ++j) {
-        sc[j] = w[j] / sum * double(k);
-        alias_[j] = uint32_t(j);
-        (sc[j] < 1.0 ? small : large).push_back(uint32_t(j));
-    }
-    while (!small.empty() && !large.empty()) {
-        const uint32_t s = small.back(), l = large.back();
-        small.pop_back();
-        alias_thr_[s] = uint32_t(std::min(4294967295.0, std::floor(sc[s] * 4294967296.0)));
-        alias_[s] = l;
-        sc[l] = (sc[l] + sc[s]) - 1.0;
-        if (sc[l] < 1.0) {
-            large.pop_back();
-            small.push_back(l);
-        }
-    }
-    // What is left (rounding) is full: its column keeps itself (thr = max, alias = self).
-    // Padded, so that the draw's table lookups may load whole vectors.
-    alias_thr_.resize(std::max(k, fp_chaos::table_size), 0);
-    alias_.resize(std::max(k, fp_chaos::table_size), 0);
+    fp_chaos::walker_table(w, alias_thr_, alias_);
 
     // The fused step: every map a known kernel of one kind (Transform::kernel: inversions in
     // circles about their centres, affine maps, Gumowski-Mira maps), a Picard step, at most

@@ -13,6 +13,7 @@
 #include <hwy/foreach_target.h> // IWYU pragma: keep
 
 #include "renderers/chaos-game/kernels-inl.hpp"
+#include "renderers/chaos-game/state.hpp"
 
 namespace fp_chaos {
 HWY_EXPORT(fused_f);
@@ -310,23 +311,10 @@ TEST(ChaosKernel, RulesDrawGivesEachAllowedMapItsShare) {
     for (const bool uniform : {false, true}) {
         const std::vector<double> w =
             uniform ? std::vector<double>{1, 1, 1, 1} : std::vector<double>{1, 2, 3, 4};
-        // Integer weights and Walker's table (Vose's construction), as the renderer makes them.
-        std::vector<uint32_t> q(k), thr(fp_chaos::table_size, 0), alias(fp_chaos::table_size, 0);
-        std::vector<double> sc(k);
-        std::vector<uint32_t> small, large;
-        for (std::size_t j = 0; j < k; ++j) {
-            q[j] = uint32_t(w[j] / 10 * double(1u << 31));
-            sc[j] = w[j] / (uniform ? 4 : 10) * double(k);
-            thr[j] = 0xffffffffu, alias[j] = uint32_t(j);
-            (sc[j] < 1 ? small : large).push_back(uint32_t(j));
-        }
-        while (!small.empty() && !large.empty()) {
-            const uint32_t sm = small.back(), l = large.back();
-            small.pop_back();
-            thr[sm] = uint32_t(std::floor(sc[sm] * 4294967296.0)), alias[sm] = l;
-            sc[l] = (sc[l] + sc[sm]) - 1.0;
-            if (sc[l] < 1.0) large.pop_back(), small.push_back(l);
-        }
+        // Integer weights and Walker's table, as the renderer makes them.
+        std::vector<uint32_t> q(k), thr, alias;
+        for (std::size_t j = 0; j < k; ++j) q[j] = uint32_t(w[j] / 10 * double(1u << 31));
+        fp_chaos::walker_table(w, thr, alias);
         for (const std::string& target : fp::simd::supported_targets()) {
             SCOPED_TRACE(target);
             SCOPED_TRACE(uniform ? "equal weights" : "weights 1, 2, 3, 4");

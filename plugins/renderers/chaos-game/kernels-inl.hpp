@@ -660,6 +660,13 @@ HWY_INLINE hn::Vec<DU> alias_lanes(DU du, hn::Vec<DU> r, uint32_t k, const hn::T
     return hn::IfThenElse(hn::Lt(frac, ta[0]), col, ta[1]);
 }
 
+/// Circle::inside in lanes: (x - ox)^2 + (y - oy)^2 < r2, NaN outside.
+template <class V>
+HWY_INLINE auto in_circle(V x, V y, V ox, V oy, V r2) {
+    const auto dx = hn::Sub(x, ox), dy = hn::Sub(y, oy);
+    return hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), r2);
+}
+
 /// The map of kind K applied to (x, y), with its parameters in lanes: p[0..5] in the order of
 /// fp::KnownKernel's expressions (circle: ox, oy, r2; affine: a .. f; Gumowski-Mira: alpha,
 /// mu, 2 (1 - mu)).
@@ -863,8 +870,7 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
                     hn::Vec<D> q[3];
                     per_maps(
                         d, [&](size_t j) { return t.p[j]; }, k, cc, q);
-                    const auto dx = hn::Sub(x, q[0]), dy = hn::Sub(y, q[1]);
-                    return hn::RebindMask(du, hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), q[2]));
+                    return hn::RebindMask(du, in_circle(x, y, q[0], q[1], q[2]));
                 }
             };
             c = draw_paper(
@@ -876,9 +882,7 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
                     const auto par = [&](int n) {
                         return j < t.wide_maps ? hn::Load(d, t.wp[n][j]) : hn::Set(d, t.p[n][j]);
                     };
-                    const auto dx = hn::Sub(x, par(0)), dy = hn::Sub(y, par(1));
-                    const auto in = hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), par(2));
-                    return hn::Or(hn::RebindMask(du, in), previous);
+                    return hn::Or(hn::RebindMask(du, in_circle(x, y, par(0), par(1), par(2))), previous);
                 },
                 some);
         } else if (k == 1) {

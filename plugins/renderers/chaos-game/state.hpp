@@ -1,6 +1,6 @@
 // chaos-game's state: the sizes of its blocks of chains, pcg32 on plain arrays, the aligned
 // and huge-page buffers, the workers' histograms, a block's structure-of-arrays state and the
-// partition of the chains into blocks. Only chaos-game.cpp includes it (chaos-game.cpp's
+// partition of the chains into blocks. chaos-game.cpp includes it, and its tests (chaos-game.cpp's
 // header comment says how they are used).
 #pragma once
 
@@ -9,6 +9,7 @@
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -89,6 +90,41 @@ inline void pcg_jump(uint64_t* rs, const uint64_t* ri, size_t n, uint64_t steps)
 inline double pcg_uniform(uint64_t& state, uint64_t inc) {
     const uint64_t hi = pcg_next(state, inc) >> 5, lo = pcg_next(state, inc) >> 6;
     return double((hi << 26) | lo) * 0x1.0p-53;
+}
+
+// ---------------------------------------------------------------- Walker's alias table
+/// Walker's alias table (Vose's construction) for weights w, with 32-bit thresholds: column c =
+/// floor(u * k), kept when the fraction's 32 bits are below thr[c], else alias[c]. Padded with
+/// zeros to at least table_size entries, so that the draw's table lookups may load whole
+/// vectors. (The rules-off draw, and the rules' draw with unequal weights.)
+inline void walker_table(const std::vector<double>& w, std::vector<uint32_t>& thr,
+                         std::vector<uint32_t>& alias) {
+    const size_t k = w.size();
+    double sum = 0;
+    for (double x : w) sum += x;
+    thr.assign(k, 0xffffffffu);
+    alias.resize(k);
+    std::vector<double> sc(k);
+    std::vector<uint32_t> small, large;
+    for (size_t j = 0; j < k; ++j) {
+        sc[j] = w[j] / sum * double(k);
+        alias[j] = uint32_t(j);
+        (sc[j] < 1.0 ? small : large).push_back(uint32_t(j));
+    }
+    while (!small.empty() && !large.empty()) {
+        const uint32_t s = small.back(), l = large.back();
+        small.pop_back();
+        thr[s] = uint32_t(std::min(4294967295.0, std::floor(sc[s] * 4294967296.0)));
+        alias[s] = l;
+        sc[l] = (sc[l] + sc[s]) - 1.0;
+        if (sc[l] < 1.0) {
+            large.pop_back();
+            small.push_back(l);
+        }
+    }
+    // What is left (rounding) is full: its column keeps itself (thr = max, alias = self).
+    thr.resize(std::max(k, table_size), 0);
+    alias.resize(std::max(k, table_size), 0);
 }
 
 // ---------------------------------------------------------------- aligned buffers
