@@ -802,9 +802,9 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
         // The histogram first (a resumed one is read into it).
         total.width = frame_.width;
         total.height = int(rows);
-        assign_huge(total.bins, px, fp::HistBin{}, poll);
+        assign_huge(total.bins, px, poll);
         if (last) {
-            assign_huge(total.last, px, fp::LastColour{}, poll);
+            assign_huge(total.last, px, poll);
             folded_last.assign(px, LastWrite{0, 0, 0, 0, 0, 0});
         }
     }
@@ -844,13 +844,12 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                     if (keep) continue; // (made above)
                     total.width = frame_.width;
                     total.height = int(rows);
-                    assign_huge(total.bins, px, fp::HistBin{}, poll);
-                    if (last) assign_huge(total.last, px, fp::LastColour{}, poll);
+                    assign_huge(total.bins, px, poll);
+                    if (last) assign_huge(total.last, px, poll);
                     continue;
                 }
                 if (it == 1 && head) {
-                    if (pixels)
-                        assign_huge(*pixels, size_t(frame_.width) * size_t(frame_.height) * 3, 0.0f, poll);
+                    if (pixels) assign_huge(*pixels, size_t(frame_.width) * size_t(frame_.height) * 3, poll);
                     continue;
                 }
                 if (keep && keep->stop.load(std::memory_order_relaxed)) return;

@@ -132,8 +132,16 @@ struct AlignedFree {
     void operator()(void* p) const { ::operator delete(p, std::align_val_t(64)); }
 };
 
+/// Frees a HugeBuf: its mapping (Linux), else its aligned allocation.
 struct HugeFree {
-    void operator()(void* p) const { ::operator delete(p, std::align_val_t(2u << 20)); }
+    size_t bytes = 0;
+    void operator()(void* p) const {
+#if defined(__linux__)
+        ::munmap(p, bytes);
+#else
+        ::operator delete(p, std::align_val_t(2u << 20));
+#endif
+    }
 };
 
 template <class U>
@@ -148,51 +156,69 @@ struct Buf {
 
 /// A large zeroed buffer for random access (the histograms): 2 MiB aligned and, on Linux,
 /// backed by transparent huge pages where the system allows, so that the deposits do not
-/// miss the TLB on every point (a 1024 x 1024 histogram spans 8192 pages of 4 KiB).
+/// miss the TLB on every point (a 1024 x 1024 histogram spans 8192 pages of 4 KiB). On Linux
+/// it is a fresh anonymous mapping, which the kernel hands out zeroed as it faults it in: no
+/// memset, which would write every page once more before the deposits do (a worker's 16 MiB
+/// of colour bins at 1024 x 1024: part of the fixed cost of every render).
 template <class U>
 struct HugeBuf {
     std::unique_ptr<U[], HugeFree> p;
-    /// `poll` is called between pieces of 64 MiB of zeroing (a worker's histogram of an
-    /// 8000 x 8000 render is 1 GiB): a cancel must not wait for the whole memset.
+    /// `poll` is called between pieces of 64 MiB of zeroing where there is any (not Linux): a
+    /// worker's histogram of an 8000 x 8000 render is 1 GiB, and a cancel must not wait for
+    /// the whole memset.
     template <class Poll>
     void alloc(size_t n, Poll poll) {
         constexpr size_t huge = 2u << 20;
         const size_t bytes = (std::max<size_t>(n, 1) * sizeof(U) + huge - 1) / huge * huge;
-        p.reset(static_cast<U*>(::operator new(bytes, std::align_val_t(huge))));
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-        ::madvise(static_cast<void*>(p.get()), bytes, MADV_HUGEPAGE); // advice only: failure is harmless
-#endif
+        p.reset();
+#if defined(__linux__)
+        (void)poll;
+        // Mapped with a huge page to spare, whose unaligned head and tail are unmapped.
+        void* m = ::mmap(nullptr, bytes + huge, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (m == MAP_FAILED) throw std::bad_alloc();
+        const uintptr_t b = reinterpret_cast<uintptr_t>(m), a = (b + huge - 1) & ~uintptr_t(huge - 1);
+        if (a > b) ::munmap(m, a - b);
+        ::munmap(reinterpret_cast<void*>(a + bytes), b + huge - a);  // (a - b < huge: never empty)
+        ::madvise(reinterpret_cast<void*>(a), bytes, MADV_HUGEPAGE); // advice only: failure is harmless
+        p = std::unique_ptr<U[], HugeFree>(reinterpret_cast<U*>(a), HugeFree{bytes});
+#else
+        p = std::unique_ptr<U[], HugeFree>(static_cast<U*>(::operator new(bytes, std::align_val_t(huge))),
+                                           HugeFree{bytes});
         constexpr size_t piece = size_t(64) << 20;
         for (size_t done = 0; done < bytes; done += piece) {
             poll();
             std::memset(reinterpret_cast<char*>(p.get()) + done, 0, std::min(piece, bytes - done));
         }
+#endif
     }
     U* get() const { return p.get(); }
 };
 
-/// v.assign(n, x) with the new buffer advised into transparent huge pages before it is
+/// v.assign(n, {}) with the new buffer advised into transparent huge pages before it is
 /// written (reserve, madvise the 2 MiB-aligned part, then assign): the 32 MiB total histogram
 /// and the 12 MiB image of a 1024 x 1024 render fault in as about 22 huge pages instead of
 /// 11264 small ones. Part of the fixed cost per render that does not scale with the threads.
 /// `poll` is called between pieces of 64 MiB: filling gigabytes (an 8000 x 8000 histogram is
 /// 2 GiB) takes seconds, and a cancel must not wait for it.
 template <class V, class Poll>
-void assign_huge(V& v, size_t n, const typename V::value_type& x, Poll poll) {
+void assign_huge(V& v, size_t n, Poll poll) {
     v.clear();
     v.shrink_to_fit();
     v.reserve(n);
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     constexpr uintptr_t huge = 2u << 20;
     const uintptr_t b = (reinterpret_cast<uintptr_t>(v.data()) + huge - 1) & ~(huge - 1);
-    const uintptr_t e = (reinterpret_cast<uintptr_t>(v.data()) + n * sizeof(x)) & ~(huge - 1);
+    const uintptr_t e =
+        (reinterpret_cast<uintptr_t>(v.data()) + n * sizeof(typename V::value_type)) & ~(huge - 1);
     if (e > b) ::madvise(reinterpret_cast<void*>(b), e - b, MADV_HUGEPAGE); // advice only
 #endif
-    // Filled piece by piece within the reserved capacity (no reallocation).
-    const size_t piece = std::max<size_t>(1, (size_t(64) << 20) / sizeof(x));
+    // Filled piece by piece within the reserved capacity (no reallocation), value-initialised:
+    // for fp::HistBin the compilers make that a memset, where a fill with a copy of
+    // HistBin{} is a loop of 32-byte stores (at 1024 x 1024, 4 ms against 10).
+    const size_t piece = std::max<size_t>(1, (size_t(64) << 20) / sizeof(typename V::value_type));
     for (size_t done = 0; done < n; done = v.size()) {
         poll();
-        v.resize(std::min(n, done + piece), x);
+        v.resize(std::min(n, done + piece));
     }
 }
 
