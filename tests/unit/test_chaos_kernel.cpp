@@ -545,4 +545,34 @@ TEST(ChaosKernel, SingleOrbitKeepsTheDampingTermsOverflow) {
     EXPECT_EQ(fused.stats.samples, generic.stats.samples);
 }
 
+// The histograms' buffers come zeroed without a memset (HugeBuf: a fresh mapping on Linux;
+// assign_huge: value-initialised), 2 MiB aligned and writable to their last element; a
+// round's writes never show in the buffer the next alloc gives. (Whether memory freed by
+// the allocator would come back dirty depends on the allocator: this checks the contract,
+// not that a missing memset would show.)
+TEST(ChaosKernel, HistogramBuffersComeZeroed) {
+    const auto poll = [] {};
+    fp_chaos::HugeBuf<fp_chaos::Cnt4> bins;
+    const size_t sizes[] = {1,        (size_t(2) << 20) / sizeof(fp_chaos::Cnt4) + 3,
+                            1u << 18, 1u << 18,
+                            1u << 18, 1u << 18,
+                            1u << 18, 1u << 18};
+    for (size_t n : sizes) {
+        bins.alloc(n, poll);
+        ASSERT_NE(bins.get(), nullptr);
+        EXPECT_EQ(reinterpret_cast<uintptr_t>(bins.get()) % (size_t(2) << 20), 0u) << n;
+        size_t nonzero = 0;
+        for (size_t i = 0; i < n; ++i)
+            nonzero += (bins.get()[i][0] | bins.get()[i][1] | bins.get()[i][2] | bins.get()[i][3]) != 0;
+        EXPECT_EQ(nonzero, 0u) << n;
+        for (size_t i = 0; i < n; ++i) bins.get()[i] = fp_chaos::Cnt4{1, 2, 3, 4};
+    }
+    std::vector<fp::HistBin> total(7, fp::HistBin{1, 2, 3, 4});
+    fp_chaos::assign_huge(total, 100000, poll);
+    ASSERT_EQ(total.size(), 100000u);
+    size_t nonzero = 0;
+    for (const fp::HistBin& b : total) nonzero += (b.hits | b.r | b.g | b.b) != 0;
+    EXPECT_EQ(nonzero, 0u);
+}
+
 } // namespace
