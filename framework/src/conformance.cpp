@@ -470,6 +470,56 @@ void check_numbers(const NumberSystem& ns, Findings& f) {
 }
 
 // ------------------------------------------------------------------ Colourer
+// A colourer whose reads_hits_only() is true may be given hit counts alone (Histogram::hits,
+// `bins` empty): each resolve entry point must then give the pixels of the same bins with
+// their colour sums 0.
+void check_hits_only(const Colourer& c, const Histogram& big, Findings& f) {
+    if (c.needs_colour()) {
+        f.push_back("colourer: reads_hits_only() is true but needs_colour() too");
+        return;
+    }
+    Histogram zero = big, alone;
+    for (HistBin& b : zero.bins) b.r = b.g = b.b = 0;
+    alone.width = big.width;
+    alone.height = big.height;
+    for (const HistBin& b : big.bins) alone.hits.push_back(b.hits);
+    const Rgb bg{0.1f, 0.2f, 0.3f};
+    std::vector<float> want(big.bins.size() * 3), got(want.size());
+    c.resolve(zero, bg, want.data());
+    auto differs = [&] { return std::memcmp(want.data(), got.data(), want.size() * sizeof(float)) != 0; };
+    c.resolve(alone, bg, got.data());
+    if (differs()) {
+        f.push_back("colourer: resolve() of hit counts alone differs from resolve() of the bins");
+        return;
+    }
+    Runtime rt(2, nullptr);
+    c.resolve_parallel(alone, bg, got.data(), rt);
+    if (differs()) {
+        f.push_back("colourer: resolve_parallel() of hit counts alone differs from resolve() of the bins");
+        return;
+    }
+    if (!c.resolves_rows()) return;
+    const int strip = 7;
+    HistogramSummary whole;
+    whole.begin(big.width, big.height);
+    auto rows_of = [&](int row0) {
+        Histogram part;
+        part.width = big.width;
+        part.height = std::min(strip, big.height - row0);
+        const std::size_t b0 = std::size_t(row0) * std::size_t(big.width);
+        const std::size_t nb = std::size_t(part.height) * std::size_t(big.width);
+        part.hits.assign(alone.hits.begin() + std::ptrdiff_t(b0),
+                         alone.hits.begin() + std::ptrdiff_t(b0 + nb));
+        return part;
+    };
+    for (int row0 = 0; row0 < big.height; row0 += strip) whole.add(rows_of(row0), row0);
+    for (int row0 = 0; row0 < big.height; row0 += strip)
+        c.resolve_rows(rows_of(row0), row0, whole, bg,
+                       got.data() + 3 * std::size_t(row0) * std::size_t(big.width), rt);
+    if (differs())
+        f.push_back("colourer: resolve_rows() of hit counts alone differs from resolve() of the bins");
+}
+
 // Orbit-trap colouring (paper 04): batch == point by point, values in [0, 1], untrapped samples
 // take the given background exactly, the same on two threads.
 void check_trap_colours(const Colourer& c, Findings& f) {
@@ -624,6 +674,7 @@ void check_colourer(const Colourer& c, Findings& f) {
                 }
             }
         }
+        if (c.reads_hits_only()) check_hits_only(c, big, f);
     }
     if (c.colours_trap_hits()) check_trap_colours(c, f);
 }

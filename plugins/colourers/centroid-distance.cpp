@@ -57,6 +57,7 @@ public:
     void update(const std::uint32_t*, fp::ColourState, const fp::Rgb*, const unsigned char*) const override {}
 
     bool needs_colour() const override { return false; }
+    bool reads_hits_only() const override { return true; }
 
     // The centroid and the largest distance come from the whole histogram's summary (integer
     // sums and per-row extents: exact in any order, on any workers, and the same for the whole

@@ -145,6 +145,7 @@ public:
 
     void update(const std::uint32_t*, fp::ColourState, const fp::Rgb*, const unsigned char*) const override {}
     bool needs_colour() const override { return false; }
+    bool reads_hits_only() const override { return true; }
     bool colours_trap_hits() const override { return true; }
 
     void colour_hits(const std::int32_t* trap, const float* ratio, const std::uint32_t*, std::size_t n,
@@ -164,7 +165,8 @@ public:
         const fp_colourers::LogDensity density(whole.max_hits, gamma_, ctx);
         fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
             for (std::size_t i = i0; i < i1; ++i) {
-                const fp::Rgb c = h.bins[i].hits == 0 ? background : table_[index(density(h.bins[i].hits))];
+                const std::uint64_t hits = h.hits_at(i);
+                const fp::Rgb c = hits == 0 ? background : table_[index(density(hits))];
                 rgb[3 * i] = c.r;
                 rgb[3 * i + 1] = c.g;
                 rgb[3 * i + 2] = c.b;

@@ -31,6 +31,7 @@ public:
     void update(const std::uint32_t*, fp::ColourState, const fp::Rgb*, const unsigned char*) const override {}
 
     bool needs_colour() const override { return false; }
+    bool reads_hits_only() const override { return true; }
 
     /// The work of resolve() and resolve_parallel() (tone_map.hpp's Resolving): without ctx
     /// serial, with it on the host's workers; the same code per bin, the same bytes.

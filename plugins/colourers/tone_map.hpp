@@ -73,7 +73,7 @@ constexpr fp::ParamSpec gamma_param =
 /// reductions.
 template <class F>
 void for_rows(fp::RenderContext* ctx, const fp::Histogram& h, F f) {
-    const std::size_t n = h.bins.size(), w = std::size_t(h.width), rows = 16;
+    const std::size_t n = h.size(), w = std::size_t(h.width), rows = 16;
     if (!ctx || w == 0) {
         f(std::size_t(0), n);
         return;
@@ -91,12 +91,13 @@ void for_rows(fp::RenderContext* ctx, const fp::Histogram& h, F f) {
 
 /// The pixel loop every histogram colourer shares: empty bins take `background`; a bin with
 /// hits gets f(i, hits), an array of three unclamped channel values, clamped to [0, 1]. On
-/// ctx's workers by rows when ctx is given (the same bytes either way).
+/// ctx's workers by rows when ctx is given (the same bytes either way). Either form of the
+/// histogram (bins, or hit counts alone), one loop each.
 template <class F>
 void shade_bins(fp::RenderContext* ctx, const fp::Histogram& h, fp::Rgb background, float* rgb, F f) {
-    for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
+    auto shade = [&](std::size_t i0, std::size_t i1, auto at) {
         for (std::size_t i = i0; i < i1; ++i) {
-            const std::uint64_t hits = h.bins[i].hits;
+            const std::uint64_t hits = at(i);
             float* px = rgb + 3 * i;
             if (hits == 0) {
                 px[0] = background.r;
@@ -107,6 +108,12 @@ void shade_bins(fp::RenderContext* ctx, const fp::Histogram& h, fp::Rgb backgrou
             const std::array<double, 3> c = f(i, hits);
             for (int k = 0; k < 3; ++k) px[k] = float(std::clamp(c[k], 0.0, 1.0));
         }
+    };
+    for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
+        if (!h.hits.empty())
+            shade(i0, i1, [&](std::size_t i) { return h.hits[i]; });
+        else
+            shade(i0, i1, [&](std::size_t i) { return h.bins[i].hits; });
     });
 }
 

@@ -78,7 +78,9 @@
 // only: then the chains carry no colour and the workers count hits alone in 4-byte
 // counters (as the reference kernels do: four times as many bins per cache line), flushed
 // whole into 64-bit counters every 2^31 deposits of a worker, before any can overflow; the
-// fp::Histogram gets hits and zero colour sums.
+// fp::Histogram gets hits and zero colour sums, or hit counts alone (fp::Histogram::hits)
+// where its reader asks for no more (Colourer::reads_hits_only, and the summary of a render
+// in strips).
 //
 // Where the time goes (bench/circles.yaml: 6 circles, 1024 x 1024; one core of the 2-core
 // AVX-512 machine; bench/README.md has the figures). Hits only (density), fused path: the
@@ -251,10 +253,14 @@ public:
 private:
     /// Rows [row0, row0 + rows) of the histogram into `total` (all rows: the whole render), with
     /// colour sums (and last colours) when `colour`; with `pixels`, the image's buffer is
-    /// allocated alongside. stats: this pass's counts.
+    /// allocated alongside. Without colour and with `hits_total` (its reader reads hit counts
+    /// alone: HistogramSummary, or a colourer whose reads_hits_only() is true), `total` is hit
+    /// counts alone (fp::Histogram::hits), except in a checkpointed render, whose checkpoints
+    /// hold fp::HistBin bins. stats: this pass's counts.
     template <class T>
     void render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
-                  std::vector<float>* pixels, uint32_t row0, uint32_t rows, bool colour) const;
+                  std::vector<float>* pixels, uint32_t row0, uint32_t rows, bool colour,
+                  bool hits_total) const;
     /// The render in strips (Strips, above), each strip's pixels into the sink.
     template <class T>
     void render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink,
@@ -262,7 +268,7 @@ private:
 
     /// Bytes of the workers' histograms and the total for a strip of `rows` rows, with colour
     /// sums (and last colours) or hits only.
-    uint64_t strip_bytes(unsigned workers, uint64_t rows, bool colour) const;
+    uint64_t strip_bytes(unsigned workers, uint64_t rows, bool colour, bool hits_total) const;
     /// The workers' block state.
     uint64_t scratch_bytes(unsigned workers) const;
     /// How a render in strips fits `budget`: rows per strip of the summary pass and of the
@@ -552,17 +558,17 @@ uint64_t ChaosGame::work_units() const {
     return live * skip_ + points_;
 }
 
-uint64_t ChaosGame::strip_bytes(unsigned workers, uint64_t rows, bool colour) const {
+uint64_t ChaosGame::strip_bytes(unsigned workers, uint64_t rows, bool colour, bool hits_total) const {
     const uint64_t px = uint64_t(frame_.width) * rows;
     // The workers' 32-bit histograms, the total, the spill lists (at most one entry per
     // 65536 points); hits only: 32-bit counters, and 64-bit ones once a worker could
-    // have deposited hits_flush points.
+    // have deposited hits_flush points, and a total of hit counts alone with hits_total.
     const uint64_t deposits = points_ + std::min(chains_, points_) * skip_;
     const uint64_t hist =
         colour ? uint64_t(workers) * ((px + 1) * sizeof(Cnt4) + (2u << 20)) + px * sizeof(fp::HistBin) +
                      (points_ / spill_hits + uint64_t(workers) * 256) * 48
                : uint64_t(workers) * ((px + 1) * 4 + (2u << 20) + (deposits >= hits_flush ? px * 8 : 0)) +
-                     px * sizeof(fp::HistBin);
+                     px * (hits_total ? sizeof(uint64_t) : sizeof(fp::HistBin));
     // Last colours: the workers' last writes and the total's colours.
     const uint64_t last = colour && last_ ? uint64_t(workers) * ((px + 1) * sizeof(LastWrite) + (2u << 20)) +
                                                 px * sizeof(fp::LastColour)
@@ -579,7 +585,9 @@ uint64_t ChaosGame::memory_bytes(unsigned workers) const {
     const uint64_t px = uint64_t(frame_.width) * uint64_t(frame_.height);
     // (The sets beside: a second picture of the same size, and the two side by side.)
     const uint64_t image = px * 3 * sizeof(float) * (sets_ == Sets::beside ? 3 : 1);
-    return strip_bytes(workers, uint64_t(frame_.height), colour_) + image + scratch_bytes(workers);
+    // (A whole render's total counted as fp::HistBin bins even where it is hit counts alone: a
+    // checkpointed render keeps the bins.)
+    return strip_bytes(workers, uint64_t(frame_.height), colour_, false) + image + scratch_bytes(workers);
 }
 
 ChaosGame::Plan ChaosGame::plan(unsigned workers, uint64_t budget) const {
@@ -591,8 +599,8 @@ ChaosGame::Plan ChaosGame::plan(unsigned workers, uint64_t budget) const {
     // The pass that counts hits (the summary) and the pass that shades (colour sums when the
     // colourer needs them, and the strip's pixels).
     auto bytes = [&](uint64_t rows, bool shading) {
-        return shading ? strip_bytes(workers, rows, colour_) + rows * pixel_row
-                       : strip_bytes(workers, rows, false);
+        return shading ? strip_bytes(workers, rows, colour_, colourer_->reads_hits_only()) + rows * pixel_row
+                       : strip_bytes(workers, rows, false, true);
     };
     auto rows_within = [&](bool shading) -> uint32_t {
         const uint64_t one = bytes(1, shading), per_row = bytes(2, shading) - one;
@@ -649,9 +657,9 @@ fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) cons
     const uint32_t H = uint32_t(frame_.height);
     fp::Histogram total;
     if (double_)
-        render_t<double>(ctx, stats, total, &img.pixels, 0, H, colour_);
+        render_t<double>(ctx, stats, total, &img.pixels, 0, H, colour_, colourer_->reads_hits_only());
     else
-        render_t<float>(ctx, stats, total, &img.pixels, 0, H, colour_);
+        render_t<float>(ctx, stats, total, &img.pixels, 0, H, colour_, colourer_->reads_hits_only());
     if (ctx.cancelled()) throw fp::Cancelled();
     if (ctx.rank() != 0) return img; // its share is in rank 0's histogram, which rank 0 resolves
     colourer_->resolve_parallel(total, frame_.background, img.pixels.data(), ctx);
@@ -739,14 +747,15 @@ void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, fp
     for (uint32_t r0 = 0; r0 < H; r0 += summary_rows) {
         fp::Histogram part;
         fp::RenderStats st;
-        render_t<T>(pass, st, part, nullptr, r0, std::min(summary_rows, H - r0), false);
+        render_t<T>(pass, st, part, nullptr, r0, std::min(summary_rows, H - r0), false, true);
         if (ctx.cancelled()) throw fp::Cancelled();
         if (root) whole.add(part, int(r0), &ctx);
     }
     for (uint32_t r0 = 0; r0 < H; r0 += rows) {
         fp::Histogram part;
         fp::RenderStats st;
-        render_t<T>(pass, st, part, nullptr, r0, std::min(rows, H - r0), colour_);
+        render_t<T>(pass, st, part, nullptr, r0, std::min(rows, H - r0), colour_,
+                    colourer_->reads_hits_only());
         // Every strip runs every chain: the counts of one, and the points drawn of all.
         const uint64_t drawn = r0 == 0 ? 0 : stats.drawn;
         if (r0 == 0) stats = st;
@@ -765,7 +774,8 @@ void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, fp
 
 template <class T>
 void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
-                         std::vector<float>* pixels, uint32_t row0, uint32_t rows, bool colour) const {
+                         std::vector<float>* pixels, uint32_t row0, uint32_t rows, bool colour,
+                         bool hits_total) const {
     const unsigned workers = std::max(1u, ctx.workers());
     const size_t px = size_t(frame_.width) * size_t(rows);
     const bool last = colour && last_;
@@ -790,6 +800,9 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
         keeping->finals.assign(chains_, ChainRec{0, 0, 0, 0, not_final, 0, 0, 0, 0, 0, 0, 0, 0});
     }
     Keeping* keep = keeping.get();
+    // The total as hit counts alone (8 bytes a bin, not 32): a quarter of the memory to fault
+    // in, fold, summarise and shade.
+    const bool hits8 = hits_total && !colour && !keep;
     std::vector<Task> work;
     // The bins' last writes a checkpoint has folded (pixel rule last), and the stats of the
     // work it holds.
@@ -844,7 +857,10 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                     if (keep) continue; // (made above)
                     total.width = frame_.width;
                     total.height = int(rows);
-                    assign_huge(total.bins, px, poll);
+                    if (hits8)
+                        assign_huge(total.hits, px, poll);
+                    else
+                        assign_huge(total.bins, px, poll);
                     if (last) assign_huge(total.last, px, poll);
                     continue;
                 }
@@ -903,6 +919,14 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
         poll();
         const size_t b0 = t * rows_per_task * size_t(frame_.width);
         const size_t b1 = std::min(px, b0 + rows_per_task * size_t(frame_.width));
+        if (hits8) {
+            uint64_t* out = total.hits.data();
+            for (auto& h : hists) h.add_hits_to(out, b0, b1);
+            uint64_t d = 0;
+            for (size_t i = b0; i < b1; ++i) d += out[i];
+            drawn[t] = d;
+            return;
+        }
         fp::HistBin* out = total.bins.data();
         for (auto& h : hists) h.add_to(out, b0, b1, false);
         if (last) {
@@ -1105,8 +1129,12 @@ void ChaosGame::combine_ranks(fp::RenderContext& ctx, fp::RenderStats& stats, fp
     stats.samples = counts[0], stats.restarts = counts[1], stats.bad_values = counts[2],
     stats.drawn = counts[3];
     // (Folded as plain 64-bit counters: a sum does not care where a bin starts.)
-    ctx.combine(total.bins.data(), total.bins.size() * sizeof(fp::HistBin), sizeof(uint64_t),
-                fp::fold::sum<uint64_t>, false);
+    if (!total.hits.empty())
+        ctx.combine(total.hits.data(), total.hits.size() * sizeof(uint64_t), sizeof(uint64_t),
+                    fp::fold::sum<uint64_t>, false);
+    else
+        ctx.combine(total.bins.data(), total.bins.size() * sizeof(fp::HistBin), sizeof(uint64_t),
+                    fp::fold::sum<uint64_t>, false);
     if (rank_last.empty()) return;
     ctx.combine(
         rank_last.data(), rank_last.size() * sizeof(LastWrite), sizeof(LastWrite),

@@ -79,7 +79,7 @@ void HistogramSummary::begin(int w, int h) {
 
 void HistogramSummary::add(const Histogram& rows, int row0, RenderContext* ctx) {
     if (rows.width != width || row0 < 0 || rows.height < 0 || row0 + rows.height > height ||
-        rows.bins.size() != std::size_t(rows.width) * std::size_t(rows.height))
+        rows.size() != std::size_t(rows.width) * std::size_t(rows.height))
         throw InternalError("HistogramSummary::add: rows outside the histogram");
     // Pieces of 16 rows, each with its own partial sums, folded in piece order: integer sums
     // and maxima, so any split gives the same summary.
@@ -94,13 +94,13 @@ void HistogramSummary::add(const Histogram& rows, int row0, RenderContext* ctx) 
         if (ctx && ctx->cancelled()) throw Cancelled();
         Part p;
         const std::size_t r1 = std::min(std::size_t(rows.height), (t + 1) * piece_rows);
-        for (std::size_t r = t * piece_rows; r < r1; ++r) {
-            const HistBin* b = rows.bins.data() + r * W;
+        // One loop for either form of the bins: `at` reads bin x of a row.
+        auto row = [&](std::size_t r, auto at) {
             const std::size_t y = std::size_t(row0) + r;
             std::int32_t f = -1, l = -1;
             uint128 row_hits = 0, row_column = 0;
             for (std::size_t x = 0; x < W; ++x) {
-                const std::uint64_t h = b[x].hits;
+                const std::uint64_t h = at(x);
                 if (!h) continue;
                 if (f < 0) f = std::int32_t(x);
                 l = std::int32_t(x);
@@ -113,6 +113,15 @@ void HistogramSummary::add(const Histogram& rows, int row0, RenderContext* ctx) 
             p.hits_row += row_hits * y;
             first[y] = f;
             last[y] = l;
+        };
+        for (std::size_t r = t * piece_rows; r < r1; ++r) {
+            if (!rows.hits.empty()) {
+                const std::uint64_t* h = rows.hits.data() + r * W;
+                row(r, [h](std::size_t x) { return h[x]; });
+            } else {
+                const HistBin* b = rows.bins.data() + r * W;
+                row(r, [b](std::size_t x) { return b[x].hits; });
+            }
         }
         part[t] = p;
     };
@@ -159,6 +168,7 @@ std::vector<std::string> Renderer::polygon_addresses(std::int64_t) const {
 }
 
 bool Colourer::needs_colour() const { return true; }
+bool Colourer::reads_hits_only() const { return false; }
 ColourRule Colourer::colour_rule() const { return ColourRule::none; }
 PixelRule Colourer::pixel_rule() const { return PixelRule::mean; }
 bool Colourer::colours_trap_hits() const { return false; }

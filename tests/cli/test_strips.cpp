@@ -82,17 +82,18 @@ TEST(Strips, BudgetBelowOneRowIsRefused) {
         "bad.yaml:2:3: renderer: a 1000x800 render needs at least 4.2 MiB of memory with 2 thread(s), in "
         "strips of one row; --memory gives 4.0 MiB");
     // (By hand: a strip of one row, per worker 1001 32-bit counters and 2 MiB of huge-page
-    // alignment, plus 1000 bins of 32 bytes: 4.23 MB; its 1000 pixels, 12 kB; the summary's
-    // 800 rows of 8 bytes; the workers' block state, about 0.2 MB: 4.2 MiB. The image itself is
-    // never whole: the rows go to the file as each strip is shaded.)
-    // The least it names is enough (with what rounding to 0.1 MiB leaves: strips of two rows,
-    // and the pass counting hits in strips of three).
+    // alignment, plus 1000 hit counts of 8 bytes (density reads hit counts alone): 4.21 MB;
+    // its 1000 pixels, 12 kB; the summary's 800 rows of 8 bytes; the workers' block state,
+    // about 0.2 MB: 4.2 MiB. The image itself is never whole: the rows go to the file as each
+    // strip is shaded.)
+    // The least it names is enough (with what rounding to 0.1 MiB leaves: strips of four rows,
+    // 28 kB a row, and the pass counting hits in strips of seven, 16 kB a row).
     const std::string dir = scratch_dir("strips_least");
     fp::test::write_file(dir + "/c.yaml", yaml);
     const auto r =
         run_cli({"render", "--threads", "2", "--memory", "4.3M", dir + "/c.yaml", "-o", dir + "/out.png"});
     EXPECT_EQ(r.rc, 0) << r.err;
-    EXPECT_NE(r.err.find("in 400 strips of 2 rows after 267 passes counting hits"), std::string::npos)
+    EXPECT_NE(r.err.find("in 200 strips of 4 rows after 115 passes counting hits"), std::string::npos)
         << r.err;
 }
 

@@ -1,7 +1,8 @@
 // The conformance suite holds plugins to the fast-path promises renderers rely on: a
-// Transform's KnownKernel, IterationScheme::is_picard, a Trap's TrapKernel, a Metric's kind
-// and Colourer::resolve_parallel are checked to the bit. Objects that lie about them must be reported (so the
-// checks can fail); the project's own plugins must pass.
+// Transform's KnownKernel, IterationScheme::is_picard, a Trap's TrapKernel, a Metric's kind,
+// Colourer::resolve_parallel and Colourer::reads_hits_only are checked to the bit. Objects
+// that lie about them must be reported (so the checks can fail); the project's own plugins
+// must pass.
 #include "host.hpp"
 
 #include <fixpoint/fixpoint.hpp>
@@ -115,7 +116,30 @@ private:
     }
 };
 
+// A colourer that says it reads hit counts alone, but shades a histogram of hit counts
+// alone (Histogram::hits) darker than the same bins: it reads the form, not only the counts.
+class FormDependent final : public fp::Colourer {
+public:
+    void update(const std::uint32_t*, fp::ColourState, const fp::Rgb*, const unsigned char*) const override {}
+    bool needs_colour() const override { return false; }
+    bool reads_hits_only() const override { return true; }
+    void resolve(const fp::Histogram& h, fp::Rgb bg, float* rgb) const override {
+        const float v = h.hits.empty() ? 1.0f : 0.5f;
+        for (std::size_t i = 0; i < h.size(); ++i) {
+            const bool empty = h.hits_at(i) == 0;
+            rgb[3 * i] = empty ? bg.r : v, rgb[3 * i + 1] = empty ? bg.g : v,
+                    rgb[3 * i + 2] = empty ? bg.b : v;
+        }
+    }
+};
+
 } // namespace
+
+TEST(ConformanceContracts, AColourerThatReadsTheHistogramsFormIsReported) {
+    const auto f = fp::host::check_object(FormDependent{}, fp::Kind::Colourer);
+    EXPECT_TRUE(mentions(f, "colourer: resolve() of hit counts alone differs from resolve() of the bins"))
+        << testing::PrintToString(f);
+}
 
 TEST(ConformanceContracts, AParallelResolveThatDiffersIsReported) {
     const auto f = fp::host::check_object(PatchyParallel{}, fp::Kind::Colourer);

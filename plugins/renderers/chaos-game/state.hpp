@@ -312,6 +312,15 @@ struct WorkerHist {
             if (clear) std::memset(static_cast<void*>(in + b0), 0, (b1 - b0) * sizeof(Cnt4));
         }
     }
+    /// Adds the hit counts of bins [b0, b1) (with the flushed ones) into `out`, a total of hit
+    /// counts alone.
+    void add_hits_to(uint64_t* out, size_t b0, size_t b1) const {
+        if (const uint32_t* in = hits.get()) {
+            for (size_t i = b0; i < b1; ++i) out[i] += in[i];
+            if (!wide.empty())
+                for (size_t i = b0; i < b1; ++i) out[i] += wide[i];
+        }
+    }
     [[gnu::noinline, gnu::cold]] void flush() {
         if (wide.empty()) wide.assign(dummy, 0);
         uint32_t* h = hits.get();

@@ -79,6 +79,11 @@ public:
     /// all be 0): a renderer may then skip update() and the colour sums altogether and count
     /// hits only. The default is true.
     virtual bool needs_colour() const;
+    /// True when resolve(), resolve_parallel() and resolve_rows() read the hit counts through
+    /// Histogram::hits_at() and size() alone (so needs_colour() is false): a renderer may then
+    /// give them a histogram of hit counts alone (Histogram::hits, `bins` empty). The default
+    /// is false: a colourer that reads `bins` gets `bins`. (Added in ABI 14.)
+    virtual bool reads_hits_only() const;
     /// update() as a ColourRule, when it is one (the conformance suite checks the promise bit
     /// for bit); the default is none.
     virtual ColourRule colour_rule() const;

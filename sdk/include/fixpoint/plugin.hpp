@@ -31,10 +31,11 @@ namespace fp {
 /// RenderContext::checkpointing, checkpoint_due, write_checkpoint and resume_from, CheckpointSink and
 /// CheckpointSource, Renderer::keeps_checkpoints, for checkpoints; ABI 13:
 /// IterationScheme::program and SchemeProgram, for the chaos game's fused step with any
-/// scheme):
+/// scheme; ABI 14: Histogram::hits, size and hits_at, Colourer::reads_hits_only, histograms of
+/// hit counts alone):
 /// the host refuses a plugin built for another value ("rebuild it against this SDK"), so a
 /// plugin always matches the headers the host was built with.
-constexpr std::uint32_t abi_version = 13;
+constexpr std::uint32_t abi_version = 14;
 
 struct PluginDescriptor {
     std::uint32_t abi = abi_version;
