@@ -470,6 +470,34 @@ void check_numbers(const NumberSystem& ns, Findings& f) {
 }
 
 // ------------------------------------------------------------------ Colourer
+// Rows [row0, row0 + n) of h (n clipped to its height) as a histogram of their own, in h's form
+// (bins, last colours, or hit counts alone).
+Histogram rows_of(const Histogram& h, int row0, int n) {
+    Histogram part;
+    part.width = h.width;
+    part.height = std::min(n, h.height - row0);
+    const auto b0 = std::ptrdiff_t(row0) * h.width, nb = std::ptrdiff_t(part.height) * h.width;
+    auto cut = [&](const auto& from, auto& to) {
+        if (!from.empty()) to.assign(from.begin() + b0, from.begin() + b0 + nb);
+    };
+    cut(h.bins, part.bins);
+    cut(h.last, part.last);
+    cut(h.hits, part.hits);
+    return part;
+}
+
+// h shaded as a render in strips of `strip` rows shades it: the strips summarised one after
+// another, then each shaded with resolve_rows() (on 2 workers) into its rows of rgb.
+void resolve_in_strips(const Colourer& c, const Histogram& h, int strip, Rgb background, float* rgb) {
+    HistogramSummary whole;
+    whole.begin(h.width, h.height);
+    for (int row0 = 0; row0 < h.height; row0 += strip) whole.add(rows_of(h, row0, strip), row0);
+    Runtime rt(2, nullptr);
+    for (int row0 = 0; row0 < h.height; row0 += strip)
+        c.resolve_rows(rows_of(h, row0, strip), row0, whole, background,
+                       rgb + 3 * std::size_t(row0) * std::size_t(h.width), rt);
+}
+
 // A colourer whose reads_hits_only() is true may be given hit counts alone (Histogram::hits,
 // `bins` empty): each resolve entry point must then give the pixels of the same bins with
 // their colour sums 0.
@@ -499,23 +527,7 @@ void check_hits_only(const Colourer& c, const Histogram& big, Findings& f) {
         return;
     }
     if (!c.resolves_rows()) return;
-    const int strip = 7;
-    HistogramSummary whole;
-    whole.begin(big.width, big.height);
-    auto rows_of = [&](int row0) {
-        Histogram part;
-        part.width = big.width;
-        part.height = std::min(strip, big.height - row0);
-        const std::size_t b0 = std::size_t(row0) * std::size_t(big.width);
-        const std::size_t nb = std::size_t(part.height) * std::size_t(big.width);
-        part.hits.assign(alone.hits.begin() + std::ptrdiff_t(b0),
-                         alone.hits.begin() + std::ptrdiff_t(b0 + nb));
-        return part;
-    };
-    for (int row0 = 0; row0 < big.height; row0 += strip) whole.add(rows_of(row0), row0);
-    for (int row0 = 0; row0 < big.height; row0 += strip)
-        c.resolve_rows(rows_of(row0), row0, whole, bg,
-                       got.data() + 3 * std::size_t(row0) * std::size_t(big.width), rt);
+    resolve_in_strips(c, alone, 7, bg, got.data());
     if (differs())
         f.push_back("colourer: resolve_rows() of hit counts alone differs from resolve() of the bins");
 }
@@ -647,26 +659,7 @@ void check_colourer(const Colourer& c, Findings& f) {
         // another, then shades each with resolve_rows(): resolve()'s bytes, row for row.
         if (c.resolves_rows()) {
             for (int strip : {1, 7, 20}) {
-                auto rows_of = [&](int row0) {
-                    Histogram part;
-                    part.width = big.width;
-                    part.height = std::min(strip, big.height - row0);
-                    const std::size_t b0 = std::size_t(row0) * std::size_t(big.width);
-                    const std::size_t nb = std::size_t(part.height) * std::size_t(big.width);
-                    part.bins.assign(big.bins.begin() + std::ptrdiff_t(b0),
-                                     big.bins.begin() + std::ptrdiff_t(b0 + nb));
-                    if (!big.last.empty())
-                        part.last.assign(big.last.begin() + std::ptrdiff_t(b0),
-                                         big.last.begin() + std::ptrdiff_t(b0 + nb));
-                    return part;
-                };
-                HistogramSummary whole;
-                whole.begin(big.width, big.height);
-                for (int row0 = 0; row0 < big.height; row0 += strip) whole.add(rows_of(row0), row0);
-                Runtime rt(2, nullptr);
-                for (int row0 = 0; row0 < big.height; row0 += strip)
-                    c.resolve_rows(rows_of(row0), row0, whole, Rgb{0.1f, 0.2f, 0.3f},
-                                   par.data() + 3 * std::size_t(row0) * std::size_t(big.width), rt);
+                resolve_in_strips(c, big, strip, Rgb{0.1f, 0.2f, 0.3f}, par.data());
                 if (std::memcmp(serial.data(), par.data(), serial.size() * sizeof(float)) != 0) {
                     f.push_back("colourer: resolve_rows() in strips of " + std::to_string(strip) +
                                 " row(s) differs from resolve()");
