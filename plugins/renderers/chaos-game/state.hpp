@@ -22,6 +22,24 @@
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
+
+// HugeBuf maps its memory itself on Linux (a fresh mapping comes zeroed), except under
+// AddressSanitizer, which checks the bounds of operator new's blocks but not of a mapping: the
+// sanitizer build keeps its checks on the deposits into the histograms.
+#if defined(__SANITIZE_ADDRESS__)
+#define FP_HUGEBUF_MAPPED 0
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define FP_HUGEBUF_MAPPED 0
+#endif
+#endif
+#if !defined(FP_HUGEBUF_MAPPED)
+#if defined(__linux__)
+#define FP_HUGEBUF_MAPPED 1
+#else
+#define FP_HUGEBUF_MAPPED 0
+#endif
+#endif
 // The scalar loops over a block's arrays have no dependences between iterations: tell GCC,
 // so that they vectorise without run-time alias checks (GCC ignores __restrict on locals).
 #if defined(__GNUC__) && !defined(__clang__)
@@ -132,11 +150,11 @@ struct AlignedFree {
     void operator()(void* p) const { ::operator delete(p, std::align_val_t(64)); }
 };
 
-/// Frees a HugeBuf: its mapping (Linux), else its aligned allocation.
+/// Frees a HugeBuf: its mapping (FP_HUGEBUF_MAPPED), else its aligned allocation.
 struct HugeFree {
     size_t bytes = 0;
     void operator()(void* p) const {
-#if defined(__linux__)
+#if FP_HUGEBUF_MAPPED
         ::munmap(p, bytes);
 #else
         ::operator delete(p, std::align_val_t(2u << 20));
@@ -157,13 +175,14 @@ struct Buf {
 /// A large zeroed buffer for random access (the histograms): 2 MiB aligned and, on Linux,
 /// backed by transparent huge pages where the system allows, so that the deposits do not
 /// miss the TLB on every point (a 1024 x 1024 histogram spans 8192 pages of 4 KiB). On Linux
-/// it is a fresh anonymous mapping, which the kernel hands out zeroed as it faults it in: no
-/// memset, which would write every page once more before the deposits do (a worker's 16 MiB
-/// of colour bins at 1024 x 1024: part of the fixed cost of every render).
+/// (not under AddressSanitizer: FP_HUGEBUF_MAPPED) it is a fresh anonymous mapping, which the
+/// kernel hands out zeroed as it faults it in: no memset, which would write every page once
+/// more before the deposits do (a worker's 16 MiB of colour bins at 1024 x 1024: part of the
+/// fixed cost of every render).
 template <class U>
 struct HugeBuf {
     std::unique_ptr<U[], HugeFree> p;
-    /// `poll` is called between pieces of 64 MiB of zeroing where there is any (not Linux): a
+    /// `poll` is called between pieces of 64 MiB of zeroing where there is any (not mapped): a
     /// worker's histogram of an 8000 x 8000 render is 1 GiB, and a cancel must not wait for
     /// the whole memset.
     template <class Poll>
@@ -171,7 +190,7 @@ struct HugeBuf {
         constexpr size_t huge = 2u << 20;
         const size_t bytes = (std::max<size_t>(n, 1) * sizeof(U) + huge - 1) / huge * huge;
         p.reset();
-#if defined(__linux__)
+#if FP_HUGEBUF_MAPPED
         (void)poll;
         // Mapped with a huge page to spare, whose unaligned head and tail are unmapped.
         void* m = ::mmap(nullptr, bytes + huge, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
@@ -184,6 +203,9 @@ struct HugeBuf {
 #else
         p = std::unique_ptr<U[], HugeFree>(static_cast<U*>(::operator new(bytes, std::align_val_t(huge))),
                                            HugeFree{bytes});
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+        ::madvise(static_cast<void*>(p.get()), bytes, MADV_HUGEPAGE); // advice only: failure is harmless
+#endif
         constexpr size_t piece = size_t(64) << 20;
         for (size_t done = 0; done < bytes; done += piece) {
             poll();
