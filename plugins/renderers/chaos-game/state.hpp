@@ -316,9 +316,7 @@ struct WorkerHist {
     /// with `clear` zeroes them here.
     void add_to(fp::HistBin* out, size_t b0, size_t b1, bool clear) {
         if (uint32_t* in = hits.get()) {
-            for (size_t i = b0; i < b1; ++i) out[i].hits += in[i];
-            if (!wide.empty())
-                for (size_t i = b0; i < b1; ++i) out[i].hits += wide[i];
+            each_hits(b0, b1, [out](size_t i, uint64_t v) { out[i].hits += v; });
             if (clear) {
                 std::memset(static_cast<void*>(in + b0), 0, (b1 - b0) * sizeof(uint32_t));
                 if (!wide.empty())
@@ -337,11 +335,15 @@ struct WorkerHist {
     /// Adds the hit counts of bins [b0, b1) (with the flushed ones) into `out`, a total of hit
     /// counts alone.
     void add_hits_to(uint64_t* out, size_t b0, size_t b1) const {
-        if (const uint32_t* in = hits.get()) {
-            for (size_t i = b0; i < b1; ++i) out[i] += in[i];
-            if (!wide.empty())
-                for (size_t i = b0; i < b1; ++i) out[i] += wide[i];
-        }
+        if (hits.get()) each_hits(b0, b1, [out](size_t i, uint64_t v) { out[i] += v; });
+    }
+    /// add(i, v) for the counts of bins [b0, b1) of `hits`, then for those flushed into `wide`.
+    template <class Add>
+    void each_hits(size_t b0, size_t b1, Add add) const {
+        const uint32_t* in = hits.get();
+        for (size_t i = b0; i < b1; ++i) add(i, in[i]);
+        if (!wide.empty())
+            for (size_t i = b0; i < b1; ++i) add(i, wide[i]);
     }
     [[gnu::noinline, gnu::cold]] void flush() {
         if (wide.empty()) wide.assign(dummy, 0);
