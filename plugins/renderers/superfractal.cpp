@@ -483,7 +483,8 @@ uint64_t Superfractal::memory_bytes(unsigned) const {
     const uint64_t per_point =
         2 * sizeof(double) + (rgb_ ? 3 * sizeof(float) : 0) + (steal_ ? 2 * sizeof(double) : 0);
     const uint64_t buffers = 2 * buffers_ * points_ * per_point; // two generations
-    const uint64_t hist = px * sizeof(fp::HistBin);
+    // (Hit counts alone, 8 bytes a bin, for a colourer that reads no more: as the child is plotted.)
+    const uint64_t hist = px * (colourer_->reads_hits_only() ? sizeof(uint64_t) : sizeof(fp::HistBin));
     const uint64_t image = px * 3 * sizeof(float);
     // No per-worker state: a task's scratch is on the stack.
     return buffers + hist + image + picture_.rgb.size();
@@ -704,8 +705,17 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
 
     // The child: buffer `child` of the last generation, into one integer histogram.
     const Generation& last = gen[steps_ % 2];
+    // A colourer that reads hit counts alone gets them alone (fp::Histogram::hits): a quarter
+    // of the memory, and of the work of filling, summarising and shading the bins.
+    const bool hits_only = colourer_->reads_hits_only();
     fp::Histogram hist;
-    hist.resize(frame_.width, frame_.height);
+    if (hits_only) {
+        hist.width = frame_.width;
+        hist.height = frame_.height;
+        hist.hits.assign(size_t(frame_.width) * size_t(frame_.height), 0);
+    } else {
+        hist.resize(frame_.width, frame_.height);
+    }
     const double scx = double(frame_.width) / (frame_.region.xmax - frame_.region.xmin),
                  scy = double(frame_.height) / (frame_.region.ymax - frame_.region.ymin);
     const size_t base = size_t(child_) * n;
@@ -722,7 +732,13 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
             continue;
         const auto ix = std::min(uint32_t((x - frame_.region.xmin) * scx), uint32_t(frame_.width - 1));
         const auto iy = std::min(uint32_t((frame_.region.ymax - y) * scy), uint32_t(frame_.height - 1));
-        fp::HistBin& bin = hist.bins[size_t(iy) * size_t(frame_.width) + ix];
+        const size_t at = size_t(iy) * size_t(frame_.width) + ix;
+        ++drawn;
+        if (hits_only) {
+            ++hist.hits[at];
+            continue;
+        }
+        fp::HistBin& bin = hist.bins[at];
         ++bin.hits;
         if (steal_) {
             const fp::Rgb c = picture_.at(last.u[base + i], last.v[base + i]);
@@ -734,7 +750,6 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
             bin.g += quant(last.g[base + i]);
             bin.b += quant(last.b[base + i]);
         }
-        ++drawn;
     }
     stats.samples = n;
     stats.drawn = drawn;

@@ -171,6 +171,24 @@ TEST(Superfractal, SameImageOnOneAndManyThreads) {
     EXPECT_EQ(three.progress, three.work_units);
 }
 
+TEST(Superfractal, AHitCountColourerGetsHitCountsAlone) {
+    // density reads hit counts alone (Colourer::reads_hits_only): the child is plotted into a
+    // histogram of hit counts, 8 bytes a bin where flame's colour sums take 32. The same points
+    // land in the same bins: both light the same pixels.
+    const std::string body = "points_per_buffer: 30000, steps: 20, " + fg + ", colourer: ";
+    auto r_density = host().make<fp::Renderer>(sf_head + body + "{type: density}}");
+    auto r_flame = host().make<fp::Renderer>(sf_head + body + "{type: flame}}");
+    // The difference: 24 bytes a bin, and flame's colour of each point (3 floats) in two
+    // generations of 2 buffers of 30000 points.
+    EXPECT_EQ(r_flame->memory_bytes(1) - r_density->memory_bytes(1),
+              256u * 256u * (sizeof(fp::HistBin) - sizeof(std::uint64_t)) + 2u * 2u * 30000u * 12u);
+    const auto density = render(sf_head + body + "{type: density}}");
+    const auto flame = render(sf_head + body + "{type: flame}}");
+    ASSERT_GT(count(lit(density.img)), 1000u);
+    EXPECT_TRUE(lit(density.img) == lit(flame.img));
+    EXPECT_EQ(density.stats.drawn, flame.stats.drawn);
+}
+
 TEST(Superfractal, BadValuesAreCountedAndReplaced) {
     // A map that sends every point to infinity in two steps: half of each new buffer goes bad
     // and is replaced by copies of finite points; an IFS of that map alone empties its buffer,
