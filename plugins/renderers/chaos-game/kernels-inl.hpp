@@ -31,6 +31,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 
 HWY_BEFORE_NAMESPACE();
 namespace fp_chaos::HWY_NAMESPACE {
@@ -796,36 +797,50 @@ HWY_INLINE void colour_lanes(D, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
     one(mc[2], b.cb + i);
 }
 
-/// bins[lag[l]] += the widened lag_dep[l] for one chain l; the bin is listed when its hits
-/// reach spill_at.
-template <class T>
-HWY_INLINE void deposit_one(const fp_chaos::FusedArgs<T>& f, size_t l) {
-    uint32_t* b = f.bins + 4 * size_t(f.lag[l]);
+/// bins[lag[l]] += the widened dep[l] for one chain l; the bin is listed in `full` (its count
+/// at *nfull) when its hits reach spill_at. (The pointers by value: read through a reference
+/// to the step's arguments, each deposit's store into the bins would make the compiler load
+/// them anew, as it might have written them.)
+HWY_INLINE void deposit_one(uint32_t* bins, const uint32_t* lag, const uint64_t* dep, uint32_t spill_at,
+                            uint32_t* full, uint32_t* nfull, size_t l) {
+    uint32_t* b = bins + 4 * size_t(lag[l]);
 #if HWY_TARGET == HWY_SCALAR
-    const uint64_t v = f.lag_dep[l];
+    const uint64_t v = dep[l];
     b[0] += uint32_t(v & 0xffffu), b[1] += uint32_t((v >> 16) & 0xffffu);
     b[2] += uint32_t((v >> 32) & 0xffffu), b[3] += uint32_t(v >> 48);
     const uint32_t h = b[0];
 #else
     const hn::FixedTag<uint32_t, 4> d4;
     const hn::FixedTag<uint16_t, 4> d16;
-    const auto v =
-        hn::Add(hn::LoadU(d4, b),
-                hn::PromoteTo(d4, hn::LoadU(d16, reinterpret_cast<const uint16_t*>(f.lag_dep + l))));
+    const auto v = hn::Add(hn::LoadU(d4, b),
+                           hn::PromoteTo(d4, hn::LoadU(d16, reinterpret_cast<const uint16_t*>(dep + l))));
     hn::StoreU(v, d4, b);
     const uint32_t h = hn::GetLane(v);
 #endif
-    if (HWY_UNLIKELY(h >= f.spill_at)) f.full[(*f.nfull)++] = f.lag[l];
+    if (HWY_UNLIKELY(h >= spill_at)) full[(*nfull)++] = lag[l];
 }
 
 /// deposit_one for the nl chains from i: a whole vector's (MaxLanes, known when compiling)
 /// unrolled, without a loop counter per deposit.
 template <class D, class T>
-HWY_INLINE void deposit_lagged(D d, const fp_chaos::FusedArgs<T>& f, size_t i, size_t nl) {
-    if (nl == hn::MaxLanes(d))
-        for (size_t l = 0; l < hn::MaxLanes(d); ++l) deposit_one(f, i + l);
-    else
-        for (size_t l = 0; l < nl; ++l) deposit_one(f, i + l);
+HWY_INLINE void deposit_lagged(D, const fp_chaos::FusedArgs<T>& f, size_t i, size_t nl) {
+    uint32_t* const bins = f.bins;
+    const uint32_t* const lag = f.lag + i;
+    const uint64_t* const dep = f.lag_dep + i;
+    const uint32_t spill_at = f.spill_at;
+    uint32_t* const full = f.full;
+    uint32_t* const nfull = f.nfull;
+    if (nl == hn::MaxLanes(D())) {
+        // (A fold over the lanes: GCC keeps a loop of these rolled, and ignores an unroll
+        // pragma on it.)
+        const auto lanes = [&]<size_t... L>(std::index_sequence<L...>) HWY_ATTR
+            __attribute__((always_inline)) {
+            (deposit_one(bins, lag, dep, spill_at, full, nfull, L), ...);
+        };
+        lanes(std::make_index_sequence<hn::MaxLanes(D())>());
+    } else {
+        for (size_t l = 0; l < nl; ++l) deposit_one(bins, lag, dep, spill_at, full, nfull, l);
+    }
 }
 
 // (Not inlined into its dispatchers: each variant is a function of its own, so that the
