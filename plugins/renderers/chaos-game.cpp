@@ -82,6 +82,17 @@
 // where its reader asks for no more (Colourer::reads_hits_only, and the summary of a render
 // in strips).
 //
+// Tallies: with the map rule (map-colour: each point the colour of the map that made it) and
+// at most 8 maps, on the fused path (a recipe's steps that fall back to the generic one too),
+// a worker's 16-byte bin holds instead 8 counters of 16 bits, the points each map put there.
+// The deposit is one 16-bit increment by the point's map; the chains carry no colour and no
+// colour is packed per point. A counter spills (the whole bin, into the list of 64-bit bins)
+// before it can wrap, and the sums into fp::Histogram turn a bin's counts n_j into {sum n_j,
+// sum n_j q_j} with q_j map j's quantised colour: the integers the colour deposits would have
+// summed, so the image is the same bytes (the generic path keeps {hits, r, g, b}: `kernels:
+// generic` renders compare the two in tests/unit/test_chaos_kernel.cpp). On bench/circles.yaml
+// with map-colour this took one core from about 205 to 265 M points/s pinned to AVX2.
+//
 // Where the time goes (bench/circles.yaml: 6 circles, 1024 x 1024; one core of the 2-core
 // AVX-512 machine; bench/README.md has the figures). Hits only (density), fused path: the
 // fused pass (6 inside tests, pcg32, the draw, the inversion, bookkeeping and bin index) about
@@ -354,6 +365,9 @@ private:
     bool program_ = false;
     std::shared_ptr<LaneTables<float>> lanes_f_, lanes_f_hits_;
     std::shared_ptr<LaneTables<double>> lanes_d_, lanes_d_hits_;
+    /// With fused_ and the map rule on at most tally_maps maps: the workers' bins are tallies
+    /// (see "Tallies"); else null.
+    std::shared_ptr<const Tallies> tallies_;
 
     std::vector<std::shared_ptr<const fp::Transform>> maps_;
     std::vector<uint32_t> region_maps_;       ///< indices of the maps with a set
@@ -542,6 +556,15 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
             };
             fill(*lanes_f_);
             fill(*lanes_d_);
+            if (colour_ && crule == fp::ColourRule::map && k <= fp_chaos::tally_maps) {
+                auto t = std::make_shared<Tallies>();
+                t->k = uint32_t(k);
+                for (size_t j = 0; j < k; ++j)
+                    t->q[j][0] = quantise_colour(colours_[j].r), t->q[j][1] = quantise_colour(colours_[j].g),
+                    t->q[j][2] = quantise_colour(colours_[j].b);
+                tallies_ = t;
+                lanes_f_->colour = lanes_d_->colour = LaneColour::tally;
+            }
             // The hits-only copies, for the pass of a render in strips that counts hits alone.
             lanes_f_hits_ = std::make_shared<LaneTables<float>>(*lanes_f_);
             lanes_d_hits_ = std::make_shared<LaneTables<double>>(*lanes_d_);
@@ -872,7 +895,8 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                 Task& t = work[it - head];
                 if (t.done) continue;
                 if (!scratch[w]) scratch[w] = std::make_unique<Scratch<T>>(maps_.size());
-                if (!hists[w].bins.get() && !hists[w].hits.get()) hists[w].alloc(px, colour, last, poll);
+                if (!hists[w].bins.get() && !hists[w].hits.get())
+                    hists[w].alloc(px, colour, last, tallies_.get(), poll);
                 if (rules_ && colour)
                     t.done = run_block<T, true, true>(t, *scratch[w], hists[w], ctx, row0, rows, keep);
                 else if (rules_)
@@ -1477,7 +1501,12 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
     // The fused step's lagged deposits made now (at the block's end, or where it stops for a
     // checkpoint).
     const auto deposit_lag = [&] {
-        if (lag && Colour) {
+        if (lag && Colour && hist.tallies) {
+            for (size_t i = 0; i < nb; ++i) {
+                i = hist.tally(lag, reinterpret_cast<const uint32_t*>(lag_dep), i, nb);
+                if (i < nb) hist.spill(lag[i]);
+            }
+        } else if (lag && Colour) {
             uint32_t* const b32 = reinterpret_cast<uint32_t*>(bins);
             for (size_t i = 0; i < nb; ++i) {
                 i = HWY_DYNAMIC_DISPATCH(deposit_colour)(b32, lag, lag_dep, i, nb, spill_hits);
@@ -1575,7 +1604,7 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
                     f.lag_dep = lag_dep;
                     f.full = s.full.get();
                     f.nfull = &nfull;
-                    f.spill_at = spill_lagged;
+                    f.spill_at = hist.tallies ? tally_lagged : spill_lagged;
                 }
                 sc = fp_chaos::fused(f);
             }
@@ -1625,12 +1654,18 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
                 // Deposited by the next pass (the last one's after the loop); the bins it
                 // found full spilled now.
                 for (uint32_t t = 0; t < nfull; ++t)
-                    if (bins[s.full.get()[t]][0] >= spill_lagged) hist.spill(s.full.get()[t]);
+                    if (hist.due(s.full.get()[t])) hist.spill(s.full.get()[t]);
                 nfull = 0;
                 lag = out;
                 lag_dep = dep_out;
                 out = out == s.idx.get() ? s.idx2.get() : s.idx.get();
                 dep_out = dep_out == s.dep.get() ? s.dep2.get() : s.dep.get();
+            } else if (hist.tallies) {
+                // (The plotted points' maps are their colours.)
+                for (size_t i = 0; i < nb; ++i) {
+                    i = hist.tally(idx, chosen, i, nb);
+                    if (i < nb) hist.spill(idx[i]);
+                }
             } else {
                 uint32_t* const b32 = reinterpret_cast<uint32_t*>(bins);
                 for (size_t i = 0; i < nb; ++i) {

@@ -427,6 +427,13 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
         "colourer: {type: map-colour}, maps: [{type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}, "
         "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0]}, {type: affine, coefficients: [0.5, 0, 0, "
         "0.5, 0.25, 0.5]}]",
+        // Two bins, about 100000 points of each map in each: the tallies' 16-bit counters of
+        // map-colour spill (listed by the fused step, and at once in the deposits at a block's
+        // end).
+        "type: chaos-game, width: 2, height: 1, view: [0, 1, 0, 1], points: 600000, chains: 600, "
+        "colourer: {type: map-colour}, maps: [{type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}, "
+        "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0]}, {type: affine, coefficients: [0.5, 0, 0, "
+        "0.5, 0.25, 0.5]}]",
         // Affine maps (Walker's alias table) with both colour rules, and a single orbit of a
         // Gumowski-Mira map in double and float (the narrow lean path), one with few points.
         "type: chaos-game, width: 64, height: 64, view: [0, 1, 0, 1], points: 100000, chains: 333, "
@@ -520,6 +527,12 @@ TEST(ChaosKernel, FusedSchemesAreTheGenericStep) {
         "0, start: [0, 0.5], precision: double, iteration: {type: mann, alpha: 0.9}, colourer: {type: "
         "density}, maps: [{type: gumowski-mira, mu: -0.31}]",
         "type: chaos-game, width: 64, height: 64, view: [-1, 2, -1, 2], points: 60000, chains: 200, skip: 2, "
+        "iteration: {type: schu, alpha: 0.6, max_compositions: 1000}, colourer: {type: map-colour}, maps: "
+        "[{type: affine, coefficients: [1, 0, 0, -1, 0, 1]}, {type: affine, coefficients: [0.5, -0.2, 0.1, "
+        "0.6, 0.25, 0]}]",
+        // The same in one bin, with about 150000 points of each map: the tallies' counters spill
+        // in the generic steps' deposits too.
+        "type: chaos-game, width: 1, height: 1, view: [-1, 2, -1, 2], points: 400000, chains: 500, skip: 2, "
         "iteration: {type: schu, alpha: 0.6, max_compositions: 1000}, colourer: {type: map-colour}, maps: "
         "[{type: affine, coefficients: [1, 0, 0, -1, 0, 1]}, {type: affine, coefficients: [0.5, -0.2, 0.1, "
         "0.6, 0.25, 0]}]",

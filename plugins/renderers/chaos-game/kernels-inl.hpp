@@ -820,26 +820,42 @@ HWY_INLINE void deposit_one(uint32_t* bins, const uint32_t* lag, const uint64_t*
     if (HWY_UNLIKELY(h >= spill_at)) full[(*nfull)++] = lag[l];
 }
 
-/// deposit_one for the nl chains from i: a whole vector's (MaxLanes, known when compiling)
-/// unrolled, without a loop counter per deposit.
-template <class D, class T>
+/// Tallies: map[l]'s 16-bit counter of bin lag[l] incremented for one chain l; the bin is
+/// listed in `full` when the counter reaches spill_at (state.hpp's WorkerHist::tally, lagged).
+HWY_INLINE void tally_one(uint32_t* bins, const uint32_t* lag, const uint32_t* map, uint32_t spill_at,
+                          uint32_t* full, uint32_t* nfull, size_t l) {
+    typedef uint16_t Tally16 __attribute__((may_alias));
+    Tally16* n = reinterpret_cast<Tally16*>(bins + 4 * size_t(lag[l])) + map[l];
+    const uint32_t v = uint32_t(*n) + 1;
+    *n = uint16_t(v);
+    if (HWY_UNLIKELY(v >= spill_at)) full[(*nfull)++] = lag[l];
+}
+
+/// deposit_one (tally_one with tallies) for the nl chains from i: a whole vector's (MaxLanes,
+/// known when compiling) unrolled, without a loop counter per deposit.
+template <fp_chaos::LaneColour C, class D, class T>
 HWY_INLINE void deposit_lagged(D, const fp_chaos::FusedArgs<T>& f, size_t i, size_t nl) {
     uint32_t* const bins = f.bins;
     const uint32_t* const lag = f.lag + i;
-    const uint64_t* const dep = f.lag_dep + i;
     const uint32_t spill_at = f.spill_at;
     uint32_t* const full = f.full;
     uint32_t* const nfull = f.nfull;
+    const auto one = [&](size_t l) HWY_ATTR __attribute__((always_inline)) {
+        if constexpr (C == fp_chaos::LaneColour::tally)
+            tally_one(bins, lag, reinterpret_cast<const uint32_t*>(f.lag_dep) + i, spill_at, full, nfull, l);
+        else
+            deposit_one(bins, lag, f.lag_dep + i, spill_at, full, nfull, l);
+    };
     if (nl == hn::MaxLanes(D())) {
         // (A fold over the lanes: GCC keeps a loop of these rolled, and ignores an unroll
         // pragma on it.)
         const auto lanes = [&]<size_t... L>(std::index_sequence<L...>) HWY_ATTR
             __attribute__((always_inline)) {
-            (deposit_one(bins, lag, dep, spill_at, full, nfull, L), ...);
+            (one(L), ...);
         };
         lanes(std::make_index_sequence<hn::MaxLanes(D())>());
     } else {
-        for (size_t l = 0; l < nl; ++l) deposit_one(bins, lag, dep, spill_at, full, nfull, l);
+        for (size_t l = 0; l < nl; ++l) one(l);
     }
 }
 
@@ -922,7 +938,8 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         y = hn::IfThenElse(mvf, y, y0);
         hn::StoreU(x, d, bk.x + i);
         hn::StoreU(y, d, bk.y + i);
-        if constexpr (C != fp_chaos::LaneColour::none) colour_lanes<C>(d, t, c, mv, bk, i);
+        if constexpr (C == fp_chaos::LaneColour::map || C == fp_chaos::LaneColour::average)
+            colour_lanes<C>(d, t, c, mv, bk, i);
         // The bookkeeping of bookkeep_t on the new points, in registers.
         const auto fin = hn::RebindMask(
             du, hn::And(fp::simd::HWY_NAMESPACE::finite(x), fp::simd::HWY_NAMESPACE::finite(y)));
@@ -950,11 +967,18 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
             store32(du, hn::IfThenElseZero(still, one), bk.active + i);
             n.still += uint32_t(hn::CountTrue(du, still));
         }
-        if constexpr (C != fp_chaos::LaneColour::none) {
+        if constexpr (C == fp_chaos::LaneColour::tally) {
+            // The map of each point (that of a point not plotted, in the dummy bin, may be k,
+            // "none": taken modulo tally_maps, a counter of the dummy bin).
+            store32(du, hn::And(c, hn::Set(du, U(fp_chaos::tally_maps - 1))),
+                    reinterpret_cast<uint32_t*>(bk.dep) + i);
+        } else if constexpr (C != fp_chaos::LaneColour::none) {
             pack_colours(d, bk, i);
+        }
+        if constexpr (C != fp_chaos::LaneColour::none) {
             // The previous step's points, whose bins are known from the start: their
             // read-modify-writes overlap this vector's arithmetic.
-            if (f.lag) deposit_lagged(d, f, i, nl);
+            if (f.lag) deposit_lagged<C>(d, f, i, nl);
         }
         if (C == fp_chaos::LaneColour::none && f.lag) {
             // The previous step's bins, whose addresses are known from the start: their
@@ -985,6 +1009,9 @@ HWY_INLINE fp_chaos::Counts fused_colour(const fp_chaos::FusedArgs<T>& f) {
         if (f.tables->colour == C::average)
             return f.steady ? fused_t<D, K, Rules, C::average, true>(f)
                             : fused_t<D, K, Rules, C::average, false>(f);
+        if (f.tables->colour == C::tally)
+            return f.steady ? fused_t<D, K, Rules, C::tally, true>(f)
+                            : fused_t<D, K, Rules, C::tally, false>(f);
     }
     return f.steady ? fused_t<D, K, Rules, C::none, true>(f) : fused_t<D, K, Rules, C::none, false>(f);
 }

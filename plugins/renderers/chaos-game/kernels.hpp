@@ -95,9 +95,12 @@ struct GroupArgs {
 };
 
 /// What the fused step computes per map (fp::KnownKernel's kinds) and per chain's colour
-/// (fp::ColourRule; none: hits only).
+/// (fp::ColourRule; none: hits only; tally: the map rule counted per map, state.hpp's Tallies:
+/// no colour carried, the chosen map deposited).
 enum class LaneKind : std::uint32_t { circle, affine, gumowski_mira };
-enum class LaneColour : std::uint32_t { none, map, average };
+enum class LaneColour : std::uint32_t { none, map, average, tally };
+/// Tallies: the most maps, a 16-bit counter each in a bin's 16 bytes.
+constexpr std::size_t tally_maps = 8;
 
 /// The fused step's tables, one entry per map: the map's parameters (circle: cx, cy, r2;
 /// affine: a .. f; Gumowski-Mira: alpha, mu, 2 (1 - mu)), its weight for the rules' draw, its
@@ -168,6 +171,9 @@ struct FusedArgs {
     /// With colour: the worker's bins (4 counters each), the previous step's packed colours
     /// (beside `lag`, its bins), deposited during the pass like the hits; the bins whose hits
     /// reach `spill_at` are listed in `full` (count in *nfull) for the caller to spill.
+    /// With tallies: the bins are 8 16-bit counters each, `lag_dep` holds the previous step's
+    /// maps as 32-bit values (the pass writes this step's into book.dep so), and the bins whose
+    /// counter reaches `spill_at` are listed.
     std::uint32_t* bins = nullptr;
     const std::uint64_t* lag_dep = nullptr;
     std::uint32_t* full = nullptr;

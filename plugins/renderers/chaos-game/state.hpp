@@ -257,6 +257,41 @@ constexpr uint32_t spill_hits = 65536;
 /// a bin before it is spilled, so its hits stay below spill_hits (the bound above holds).
 constexpr uint32_t spill_lagged = spill_hits - uint32_t(block_size);
 
+/// Tallies: with a colour that is the chosen map's own (the map rule: map-colour) and at most
+/// tally_maps maps, a bin's 16 bytes are instead tally_maps 16-bit counters, the hits of each map
+/// (Tallies below). The deposit is then one 16-bit increment, with no colour carried by the
+/// chains or packed per point; a bin's colour sums are its counts times the maps' quantised
+/// colours, the same integers as the sums of the deposits (chaos-game.cpp's "Tallies").
+/// A counter spills when it reaches tally_spill (the deposits made at once), or, deposited
+/// by the next pass, tally_lagged: at most a block's deposits more reach it before it is
+/// spilled, so it stays below 65536.
+constexpr uint32_t tally_spill = 65535;
+constexpr uint32_t tally_lagged = 65536 - uint32_t(block_size);
+/// A 16-bit counter of a bin (whose memory is also read as Cnt4).
+typedef uint16_t Tally16 __attribute__((may_alias));
+
+/// round(c * fp::colour_scale) of a colour clamped to [0, 1] (NaN to 0): kernels-inl.hpp's
+/// quantise, in the same float operations.
+inline uint32_t quantise_colour(float c) {
+    const float c0 = c > 0.0f ? c : 0.0f;
+    const float c1 = c0 < 1.0f ? c0 : 1.0f;
+    return uint32_t(c1 * 65535.0f + 0.5f);
+}
+
+/// The maps' quantised colours of a render with tallies: a counter's colour sums.
+struct Tallies {
+    uint32_t k = 0;
+    uint32_t q[tally_maps][3] = {};
+    /// The bin {hits, r, g, b} of a bin's counters, into out. (Not returned: a 32-byte vector
+    /// returned by value has another ABI with AVX, and GCC warns of it.)
+    void bin(const Cnt4& b, Bin4& out) const {
+        const Tally16* n = reinterpret_cast<const Tally16*>(&b);
+        out = Bin4{0, 0, 0, 0};
+        for (uint32_t j = 0; j < k; ++j)
+            out += Bin4{n[j], uint64_t(n[j]) * q[j][0], uint64_t(n[j]) * q[j][1], uint64_t(n[j]) * q[j][2]};
+    }
+};
+
 /// Chains are grouped by map with compress stores into one staging segment per map (up to
 /// this many maps); beyond, by a scalar counting sort into contiguous segments. Both give the
 /// same points in the same order.
@@ -295,9 +330,11 @@ struct WorkerHist {
     std::vector<uint64_t> wide; ///< hits flushed out of `hits` (empty until the first flush)
     uint64_t since = 0;         ///< deposits into `hits` since the last flush
     uint32_t dummy = 0;
+    const Tallies* tallies = nullptr; ///< the bins are tallies (null: {hits, r, g, b})
 
     template <class Poll>
-    void alloc(size_t px, bool colour, bool last_colour, Poll poll) {
+    void alloc(size_t px, bool colour, bool last_colour, const Tallies* t, Poll poll) {
+        tallies = colour ? t : nullptr;
         if (last_colour) last.alloc(px + 1, poll);
         if (colour) {
             bins.alloc(px + 1, poll);
@@ -309,8 +346,36 @@ struct WorkerHist {
     }
     [[gnu::noinline, gnu::cold]] void spill(uint32_t i) {
         Cnt4& b = bins.get()[i];
-        if (i != dummy) spills.emplace_back(i, Bin4{b[0], b[1], b[2], b[3]});
+        if (i != dummy) {
+            Bin4 v = {b[0], b[1], b[2], b[3]};
+            if (tallies) tallies->bin(b, v);
+            spills.emplace_back(i, v);
+        }
         b = Cnt4{0, 0, 0, 0};
+    }
+    /// Whether bin i, listed by the fused step, is still due to spill (an earlier entry of the
+    /// list may have spilled it).
+    bool due(uint32_t i) const {
+        const Cnt4& b = bins.get()[i];
+        if (!tallies) return b[0] >= spill_lagged;
+        const Tally16* n = reinterpret_cast<const Tally16*>(&b);
+        for (uint32_t j = 0; j < tallies->k; ++j)
+            if (n[j] >= tally_lagged) return true;
+        return false;
+    }
+    /// Tallies: map[i]'s counter of bin idx[i] incremented for the points from `from` on, until
+    /// one reaches tally_spill: returns that point's index, for the caller to spill the bin
+    /// before going on from the next one; nb when done. (The points not plotted, in the dummy
+    /// bin, may carry map k, "none": their counter is taken modulo tally_maps.)
+    size_t tally(const uint32_t* idx, const uint32_t* map, size_t from, size_t nb) {
+        Cnt4* const b = bins.get();
+        for (size_t i = from; i < nb; ++i) {
+            Tally16* n = reinterpret_cast<Tally16*>(b + idx[i]) + (map[i] & (tally_maps - 1));
+            const uint32_t v = uint32_t(*n) + 1;
+            *n = uint16_t(v);
+            if (__builtin_expect(v == tally_spill, 0)) return i;
+        }
+        return nb;
     }
     /// Adds bins [b0, b1) (hits, colour sums, flushed hits; not the spills) into `out`, and
     /// with `clear` zeroes them here.
@@ -322,7 +387,17 @@ struct WorkerHist {
                 if (!wide.empty())
                     std::fill(wide.begin() + std::ptrdiff_t(b0), wide.begin() + std::ptrdiff_t(b1), 0);
             }
-        } else if (Cnt4* in = bins.get()) {
+        } else if (Cnt4* in = bins.get(); in && tallies) {
+            for (size_t i = b0; i < b1; ++i) {
+                Bin4 v;
+                tallies->bin(in[i], v);
+                out[i].hits += v[0];
+                out[i].r += v[1];
+                out[i].g += v[2];
+                out[i].b += v[3];
+            }
+            if (clear) std::memset(static_cast<void*>(in + b0), 0, (b1 - b0) * sizeof(Cnt4));
+        } else if (in) {
             for (size_t i = b0; i < b1; ++i) {
                 out[i].hits += in[i][0];
                 out[i].r += in[i][1];
