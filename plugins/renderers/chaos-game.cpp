@@ -556,7 +556,10 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
             };
             fill(*lanes_f_);
             fill(*lanes_d_);
-            if (colour_ && crule == fp::ColourRule::map && k <= fp_chaos::tally_maps) {
+            // (The fused step indexes the counters by bin * tally_maps + map in 32 bits.)
+            if (colour_ && crule == fp::ColourRule::map && k <= fp_chaos::tally_maps &&
+                (uint64_t(frame_.width) * uint64_t(frame_.height) + 1) * fp_chaos::tally_maps <=
+                    0xffffffffull) {
                 auto t = std::make_shared<Tallies>();
                 t->k = uint32_t(k);
                 for (size_t j = 0; j < k; ++j)
@@ -1503,7 +1506,7 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
     const auto deposit_lag = [&] {
         if (lag && Colour && hist.tallies) {
             for (size_t i = 0; i < nb; ++i) {
-                i = hist.tally(lag, reinterpret_cast<const uint32_t*>(lag_dep), i, nb);
+                i = hist.tally(reinterpret_cast<const uint32_t*>(lag_dep), i, nb);
                 if (i < nb) hist.spill(lag[i]);
             }
         } else if (lag && Colour) {

@@ -820,15 +820,16 @@ HWY_INLINE void deposit_one(uint32_t* bins, const uint32_t* lag, const uint64_t*
     if (HWY_UNLIKELY(h >= spill_at)) full[(*nfull)++] = lag[l];
 }
 
-/// Tallies: map[l]'s 16-bit counter of bin lag[l] incremented for one chain l; the bin is
-/// listed in `full` when the counter reaches spill_at (state.hpp's WorkerHist::tally, lagged).
-HWY_INLINE void tally_one(uint32_t* bins, const uint32_t* lag, const uint32_t* map, uint32_t spill_at,
-                          uint32_t* full, uint32_t* nfull, size_t l) {
+/// Tallies: the 16-bit counter ci[l] (bin * tally_maps + map) incremented for one chain l;
+/// its bin is listed in `full` when the counter reaches spill_at (state.hpp's
+/// WorkerHist::tally, lagged).
+HWY_INLINE void tally_one(uint32_t* bins, const uint32_t* ci, uint16_t spill_at, uint32_t* full,
+                          uint32_t* nfull, size_t l) {
     typedef uint16_t Tally16 __attribute__((may_alias));
-    Tally16* n = reinterpret_cast<Tally16*>(bins + 4 * size_t(lag[l])) + map[l];
-    const uint32_t v = uint32_t(*n) + 1;
-    *n = uint16_t(v);
-    if (HWY_UNLIKELY(v >= spill_at)) full[(*nfull)++] = lag[l];
+    Tally16* n = reinterpret_cast<Tally16*>(bins) + ci[l];
+    const uint16_t v = uint16_t(*n + 1);
+    *n = v;
+    if (HWY_UNLIKELY(v >= spill_at)) full[(*nfull)++] = ci[l] / fp_chaos::tally_maps;
 }
 
 /// deposit_one (tally_one with tallies) for the nl chains from i: a whole vector's (MaxLanes,
@@ -842,7 +843,8 @@ HWY_INLINE void deposit_lagged(D, const fp_chaos::FusedArgs<T>& f, size_t i, siz
     uint32_t* const nfull = f.nfull;
     const auto one = [&](size_t l) HWY_ATTR __attribute__((always_inline)) {
         if constexpr (C == fp_chaos::LaneColour::tally)
-            tally_one(bins, lag, reinterpret_cast<const uint32_t*>(f.lag_dep) + i, spill_at, full, nfull, l);
+            tally_one(bins, reinterpret_cast<const uint32_t*>(f.lag_dep) + i, uint16_t(spill_at), full, nfull,
+                      l);
         else
             deposit_one(bins, lag, f.lag_dep + i, spill_at, full, nfull, l);
     };
@@ -961,16 +963,17 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
             n.bad += uint32_t(hn::CountTrue(du, isbad));
             n.restarts += uint32_t(hn::CountTrue(du, restarts));
         }
-        store32(du, bin_index(d, bk, x, y, hn::RebindMask(d, plot)), bk.idx + i);
+        const auto bin = bin_index(d, bk, x, y, hn::RebindMask(d, plot));
+        store32(du, bin, bk.idx + i);
         if constexpr (!Steady) {
             const auto still = hn::And(count_down(du, bk.left + i, plot), act);
             store32(du, hn::IfThenElseZero(still, one), bk.active + i);
             n.still += uint32_t(hn::CountTrue(du, still));
         }
         if constexpr (C == fp_chaos::LaneColour::tally) {
-            // The map of each point (that of a point not plotted, in the dummy bin, may be k,
-            // "none": taken modulo tally_maps, a counter of the dummy bin).
-            store32(du, hn::And(c, hn::Set(du, U(fp_chaos::tally_maps - 1))),
+            // Each point's counter: bin * tally_maps + map (the map of a point not plotted, in
+            // the dummy bin, may be k, "none": taken modulo tally_maps, a counter of that bin).
+            store32(du, hn::Add(hn::ShiftLeft<3>(bin), hn::And(c, hn::Set(du, U(fp_chaos::tally_maps - 1)))),
                     reinterpret_cast<uint32_t*>(bk.dep) + i);
         } else if constexpr (C != fp_chaos::LaneColour::none) {
             pack_colours(d, bk, i);

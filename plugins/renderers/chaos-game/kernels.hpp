@@ -172,8 +172,8 @@ struct FusedArgs {
     /// (beside `lag`, its bins), deposited during the pass like the hits; the bins whose hits
     /// reach `spill_at` are listed in `full` (count in *nfull) for the caller to spill.
     /// With tallies: the bins are 8 16-bit counters each, `lag_dep` holds the previous step's
-    /// maps as 32-bit values (the pass writes this step's into book.dep so), and the bins whose
-    /// counter reaches `spill_at` are listed.
+    /// counters (bin * tally_maps + map) as 32-bit values (the pass writes this step's into
+    /// book.dep so), and the bins whose counter reaches `spill_at` are listed.
     std::uint32_t* bins = nullptr;
     const std::uint64_t* lag_dep = nullptr;
     std::uint32_t* full = nullptr;

@@ -364,18 +364,30 @@ struct WorkerHist {
         return false;
     }
     /// Tallies: map[i]'s counter of bin idx[i] incremented for the points from `from` on, until
-    /// one reaches tally_spill: returns that point's index, for the caller to spill the bin
+    /// one reaches tally_spill: returns that point's index, for the caller to spill bin idx[i]
     /// before going on from the next one; nb when done. (The points not plotted, in the dummy
     /// bin, may carry map k, "none": their counter is taken modulo tally_maps.)
     size_t tally(const uint32_t* idx, const uint32_t* map, size_t from, size_t nb) {
         Cnt4* const b = bins.get();
-        for (size_t i = from; i < nb; ++i) {
-            Tally16* n = reinterpret_cast<Tally16*>(b + idx[i]) + (map[i] & (tally_maps - 1));
-            const uint32_t v = uint32_t(*n) + 1;
-            *n = uint16_t(v);
-            if (__builtin_expect(v == tally_spill, 0)) return i;
-        }
+        for (size_t i = from; i < nb; ++i)
+            if (__builtin_expect(bump(reinterpret_cast<Tally16*>(b + idx[i]) + (map[i] & (tally_maps - 1))),
+                                 0))
+                return i;
         return nb;
+    }
+    /// The same with the counters' indices ci (bin * tally_maps + map: the fused step's); the
+    /// bin to spill is ci[i] / tally_maps.
+    size_t tally(const uint32_t* ci, size_t from, size_t nb) {
+        Tally16* const n = reinterpret_cast<Tally16*>(bins.get());
+        for (size_t i = from; i < nb; ++i)
+            if (__builtin_expect(bump(n + ci[i]), 0)) return i;
+        return nb;
+    }
+    /// *n incremented; whether it reached tally_spill.
+    static bool bump(Tally16* n) {
+        const uint16_t v = uint16_t(*n + 1);
+        *n = v;
+        return v == tally_spill;
     }
     /// Adds bins [b0, b1) (hits, colour sums, flushed hits; not the spills) into `out`, and
     /// with `clear` zeroes them here.
