@@ -319,9 +319,9 @@ HWY_INLINE hn::Vec<DU> draw_other(DU du, hn::Vec<DU> r, hn::Vec<DU> p, uint32_t 
 }
 
 /// Paper 01's Algorithm 1 for a vector of chains: "l = random number; while j = l or
-/// inSet(S_l, p): l = random number". Each chain draws (draw_other: one output of its stream,
-/// every lane, as every step takes) and draws again while the map drawn is its previous one
-/// or `inside(c)` (the mask of the chains whose point lies in map c's set), up to
+/// inSet(S_l, p): l = random number". Each chain draws (c, draw_other's draw from one output
+/// of its stream, every lane, as every step takes: made by the caller) and draws again while the map drawn is
+/// its previous one or `inside(c)` (the mask of the chains whose point lies in map c's set), up to
 /// rejection_draws draws, each again from the streams of the rejected chains only. The few
 /// still rejected then take the direct draw among the allowed maps (draw_any with `excluded`,
 /// from one more output of their streams), which also finds the chains with no allowed map
@@ -330,12 +330,11 @@ HWY_INLINE hn::Vec<DU> draw_other(DU du, hn::Vec<DU> r, hn::Vec<DU> p, uint32_t 
 /// so the rules' distribution is the direct draw's; a draw costs one test of one set where the
 /// direct draw tests every map's.
 template <class DU, class Inside, class Excluded>
-HWY_INLINE hn::Vec<DU> draw_paper(DU du, uint64_t* rs, const uint64_t* ri, hn::Vec<DU> p, hn::Mask<DU> act,
-                                  uint32_t k, bool uniform, const hn::TFromD<DU>* thr,
+HWY_INLINE hn::Vec<DU> draw_paper(DU du, hn::Vec<DU> c, uint64_t* rs, const uint64_t* ri, hn::Vec<DU> p,
+                                  hn::Mask<DU> act, uint32_t k, bool uniform, const hn::TFromD<DU>* thr,
                                   const hn::TFromD<DU>* alias, const uint32_t* q, const hn::TFromD<DU>* wq,
                                   size_t ws, Inside&& inside, Excluded&& excluded, hn::Mask<DU>& some) {
     const auto rejected = [&](hn::Vec<DU> c) { return hn::Or(hn::Eq(c, p), inside(c)); };
-    auto c = draw_other(du, pcg_next(du, rs, ri), p, k, uniform, thr, alias);
     auto bad = hn::And(act, rejected(c));
     some = hn::Eq(p, p);
     if (HWY_LIKELY(hn::AllFalse(du, bad))) return c;
@@ -371,8 +370,8 @@ HWY_INLINE void draw_rules_t(DU du, const fp_chaos::DrawArgs& args) {
         };
         hn::Mask<DU> some;
         const auto c = draw_paper(
-            du, a.rs + i, a.ri + i, p, act, a.k, a.uniform, a.thr, a.alias, a.q,
-            static_cast<const U*>(nullptr), 0, inside,
+            du, draw_other(du, pcg_next(du, a.rs + i, a.ri + i), p, a.k, a.uniform, a.thr, a.alias), a.rs + i,
+            a.ri + i, p, act, a.k, a.uniform, a.thr, a.alias, a.q, static_cast<const U*>(nullptr), 0, inside,
             [&](uint32_t j, hn::Vec<DU> vj) {
                 return hn::Or(hn::Not(zero_bytes(du, a.inside + j * a.row + i)), hn::Eq(p, vj));
             },
@@ -879,6 +878,21 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
     const uint32_t k = t.k;
     const auto one = hn::Set(du, U(1)), zero = hn::Zero(du);
     fp_chaos::Counts n;
+    // Each chain's draw (with the rules its first one) in a pass of its own, into `chosen`: it
+    // depends on the streams and the previous maps alone, not on the points. In the main loop
+    // its operations (pcg32's 64-bit multiply, the draw's) would head each vector's chain of
+    // dependent ones and crowd the window of instructions the core overlaps: out of it, more
+    // vectors' points are in flight at once. The streams advance as they did in the loop.
+    if (Rules || k > 1) {
+        for (size_t i = 0; i < a.nb; i += N) {
+            const auto r = pcg_next(du, a.rs + i, a.ri + i);
+            if constexpr (Rules)
+                store32(du, draw_other(du, r, load32(du, a.prev + i), k, t.uniform, t.thr, t.alias),
+                        a.chosen + i);
+            else
+                store32(du, alias_lanes(du, r, k, t.thr, t.alias), a.chosen + i);
+        }
+    }
     for (size_t i = 0; i < a.nb; i += N) {
         const size_t nl = a.nb - i < N ? a.nb - i : N;
         const auto live = hn::RebindMask(du, hn::FirstN(d, nl));
@@ -907,8 +921,8 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
                 }
             };
             c = draw_paper(
-                du, a.rs + i, a.ri + i, p, act, k, t.uniform, t.thr, t.alias, t.q, &t.wq[0][0], t.wide_lanes,
-                inside,
+                du, load32(du, a.chosen + i), a.rs + i, a.ri + i, p, act, k, t.uniform, t.thr, t.alias, t.q,
+                &t.wq[0][0], t.wide_lanes, inside,
                 [&](uint32_t j, hn::Vec<decltype(du)> vj) {
                     const auto previous = hn::Eq(p, vj);
                     if constexpr (K != fp_chaos::LaneKind::circle) return previous;
@@ -926,7 +940,7 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
             c = zero;
             some = hn::Eq(zero, zero);
         } else {
-            c = alias_lanes(du, pcg_next(du, a.rs + i, a.ri + i), k, t.thr, t.alias);
+            c = load32(du, a.chosen + i);
             some = hn::Eq(zero, zero);
         }
         const auto mv = hn::And(act, some);
