@@ -328,13 +328,16 @@ HWY_INLINE hn::Vec<DU> draw_other(DU du, hn::Vec<DU> r, hn::Vec<DU> p, uint32_t 
 /// (`some` false: the loop would not end). Each accepted draw is one of the allowed maps with
 /// probability proportional to its weight (Walker's table and q both hold the weights to 2^-31),
 /// so the rules' distribution is the direct draw's; a draw costs one test of one set where the
-/// direct draw tests every map's.
+/// direct draw tests every map's. `direct` says whether the direct draw ran: if not, the last
+/// `inside` tested the maps returned.
 template <class DU, class Inside, class Excluded>
 HWY_INLINE hn::Vec<DU> draw_paper(DU du, hn::Vec<DU> c, uint64_t* rs, const uint64_t* ri, hn::Vec<DU> p,
                                   hn::Mask<DU> act, uint32_t k, bool uniform, const hn::TFromD<DU>* thr,
                                   const hn::TFromD<DU>* alias, const uint32_t* q, const hn::TFromD<DU>* wq,
-                                  size_t ws, Inside&& inside, Excluded&& excluded, hn::Mask<DU>& some) {
+                                  size_t ws, Inside&& inside, Excluded&& excluded, hn::Mask<DU>& some,
+                                  bool& direct) {
     const auto rejected = [&](hn::Vec<DU> c) { return hn::Or(hn::Eq(c, p), inside(c)); };
+    direct = false;
     auto bad = hn::And(act, rejected(c));
     some = hn::Eq(p, p);
     if (HWY_LIKELY(hn::AllFalse(du, bad))) return c;
@@ -345,9 +348,10 @@ HWY_INLINE hn::Vec<DU> draw_paper(DU du, hn::Vec<DU> c, uint64_t* rs, const uint
         if (hn::AllFalse(du, bad)) return c;
     }
     auto tot = hn::Zero(du);
-    const auto direct = draw_any(du, q, wq, ws, k, pcg_next_masked(du, rs, ri, bad), tot, excluded);
+    direct = true;
+    const auto drawn = draw_any(du, q, wq, ws, k, pcg_next_masked(du, rs, ri, bad), tot, excluded);
     some = hn::Not(hn::And(bad, hn::Eq(tot, hn::Zero(du))));
-    return hn::IfThenElse(bad, direct, c);
+    return hn::IfThenElse(bad, drawn, c);
 }
 
 template <class DU>
@@ -369,13 +373,14 @@ HWY_INLINE void draw_rules_t(DU du, const fp_chaos::DrawArgs& args) {
             return hn::Ne(hn::Load(du, in), zero);
         };
         hn::Mask<DU> some;
+        bool direct;
         const auto c = draw_paper(
             du, draw_other(du, pcg_next(du, a.rs + i, a.ri + i), p, a.k, a.uniform, a.thr, a.alias), a.rs + i,
             a.ri + i, p, act, a.k, a.uniform, a.thr, a.alias, a.q, static_cast<const U*>(nullptr), 0, inside,
             [&](uint32_t j, hn::Vec<DU> vj) {
                 return hn::Or(hn::Not(zero_bytes(du, a.inside + j * a.row + i)), hn::Eq(p, vj));
             },
-            some);
+            some, direct);
         store32(du, hn::IfThenElse(hn::And(act, some), c, none), a.chosen + i);
         store32(du, hn::IfThenElseZero(hn::AndNot(some, act), one), a.restart + i);
     }
@@ -905,19 +910,24 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         // allowed); else Walker's alias table.
         hn::Vec<decltype(du)> c;
         hn::Mask<decltype(du)> some;
+        hn::Vec<D> lq[3], ld[3];
+        bool direct = true;
         if constexpr (Rules) {
             // Paper 01's loop: for circles, the drawn circle's set (Circle::inside, dx * dx +
             // dy * dy < r2, NaN allowed) tested with its parameters in lanes; the direct draw's
             // `excluded` tests every circle (the same values as broadcasts of t.p[.][j]: see
             // LaneTables::wp).
+            // The last test keeps its circles (ox, oy, r2) and (dx, dy, dx * dx + dy * dy): the
+            // inversion's own first operations on the same values, not done again below.
             const auto inside = [&](hn::Vec<decltype(du)> cc) {
                 if constexpr (K != fp_chaos::LaneKind::circle) {
                     return hn::Ne(cc, cc);
                 } else {
-                    hn::Vec<D> q[3];
                     per_maps(
-                        d, [&](size_t j) { return t.p[j]; }, k, cc, q);
-                    return hn::RebindMask(du, in_circle(x, y, q[0], q[1], q[2]));
+                        d, [&](size_t j) { return t.p[j]; }, k, cc, lq);
+                    ld[0] = hn::Sub(x, lq[0]), ld[1] = hn::Sub(y, lq[1]);
+                    ld[2] = hn::Add(hn::Mul(ld[0], ld[0]), hn::Mul(ld[1], ld[1]));
+                    return hn::RebindMask(du, hn::Lt(ld[2], lq[2])); // (in_circle)
                 }
             };
             c = draw_paper(
@@ -931,7 +941,7 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
                     };
                     return hn::Or(hn::RebindMask(du, in_circle(x, y, par(0), par(1), par(2))), previous);
                 },
-                some);
+                some, direct);
         } else if (k == 1) {
             // One map: the draw's output is not needed, but the stream moves on as it would
             // (start points after restarts come from it): here, or in a steady run at its end,
@@ -945,9 +955,14 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         }
         const auto mv = hn::And(act, some);
         const auto rst = hn::IfThenElseZero(hn::AndNot(some, act), one);
-        if (f.program)
+        if (f.program) {
             program_lanes<K>(d, t, *f.program, c, x, y);
-        else
+        } else if (K == fp_chaos::LaneKind::circle && Rules && !direct) {
+            // apply_kind's inversion from the test's values: s = r2 / |d|^2, p' = o + s d.
+            const auto s = hn::Div(lq[2], ld[2]);
+            x = hn::Add(lq[0], hn::Mul(s, ld[0]));
+            y = hn::Add(lq[1], hn::Mul(s, ld[1]));
+        } else
             apply_lanes<K>(d, t, c, x, y);
         const auto mvf = hn::RebindMask(d, mv);
         x = hn::IfThenElse(mvf, x, x0);
