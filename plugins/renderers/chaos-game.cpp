@@ -91,7 +91,8 @@
 // sum n_j q_j} with q_j map j's quantised colour: the integers the colour deposits would have
 // summed, so the image is the same bytes (the generic path keeps {hits, r, g, b}: `kernels:
 // generic` renders compare the two in tests/unit/test_chaos_kernel.cpp). On bench/circles.yaml
-// with map-colour this took one core from about 205 to 265 M points/s pinned to AVX2.
+// with map-colour this took one core from 212 to 271 M points/s pinned to AVX2, and from 313 to
+// about 375 on AVX-512.
 //
 // Where the time goes (bench/circles.yaml: 6 circles, 1024 x 1024; one core of the 2-core
 // AVX-512 machine; bench/README.md has the figures). Hits only (density), fused path: the

@@ -319,12 +319,12 @@ HWY_INLINE hn::Vec<DU> draw_other(DU du, hn::Vec<DU> r, hn::Vec<DU> p, uint32_t 
 }
 
 /// Paper 01's Algorithm 1 for a vector of chains: "l = random number; while j = l or
-/// inSet(S_l, p): l = random number". Each chain draws (c, draw_other's draw from one output
-/// of its stream, every lane, as every step takes: made by the caller) and draws again while the map drawn is
-/// its previous one or `inside(c)` (the mask of the chains whose point lies in map c's set), up to
-/// rejection_draws draws, each again from the streams of the rejected chains only. The few
-/// still rejected then take the direct draw among the allowed maps (draw_any with `excluded`,
-/// from one more output of their streams), which also finds the chains with no allowed map
+/// inSet(S_l, p): l = random number". Each chain draws (c: draw_other's draw from one output
+/// of its stream, every lane, as every step takes; made by the caller) and draws again while
+/// the map drawn is its previous one or `inside(c)` (the mask of the chains whose point lies in
+/// map c's set), up to rejection_draws draws, each again from the streams of the rejected chains only. The
+/// few still rejected then take the direct draw among the allowed maps (draw_any with `excluded`, from one
+/// more output of their streams), which also finds the chains with no allowed map
 /// (`some` false: the loop would not end). Each accepted draw is one of the allowed maps with
 /// probability proportional to its weight (Walker's table and q both hold the weights to 2^-31),
 /// so the rules' distribution is the direct draw's; a draw costs one test of one set where the
@@ -962,8 +962,9 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
             const auto s = hn::Div(lq[2], ld[2]);
             x = hn::Add(lq[0], hn::Mul(s, ld[0]));
             y = hn::Add(lq[1], hn::Mul(s, ld[1]));
-        } else
+        } else {
             apply_lanes<K>(d, t, c, x, y);
+        }
         const auto mvf = hn::RebindMask(d, mv);
         x = hn::IfThenElse(mvf, x, x0);
         y = hn::IfThenElse(mvf, y, y0);
@@ -1002,6 +1003,7 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         if constexpr (C == fp_chaos::LaneColour::tally) {
             // Each point's counter: bin * tally_maps + map (the map of a point not plotted, in
             // the dummy bin, may be k, "none": taken modulo tally_maps, a counter of that bin).
+            static_assert(fp_chaos::tally_maps == 8, "the counter index is bin << 3");
             store32(du, hn::Add(hn::ShiftLeft<3>(bin), hn::And(c, hn::Set(du, U(fp_chaos::tally_maps - 1)))),
                     reinterpret_cast<uint32_t*>(bk.dep) + i);
         } else if constexpr (C != fp_chaos::LaneColour::none) {
