@@ -564,8 +564,9 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
                 auto t = std::make_shared<Tallies>();
                 t->k = uint32_t(k);
                 for (size_t j = 0; j < k; ++j)
-                    t->q[j][0] = quantise_colour(colours_[j].r), t->q[j][1] = quantise_colour(colours_[j].g),
-                    t->q[j][2] = quantise_colour(colours_[j].b);
+                    t->q[j][0] = fp::quantise_colour(colours_[j].r),
+                    t->q[j][1] = fp::quantise_colour(colours_[j].g),
+                    t->q[j][2] = fp::quantise_colour(colours_[j].b);
                 tallies_ = t;
                 lanes_f_->colour = lanes_d_->colour = LaneColour::tally;
             }

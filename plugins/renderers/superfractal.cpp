@@ -719,10 +719,7 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
     const double scx = double(frame_.width) / (frame_.region.xmax - frame_.region.xmin),
                  scy = double(frame_.height) / (frame_.region.ymax - frame_.region.ymin);
     const size_t base = size_t(child_) * n;
-    auto quant = [](float c) {
-        const float c0 = c > 0.0f ? c : 0.0f, c1 = c0 < 1.0f ? c0 : 1.0f; // NaN -> 0
-        return uint64_t(std::int32_t(c1 * float(fp::colour_scale) + 0.5f));
-    };
+    const auto quant = fp::quantise_colour;
     uint64_t drawn = 0;
     for (size_t i = 0; i < n; ++i) {
         if (i % (size_t(1) << 20) == 0 && ctx.cancelled()) throw fp::Cancelled();

@@ -1,10 +1,12 @@
 // fp::Histogram in its two forms: fp::HistBin bins, or hit counts alone (Histogram::hits, ABI
-// 14). Its readers (size, hits_at, HistogramSummary) must see the same counts in either.
+// 14). Its readers (size, hits_at, HistogramSummary) must see the same counts in either; and
+// fp::quantise_colour, the unit of the colour sums.
 #include <fixpoint/fixpoint.hpp>
 
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace {
@@ -77,3 +79,18 @@ TEST(Histogram, HitCountsOfTheWrongSizeAreRefused) {
 }
 
 } // namespace
+
+TEST(Histogram, QuantiseColourRoundsClampedChannels) {
+    // round(c * 65535), c clamped to [0, 1] and NaN taken as 0; ties round up (x + 0.5, then
+    // truncated): 0.5 * 65535 = 32767.5 gives 32768.
+    EXPECT_EQ(fp::quantise_colour(0.0f), 0u);
+    EXPECT_EQ(fp::quantise_colour(1.0f), 65535u);
+    EXPECT_EQ(fp::quantise_colour(0.5f), 32768u);
+    EXPECT_EQ(fp::quantise_colour(0.25f), 16384u); // 16383.75
+    EXPECT_EQ(fp::quantise_colour(1.0f / 65535.0f), 1u);
+    EXPECT_EQ(fp::quantise_colour(0.4f / 65535.0f), 0u); // 0.4 rounds down
+    EXPECT_EQ(fp::quantise_colour(-0.3f), 0u);
+    EXPECT_EQ(fp::quantise_colour(7.0f), 65535u);
+    EXPECT_EQ(fp::quantise_colour(std::numeric_limits<float>::quiet_NaN()), 0u);
+    EXPECT_EQ(fp::quantise_colour(std::numeric_limits<float>::infinity()), 65535u);
+}

@@ -465,7 +465,8 @@ void scatter_d(const double* gx, const double* gy, const uint32_t* gi, size_t n,
 }
 
 // ---------------------------------------------------------------- bookkeeping
-/// round(c * 65535) of a colour clamped to [0, 1] (NaN to 0), as 32-bit integers.
+/// round(c * 65535) of a colour clamped to [0, 1] (NaN to 0), as 32-bit integers: the lanes of
+/// fp::quantise_colour, in the same operations.
 template <class DF>
 HWY_INLINE hn::Vec<hn::RebindToSigned<DF>> quantise(DF df, const float* p) {
     const hn::RebindToSigned<DF> di;
@@ -829,8 +830,7 @@ HWY_INLINE void deposit_one(uint32_t* bins, const uint32_t* lag, const uint64_t*
 /// WorkerHist::tally, lagged).
 HWY_INLINE void tally_one(uint32_t* bins, const uint32_t* ci, uint16_t spill_at, uint32_t* full,
                           uint32_t* nfull, size_t l) {
-    typedef uint16_t Tally16 __attribute__((may_alias));
-    Tally16* n = reinterpret_cast<Tally16*>(bins) + ci[l];
+    fp_chaos::Tally16* n = reinterpret_cast<fp_chaos::Tally16*>(bins) + ci[l];
     const uint16_t v = uint16_t(*n + 1);
     *n = v;
     if (HWY_UNLIKELY(v >= spill_at)) full[(*nfull)++] = ci[l] / fp_chaos::tally_maps;

@@ -101,6 +101,8 @@ enum class LaneKind : std::uint32_t { circle, affine, gumowski_mira };
 enum class LaneColour : std::uint32_t { none, map, average, tally };
 /// Tallies: the most maps, a 16-bit counter each in a bin's 16 bytes.
 constexpr std::size_t tally_maps = 8;
+/// A tally's 16-bit counter (its bin's memory is also read as 32-bit counters).
+typedef std::uint16_t Tally16 __attribute__((may_alias));
 
 /// The fused step's tables, one entry per map: the map's parameters (circle: cx, cy, r2;
 /// affine: a .. f; Gumowski-Mira: alpha, mu, 2 (1 - mu)), its weight for the rules' draw, its

@@ -267,16 +267,6 @@ constexpr uint32_t spill_lagged = spill_hits - uint32_t(block_size);
 /// spilled, so it stays below 65536.
 constexpr uint32_t tally_spill = 65535;
 constexpr uint32_t tally_lagged = 65536 - uint32_t(block_size);
-/// A 16-bit counter of a bin (whose memory is also read as Cnt4).
-typedef uint16_t Tally16 __attribute__((may_alias));
-
-/// round(c * fp::colour_scale) of a colour clamped to [0, 1] (NaN to 0): kernels-inl.hpp's
-/// quantise, in the same float operations.
-inline uint32_t quantise_colour(float c) {
-    const float c0 = c > 0.0f ? c : 0.0f;
-    const float c1 = c0 < 1.0f ? c0 : 1.0f;
-    return uint32_t(c1 * 65535.0f + 0.5f);
-}
 
 /// The maps' quantised colours of a render with tallies: a counter's colour sums.
 struct Tallies {

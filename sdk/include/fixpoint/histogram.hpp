@@ -12,6 +12,15 @@ namespace fp {
 /// Colour sums are in units of 1/colour_scale.
 constexpr std::uint64_t colour_scale = 65535;
 
+/// One colour channel in units of 1/colour_scale, as a colour sum adds it: round(c *
+/// colour_scale) of c clamped to [0, 1], NaN to 0, in float operations (the same bits as the
+/// renderers' vectorised forms, compiled without contraction).
+inline std::uint32_t quantise_colour(float c) {
+    const float c0 = c > 0.0f ? c : 0.0f;
+    const float c1 = c0 < 1.0f ? c0 : 1.0f;
+    return std::uint32_t(c1 * float(colour_scale) + 0.5f);
+}
+
 struct HistBin {
     std::uint64_t hits = 0, r = 0, g = 0, b = 0;
 };
