@@ -84,7 +84,10 @@
 //
 // Tallies: with the map rule (map-colour: each point the colour of the map that made it) and
 // at most 8 maps, on the fused path (a recipe's steps that fall back to the generic one too),
-// a worker's 16-byte bin holds instead 8 counters of 16 bits, the points each map put there.
+// a worker's bins are instead 16-bit counters, the points each map put there, in a plane per
+// map (map j's counter of bin i at j * plane + i: a map's points lie in a region of their own,
+// the image of its set, so its counters share cache lines; a bin's 8 counters side by side
+// took as many lines as the 16-byte bins, more than twice those of 4-byte hit counts).
 // The deposit is one 16-bit increment by the point's map; the chains carry no colour and no
 // colour is packed per point. A counter spills (the whole bin, into the list of 64-bit bins)
 // before it can wrap, and the sums into fp::Histogram turn a bin's counts n_j into {sum n_j,
@@ -92,7 +95,8 @@
 // summed, so the image is the same bytes (the generic path keeps {hits, r, g, b}: `kernels:
 // generic` renders compare the two in tests/unit/test_chaos_kernel.cpp). On bench/circles.yaml
 // with map-colour this took one core from 212 to 271 M points/s pinned to AVX2, and from 313 to
-// about 375 on AVX-512.
+// about 375 on AVX-512 (a 2-core Xeon); the planes, from 287 to 339 and from 379 to 430 (a
+// 2-core AMD EPYC with AVX-512 and a 1 MiB L2 a core).
 //
 // Where the time goes (bench/circles.yaml: 6 circles, 1024 x 1024; one core of the 2-core
 // AVX-512 machine; bench/README.md has the figures). Hits only (density), fused path: the
@@ -557,10 +561,9 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
             };
             fill(*lanes_f_);
             fill(*lanes_d_);
-            // (The fused step indexes the counters by bin * tally_maps + map in 32 bits.)
+            // (The fused step indexes the counters by map * plane + bin in 32 bits.)
             if (colour_ && crule == fp::ColourRule::map && k <= fp_chaos::tally_maps &&
-                (uint64_t(frame_.width) * uint64_t(frame_.height) + 1) * fp_chaos::tally_maps <=
-                    0xffffffffull) {
+                (uint64_t(frame_.width) * uint64_t(frame_.height) + 1) * k <= 0xffffffffull) {
                 auto t = std::make_shared<Tallies>();
                 t->k = uint32_t(k);
                 for (size_t j = 0; j < k; ++j)
@@ -1018,8 +1021,7 @@ void ChaosGame::fold(fp::RenderContext& ctx, std::vector<WorkerHist>& hists, fp:
             o.b += v[3];
         }
         h.spills.clear();
-        if (h.hits.get()) h.hits.get()[h.dummy] = 0;
-        if (h.bins.get()) h.bins.get()[h.dummy] = Cnt4{0, 0, 0, 0};
+        h.clear_dummy();
         h.since = 0;
     }
 }
@@ -1610,6 +1612,7 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
                     f.full = s.full.get();
                     f.nfull = &nfull;
                     f.spill_at = hist.tallies ? tally_lagged : spill_lagged;
+                    f.plane = uint32_t(hist.plane);
                 }
                 sc = fp_chaos::fused(f);
             }

@@ -99,9 +99,9 @@ struct GroupArgs {
 /// no colour carried, the chosen map deposited).
 enum class LaneKind : std::uint32_t { circle, affine, gumowski_mira };
 enum class LaneColour : std::uint32_t { none, map, average, tally };
-/// Tallies: the most maps, a 16-bit counter each in a bin's 16 bytes.
+/// Tallies: the most maps, a plane of 16-bit counters each (state.hpp's WorkerHist).
 constexpr std::size_t tally_maps = 8;
-/// A tally's 16-bit counter (its bin's memory is also read as 32-bit counters).
+/// A tally's 16-bit counter (the planes' memory is the colour bins', allocated as such).
 typedef std::uint16_t Tally16 __attribute__((may_alias));
 
 /// The fused step's tables, one entry per map: the map's parameters (circle: cx, cy, r2;
@@ -173,14 +173,16 @@ struct FusedArgs {
     /// With colour: the worker's bins (4 counters each), the previous step's packed colours
     /// (beside `lag`, its bins), deposited during the pass like the hits; the bins whose hits
     /// reach `spill_at` are listed in `full` (count in *nfull) for the caller to spill.
-    /// With tallies: the bins are 8 16-bit counters each, `lag_dep` holds the previous step's
-    /// counters (bin * tally_maps + map) as 32-bit values (the pass writes this step's into
-    /// book.dep so), and the bins whose counter reaches `spill_at` are listed.
+    /// With tallies: `bins` holds a plane of `plane` 16-bit counters per map (one per bin, the
+    /// dummy's included), `lag_dep` the previous step's counters (map * plane + bin) as 32-bit
+    /// values (the pass writes this step's into book.dep so), and the bins whose counter
+    /// reaches `spill_at` are listed.
     std::uint32_t* bins = nullptr;
     const std::uint64_t* lag_dep = nullptr;
     std::uint32_t* full = nullptr;
     std::uint32_t* nfull = nullptr;
     std::uint32_t spill_at = 0;
+    std::uint32_t plane = 0;
 };
 
 } // namespace fp_chaos

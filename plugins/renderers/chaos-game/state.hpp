@@ -258,7 +258,7 @@ constexpr uint32_t spill_hits = 65536;
 constexpr uint32_t spill_lagged = spill_hits - uint32_t(block_size);
 
 /// Tallies: with a colour that is the chosen map's own (the map rule: map-colour) and at most
-/// tally_maps maps, a bin's 16 bytes are instead tally_maps 16-bit counters, the hits of each map
+/// tally_maps maps, the bins are instead a plane of 16-bit counters per map, the hits of each map
 /// (Tallies below). The deposit is then one 16-bit increment, with no colour carried by the
 /// chains or packed per point; a bin's colour sums are its counts times the maps' quantised
 /// colours, the same integers as the sums of the deposits (chaos-game.cpp's "Tallies").
@@ -272,13 +272,15 @@ constexpr uint32_t tally_lagged = 65536 - uint32_t(block_size);
 struct Tallies {
     uint32_t k = 0;
     uint32_t q[tally_maps][3] = {};
-    /// The bin {hits, r, g, b} of a bin's counters, into out. (Not returned: a 32-byte vector
-    /// returned by value has another ABI with AVX, and GCC warns of it.)
-    void bin(const Cnt4& b, Bin4& out) const {
-        const Tally16* n = reinterpret_cast<const Tally16*>(&b);
+    /// The bin {hits, r, g, b} of a bin's counters n[0], n[plane], .. (one per map), into out.
+    /// (Not returned: a 32-byte vector returned by value has another ABI with AVX, and GCC
+    /// warns of it.)
+    void bin(const Tally16* n, size_t plane, Bin4& out) const {
         out = Bin4{0, 0, 0, 0};
-        for (uint32_t j = 0; j < k; ++j)
-            out += Bin4{n[j], uint64_t(n[j]) * q[j][0], uint64_t(n[j]) * q[j][1], uint64_t(n[j]) * q[j][2]};
+        for (uint32_t j = 0; j < k; ++j) {
+            const uint64_t c = n[j * plane];
+            out += Bin4{c, c * q[j][0], c * q[j][1], c * q[j][2]};
+        }
     }
 };
 
@@ -313,6 +315,8 @@ inline bool later(const LastWrite& a, const LastWrite& b) {
 }
 
 struct WorkerHist {
+    /// {hits, r, g, b}; or, with tallies, their planes (counters(): map j's counter of bin i at
+    /// j * plane + i).
     HugeBuf<Cnt4> bins;
     HugeBuf<LastWrite> last; ///< pixel rule last only
     std::vector<std::pair<uint32_t, Bin4>> spills;
@@ -321,57 +325,73 @@ struct WorkerHist {
     uint64_t since = 0;         ///< deposits into `hits` since the last flush
     uint32_t dummy = 0;
     const Tallies* tallies = nullptr; ///< the bins are tallies (null: {hits, r, g, b})
+    size_t plane = 0;                 ///< tallies: the counters of a map (the bins, the dummy's too)
 
     template <class Poll>
     void alloc(size_t px, bool colour, bool last_colour, const Tallies* t, Poll poll) {
         tallies = colour ? t : nullptr;
         if (last_colour) last.alloc(px + 1, poll);
         if (colour) {
-            bins.alloc(px + 1, poll);
+            plane = px + 1;
+            // (Tallies: k planes of 16-bit counters, at most the 16 bytes a bin of colour sums.)
+            bins.alloc(tallies ? (tallies->k * plane + 7) / 8 : px + 1, poll);
             spills.reserve(256);
         } else {
             hits.alloc(px + 1, poll);
         }
         dummy = uint32_t(px);
     }
+    Tally16* counters() const { return reinterpret_cast<Tally16*>(bins.get()); }
     [[gnu::noinline, gnu::cold]] void spill(uint32_t i) {
-        Cnt4& b = bins.get()[i];
-        if (i != dummy) {
-            Bin4 v = {b[0], b[1], b[2], b[3]};
-            if (tallies) tallies->bin(b, v);
-            spills.emplace_back(i, v);
+        if (tallies) {
+            Tally16* const n = counters() + i;
+            if (i != dummy) {
+                Bin4 v;
+                tallies->bin(n, plane, v);
+                spills.emplace_back(i, v);
+            }
+            for (uint32_t j = 0; j < tallies->k; ++j) n[j * plane] = 0;
+            return;
         }
+        Cnt4& b = bins.get()[i];
+        if (i != dummy) spills.emplace_back(i, Bin4{b[0], b[1], b[2], b[3]});
         b = Cnt4{0, 0, 0, 0};
     }
     /// Whether bin i, listed by the fused step, is still due to spill (an earlier entry of the
     /// list may have spilled it).
     bool due(uint32_t i) const {
-        const Cnt4& b = bins.get()[i];
-        if (!tallies) return b[0] >= spill_lagged;
-        const Tally16* n = reinterpret_cast<const Tally16*>(&b);
+        if (!tallies) return bins.get()[i][0] >= spill_lagged;
+        const Tally16* const n = counters() + i;
         for (uint32_t j = 0; j < tallies->k; ++j)
-            if (n[j] >= tally_lagged) return true;
+            if (n[j * plane] >= tally_lagged) return true;
         return false;
     }
     /// Tallies: map[i]'s counter of bin idx[i] incremented for the points from `from` on, until
     /// one reaches tally_spill: returns that point's index, for the caller to spill bin idx[i]
     /// before going on from the next one; nb when done. (The points not plotted, in the dummy
-    /// bin, may carry map k, "none": their counter is taken modulo tally_maps.)
+    /// bin, may carry map k, "none": taken as map k - 1, as the fused step takes it.)
     size_t tally(const uint32_t* idx, const uint32_t* map, size_t from, size_t nb) {
-        Cnt4* const b = bins.get();
+        Tally16* const n = counters();
+        const uint32_t last_map = tallies->k - 1;
         for (size_t i = from; i < nb; ++i)
-            if (__builtin_expect(bump(reinterpret_cast<Tally16*>(b + idx[i]) + (map[i] & (tally_maps - 1))),
-                                 0))
-                return i;
+            if (__builtin_expect(bump(n + std::min(map[i], last_map) * plane + idx[i]), 0)) return i;
         return nb;
     }
-    /// The same with the counters' indices ci (bin * tally_maps + map: the fused step's); the
-    /// bin to spill is ci[i] / tally_maps.
+    /// The same with the counters' indices ci (map * plane + bin: the fused step's).
     size_t tally(const uint32_t* ci, size_t from, size_t nb) {
-        Tally16* const n = reinterpret_cast<Tally16*>(bins.get());
+        Tally16* const n = counters();
         for (size_t i = from; i < nb; ++i)
             if (__builtin_expect(bump(n + ci[i]), 0)) return i;
         return nb;
+    }
+    /// Zeroes the dummy bin (whose points are discarded).
+    void clear_dummy() {
+        if (hits.get()) hits.get()[dummy] = 0;
+        if (tallies) {
+            for (uint32_t j = 0; j < tallies->k; ++j) counters()[j * plane + dummy] = 0;
+        } else if (bins.get()) {
+            bins.get()[dummy] = Cnt4{0, 0, 0, 0};
+        }
     }
     /// *n incremented; whether it reached tally_spill.
     static bool bump(Tally16* n) {
@@ -389,17 +409,19 @@ struct WorkerHist {
                 if (!wide.empty())
                     std::fill(wide.begin() + std::ptrdiff_t(b0), wide.begin() + std::ptrdiff_t(b1), 0);
             }
-        } else if (Cnt4* in = bins.get(); in && tallies) {
+        } else if (Tally16* n = counters(); n && tallies) {
             for (size_t i = b0; i < b1; ++i) {
                 Bin4 v;
-                tallies->bin(in[i], v);
+                tallies->bin(n + i, plane, v);
                 out[i].hits += v[0];
                 out[i].r += v[1];
                 out[i].g += v[2];
                 out[i].b += v[3];
             }
-            if (clear) std::memset(static_cast<void*>(in + b0), 0, (b1 - b0) * sizeof(Cnt4));
-        } else if (in) {
+            if (clear)
+                for (uint32_t j = 0; j < tallies->k; ++j)
+                    std::memset(static_cast<void*>(n + j * plane + b0), 0, (b1 - b0) * sizeof(Tally16));
+        } else if (Cnt4* in = bins.get()) {
             for (size_t i = b0; i < b1; ++i) {
                 out[i].hits += in[i][0];
                 out[i].r += in[i][1];
