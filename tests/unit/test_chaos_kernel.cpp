@@ -354,6 +354,7 @@ TEST(ChaosKernel, RulesDrawGivesEachAllowedMapItsShare) {
             EXPECT_EQ(std::count(restart.begin(), restart.end(), 1u), std::ptrdiff_t(B));
         }
     }
+    fp::simd::force_target("");
 }
 
 // Each recipe rendered with the fused path allowed (auto) and forbidden (generic), on 1, 2 and

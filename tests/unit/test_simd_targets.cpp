@@ -111,7 +111,26 @@ TEST(SimdTargets, UnknownTargetsAreRefused) {
     const std::string before = fp::simd::active_target();
     EXPECT_FALSE(fp::simd::force_target("avx9000"));
     EXPECT_EQ(fp::simd::active_target(), before);
+    // Nor does a refusal undo a pin.
+    const std::string last = fp::simd::supported_targets().back();
+    ASSERT_TRUE(fp::simd::force_target(last));
+    EXPECT_FALSE(fp::simd::force_target("avx9000"));
+    EXPECT_EQ(fp::simd::active_target(), last);
     EXPECT_TRUE(fp::simd::force_target("best"));
+    EXPECT_EQ(fp::simd::active_target(), before);
+}
+
+// The list is the CPU's whatever is pinned: loops that pin each target in turn, as the tests
+// here do, cover every target on every pass, not the last pinned one alone.
+TEST(SimdTargets, PinningKeepsTheListOfTargets) {
+    const std::vector<std::string> all = fp::simd::supported_targets();
+    for (const auto& t : all) {
+        ASSERT_TRUE(fp::simd::force_target(t)) << t;
+        EXPECT_EQ(fp::simd::active_target(), t);
+        EXPECT_EQ(fp::simd::supported_targets(), all) << "pinned to " << t;
+    }
+    EXPECT_TRUE(fp::simd::force_target(""));
+    EXPECT_EQ(fp::simd::active_target(), all.front());
 }
 
 } // namespace
