@@ -595,8 +595,7 @@ uint64_t ChaosGame::strip_bytes(unsigned workers, uint64_t rows, bool colour, bo
     // 65536 points); hits only: 32-bit counters, and 64-bit ones once a worker could
     // have deposited hits_flush points, and a total of hit counts alone with hits_total.
     const uint64_t deposits = points_ + std::min(chains_, points_) * skip_;
-    // (Tallies: k planes of 16-bit counters, in whole 16-byte bins: WorkerHist::alloc.)
-    const uint64_t bins = tallies_ ? (tallies_->k * (px + 1) + 7) / 8 : px + 1;
+    const uint64_t bins = tallies_ ? tally_bins(tallies_->k, px) : px + 1;
     const uint64_t hist =
         colour ? uint64_t(workers) * (bins * sizeof(Cnt4) + (2u << 20)) + px * sizeof(fp::HistBin) +
                      (points_ / spill_hits + uint64_t(workers) * 256) * 48

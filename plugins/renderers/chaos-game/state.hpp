@@ -284,6 +284,10 @@ struct Tallies {
     }
 };
 
+/// The 16-byte bins a worker's tallies take: k planes of px + 1 (the dummy's) 16-bit counters,
+/// rounded up (WorkerHist::alloc, and the memory planner's count of it).
+inline size_t tally_bins(uint32_t k, size_t px) { return (k * (px + 1) + 7) / 8; }
+
 /// Chains are grouped by map with compress stores into one staging segment per map (up to
 /// this many maps); beyond, by a scalar counting sort into contiguous segments. Both give the
 /// same points in the same order.
@@ -333,8 +337,8 @@ struct WorkerHist {
         if (last_colour) last.alloc(px + 1, poll);
         if (colour) {
             plane = px + 1;
-            // (Tallies: k planes of 16-bit counters, at most the 16 bytes a bin of colour sums.)
-            bins.alloc(tallies ? (tallies->k * plane + 7) / 8 : px + 1, poll);
+            // (Tallies: at most the 16 bytes a bin of colour sums.)
+            bins.alloc(tallies ? tally_bins(tallies->k, px) : px + 1, poll);
             spills.reserve(256);
         } else {
             hits.alloc(px + 1, poll);
@@ -350,7 +354,7 @@ struct WorkerHist {
                 tallies->bin(n, plane, v);
                 spills.emplace_back(i, v);
             }
-            for (uint32_t j = 0; j < tallies->k; ++j) n[j * plane] = 0;
+            zero_counters(i);
             return;
         }
         Cnt4& b = bins.get()[i];
@@ -384,14 +388,17 @@ struct WorkerHist {
             if (__builtin_expect(bump(n + ci[i]), 0)) return i;
         return nb;
     }
+    /// Tallies: zeroes bin i's counter on every plane.
+    void zero_counters(uint32_t i) {
+        for (uint32_t j = 0; j < tallies->k; ++j) counters()[j * plane + i] = 0;
+    }
     /// Zeroes the dummy bin (whose points are discarded).
     void clear_dummy() {
         if (hits.get()) hits.get()[dummy] = 0;
-        if (tallies) {
-            for (uint32_t j = 0; j < tallies->k; ++j) counters()[j * plane + dummy] = 0;
-        } else if (bins.get()) {
+        if (tallies)
+            zero_counters(dummy);
+        else if (bins.get())
             bins.get()[dummy] = Cnt4{0, 0, 0, 0};
-        }
     }
     /// *n incremented; whether it reached tally_spill.
     static bool bump(Tally16* n) {
