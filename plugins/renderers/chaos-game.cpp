@@ -1452,6 +1452,9 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
             s.fin.get()[i] = 1;
         }
     }
+    // The lanes past the last chain, up to the block's end, inactive: the fused step reads
+    // whole vectors and takes `active` alone for the lanes that step.
+    std::fill(s.active.get() + nb, s.active.get() + block_size, 0u);
     if (t.saved.empty()) new_starts(s, list, nlive);
     const auto report = [&](uint64_t units) {
         ctx.progress(units);

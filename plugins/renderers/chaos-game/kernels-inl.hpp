@@ -528,12 +528,13 @@ HWY_INLINE hn::Vec<hn::RebindToUnsigned<D>> bin_index(D d, const fp_chaos::BookA
     const auto xmin = hn::Set(d, a.xmin), ymax = hn::Set(d, a.ymax);
     const auto in = hn::And(hn::And(plot, hn::And(hn::Ge(x, xmin), hn::Lt(x, hn::Set(d, a.xmax)))),
                             hn::And(hn::Gt(y, hn::Set(d, a.ymin)), hn::Le(y, ymax)));
-    const auto fx = hn::IfThenElseZero(in, hn::Mul(hn::Sub(x, xmin), hn::Set(d, a.scx)));
-    const auto fy = hn::IfThenElseZero(in, hn::Mul(hn::Sub(ymax, y), hn::Set(d, a.scy)));
+    const auto fx = hn::Mul(hn::Sub(x, xmin), hn::Set(d, a.scx));
+    const auto fy = hn::Mul(hn::Sub(ymax, y), hn::Set(d, a.scy));
     // floor of f in [0, 2^23) (the products are below the image size, 65536): truncated,
     // then 2^23 (2^52) added, whose sum is exact and has the integer in its mantissa. The
     // same integers as a converting instruction, without the overflow fix-up that Highway's
-    // ConvertTo adds (values this small never overflow).
+    // ConvertTo adds (values this small never overflow). Lanes outside the window (NaN,
+    // negative or huge f) give meaningless integers, but no fault: the dummy replaces them.
     auto trunc = [&](hn::Vec<D> f) {
         constexpr hn::TFromD<D> big =
             sizeof(U) == 4 ? hn::TFromD<D>(8388608.0) : hn::TFromD<D>(4503599627370496.0);
@@ -900,11 +901,12 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
     }
     for (size_t i = 0; i < a.nb; i += N) {
         const size_t nl = a.nb - i < N ? a.nb - i : N;
-        const auto live = hn::RebindMask(du, hn::FirstN(d, nl));
         auto x = hn::LoadU(d, bk.x + i), y = hn::LoadU(d, bk.y + i);
         const auto x0 = x, y0 = y;
         const auto p = load32(du, a.prev + i);
-        const auto act = hn::And(live, hn::Ne(load32(du, a.active + i), zero));
+        // (The lanes past the block's last chain are inactive: run_block zeroes them, and every
+        // store into `active` keeps them so; no mask of the live lanes is needed.)
+        const auto act = hn::Ne(load32(du, a.active + i), zero);
         // The draw: with the rules, among the maps allowed (not the previous one; for circles
         // not one whose set holds the point: Circle::inside, dx * dx + dy * dy < r2, NaN
         // allowed); else Walker's alias table.
@@ -988,7 +990,7 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         store32(du, hn::IfThenElse(mv, c, p), bk.prev + i);
         const auto rs = hn::Or(rst, hn::IfThenElseZero(isbad, hn::Set(du, U(2))));
         store32(du, rs, a.restart + i);
-        const auto restarts = hn::And(live, hn::Ne(rs, zero));
+        const auto restarts = hn::Ne(rs, zero);
         if (HWY_UNLIKELY(!hn::AllFalse(du, restarts))) {
             n.bad += uint32_t(hn::CountTrue(du, isbad));
             n.restarts += uint32_t(hn::CountTrue(du, restarts));

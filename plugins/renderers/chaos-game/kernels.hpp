@@ -26,7 +26,7 @@ struct DrawArgs {
     std::uint64_t* rs;           ///< pcg32 states, advanced by one output per chain
     const std::uint64_t* ri;     ///< pcg32 increments
     const std::uint32_t* prev;   ///< previous map (k: none)
-    const std::uint32_t* active; ///< 0 / 1
+    const std::uint32_t* active; ///< 0 / 1 (the fused step: 0 past nb, to its last whole vector)
     const unsigned char* inside; ///< rules: k rows of block_size bytes (1: the map's set holds the point)
     std::size_t row;             ///< the stride of `inside`
     std::uint32_t* chosen;       ///< out: the map, k when none (inactive, or none allowed)
