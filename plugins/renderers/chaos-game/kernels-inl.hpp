@@ -903,10 +903,10 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         const size_t nl = a.nb - i < N ? a.nb - i : N;
         auto x = hn::LoadU(d, bk.x + i), y = hn::LoadU(d, bk.y + i);
         const auto x0 = x, y0 = y;
-        const auto p = load32(du, a.prev + i);
+        const auto p = load32(du, bk.prev + i);
         // (The lanes past the block's last chain are inactive: run_block zeroes them, and every
         // store into `active` keeps them so; no mask of the live lanes is needed.)
-        const auto act = hn::Ne(load32(du, a.active + i), zero);
+        const auto act = hn::Ne(load32(du, bk.active + i), zero);
         // The draw: with the rules, among the maps allowed (not the previous one; for circles
         // not one whose set holds the point: Circle::inside, dx * dx + dy * dy < r2, NaN
         // allowed); else Walker's alias table.
@@ -933,7 +933,7 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
                 }
             };
             c = draw_paper(
-                du, load32(du, a.chosen + i), a.rs + i, a.ri + i, p, act, k, t.uniform, t.thr, t.alias, t.q,
+                du, load32(du, bk.chosen + i), a.rs + i, a.ri + i, p, act, k, t.uniform, t.thr, t.alias, t.q,
                 &t.wq[0][0], t.wide_lanes, inside,
                 [&](uint32_t j, hn::Vec<decltype(du)> vj) {
                     const auto previous = hn::Eq(p, vj);
@@ -952,11 +952,12 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
             c = zero;
             some = hn::Eq(zero, zero);
         } else {
-            c = load32(du, a.chosen + i);
+            c = load32(du, bk.chosen + i);
             some = hn::Eq(zero, zero);
         }
         const auto mv = hn::And(act, some);
-        const auto rst = hn::IfThenElseZero(hn::AndNot(some, act), one);
+        const auto none_allowed = hn::AndNot(some, act);
+        const auto rst = hn::IfThenElseZero(none_allowed, one);
         if (f.program) {
             program_lanes<K>(d, t, *f.program, c, x, y);
         } else if (K == fp_chaos::LaneKind::circle && Rules && !direct) {
@@ -989,8 +990,8 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         }
         store32(du, hn::IfThenElse(mv, c, p), bk.prev + i);
         const auto rs = hn::Or(rst, hn::IfThenElseZero(isbad, hn::Set(du, U(2))));
-        store32(du, rs, a.restart + i);
-        const auto restarts = hn::Ne(rs, zero);
+        store32(du, rs, bk.restart + i);
+        const auto restarts = hn::Or(none_allowed, isbad); // (the lanes of rs not 0)
         if (HWY_UNLIKELY(!hn::AllFalse(du, restarts))) {
             n.bad += uint32_t(hn::CountTrue(du, isbad));
             n.restarts += uint32_t(hn::CountTrue(du, restarts));

@@ -163,7 +163,9 @@ struct LaneProgram {
 template <class T>
 struct FusedArgs {
     const LaneTables<T>* tables;
-    DrawArgs draw; ///< inside, q, thr and alias unused
+    /// inside, q, thr and alias unused; prev, active, chosen and restart are book's arrays (the
+    /// step's main loop reads them through `book` alone: fewer pointers held in registers)
+    DrawArgs draw;
     BookArgs<T> book;
     std::uint32_t* hits;
     const std::uint32_t* lag;
