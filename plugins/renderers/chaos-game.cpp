@@ -245,6 +245,9 @@ using std::uint64_t;
 // The state, buffers and bookkeeping of chaos_state.hpp and chaos_bookkeep.hpp.
 using namespace fp_chaos;
 
+/// v in [0, 1] (not NaN).
+inline bool in_unit(float v) { return v >= 0.0f && v <= 1.0f; }
+
 // ---------------------------------------------------------------- the renderer
 class ChaosGame final : public fp::Renderer {
 public:
@@ -557,6 +560,9 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
                     t.alias[j] = U(alias_[j]);
                     t.cr[j] = colours_[j].r, t.cg[j] = colours_[j].g, t.cb[j] = colours_[j].b;
                 }
+                t.colours_in_range = std::all_of(colours_.begin(), colours_.end(), [](const fp::Rgb& c) {
+                    return in_unit(c.r) && in_unit(c.g) && in_unit(c.b);
+                });
                 t.repeat_wide();
             };
             fill(*lanes_f_);
@@ -1455,6 +1461,12 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
     // The lanes past the last chain, up to the block's end, inactive: the fused step reads
     // whole vectors and takes `active` alone for the lanes that step.
     std::fill(s.active.get() + nb, s.active.get() + block_size, 0u);
+    // Whether every chain's colour starts in [0, 1] (FusedArgs::colours_in_range): the fused
+    // step keeps them there; a colourer's own update ends the promise for the block.
+    bool colours_in_range = true;
+    for (size_t i = 0; i < nb; ++i)
+        colours_in_range =
+            colours_in_range && in_unit(s.cr.get()[i]) && in_unit(s.cg.get()[i]) && in_unit(s.cb.get()[i]);
     if (t.saved.empty()) new_starts(s, list, nlive);
     const auto report = [&](uint64_t units) {
         ctx.progress(units);
@@ -1617,6 +1629,7 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
                     f.nfull = &nfull;
                     f.spill_at = hist.tallies ? tally_lagged : spill_lagged;
                     f.plane = uint32_t(hist.plane);
+                    f.colours_in_range = colours_in_range;
                 }
                 sc = fp_chaos::fused(f);
             }
@@ -1654,6 +1667,7 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
                     for (size_t i = 0; i < nb; ++i) moved[i] = chosen[i] < none ? 1 : 0;
                 }
                 colourer_->update(chosen, fp::ColourState{cr, cg, cb, nb}, colours_.data(), moved);
+                colours_in_range = false; // (a colourer's rule: no promise of its range)
             }
             sc = fp_chaos::bookkeep(bv, Colour);
             if (Colour && last_) write_last(hist, idx, dep, nb, n, s.chain.get(), bv.dummy);

@@ -287,6 +287,95 @@ TEST(ChaosKernel, FusedStepIsTheGenericStep) {
     fp::simd::force_target("");
 }
 
+// The fused step's packing of the running colour (flame's rule, c = (c + c_j) / 2) into the
+// deposit's 16-bit fields: fp::quantise_colour of the new colours, clamp included, on every
+// target. The clamp is skipped only where FusedArgs::colours_in_range promises colours in
+// [0, 1]: with colours in range the promise changes no bit; without it, colours outside
+// [0, 1] (and NaN) are clamped.
+TEST(ChaosKernel, FusedPackingClampsUnlessColoursAreInRange) {
+    fp_chaos::LaneTables<float> t;
+    const float cm[3][3] = {{1, 0, 0.25f}, {0, 1, 0.5f}, {0.75f, 0.125f, 1}};
+    for (std::size_t j = 0; j < 3; ++j) {
+        const float c[6] = {0.5f, 0, 0, 0.5f, 0.25f * float(j), 0.1f * float(j)};
+        for (int i = 0; i < 6; ++i) t.p[i][j] = c[i];
+        t.cr[j] = cm[j][0], t.cg[j] = cm[j][1], t.cb[j] = cm[j][2];
+        // Walker's table of three equal weights: each column its own map.
+        t.thr[j] = 0xffffffffu, t.alias[j] = uint32_t(j);
+    }
+    t.k = 3;
+    t.repeat_wide();
+    t.kind = fp_chaos::LaneKind::affine;
+    t.colour = fp_chaos::LaneColour::average;
+    t.rules = false;
+    t.colours_in_range = true;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float wild[] = {1.5f, -0.25f, nan, 1e30f, -1e30f, 1.0f, 0.0f};
+    for (const std::string& target : fp::simd::supported_targets())
+        for (const bool in_range : {true, false}) {
+            SCOPED_TRACE(target);
+            SCOPED_TRACE(in_range ? "colours in [0, 1]" : "colours outside [0, 1]");
+            ASSERT_TRUE(fp::simd::force_target(target));
+            const std::size_t nb = 37;
+            std::vector<float> x(512), y(512), cr(512), cg(512), cb(512);
+            std::vector<uint64_t> rs(512), ri(512), left(512, 1000), dep(512);
+            std::vector<uint32_t> prev(512, 3), active(512), chosen(512), restart(512);
+            std::vector<uint32_t> age(512, 5), idle(512), plotf(512), idx(512), hits(64 * 64 + 1);
+            fp::Rng g = fp::chain_stream(11, nb);
+            for (std::size_t i = 0; i < nb; ++i) {
+                x[i] = float(fp::uniform_double(g)), y[i] = float(fp::uniform_double(g));
+                active[i] = 1;
+                rs[i] = uint64_t(g()) << 32 | g();
+                ri[i] = (uint64_t(i) << 1) | 1u;
+                cr[i] = float(fp::uniform_double(g)), cg[i] = float(i) / float(nb), cb[i] = 1.0f;
+                if (!in_range) cr[i] = wild[i % 7], cb[i] = wild[(i + 3) % 7];
+            }
+            const std::vector<float> cr0 = cr, cg0 = cg, cb0 = cb;
+            // The packed deposits of one step from these states, with and without the promise.
+            const auto step = [&](bool promise, std::vector<uint32_t>& map) {
+                std::vector<float> sx = x, sy = y, sr = cr0, sg = cg0, sb = cb0;
+                std::vector<uint64_t> srs = rs, sleft = left, sdep(512);
+                std::vector<uint32_t> sprev = prev, sactive = active, sage = age, sidle = idle;
+                fp_chaos::FusedArgs<float> f{};
+                f.tables = &t;
+                f.draw = fp_chaos::DrawArgs{
+                    srs.data(),     ri.data(), sprev.data(), sactive.data(), nullptr, 0,      chosen.data(),
+                    restart.data(), nb,        3u,           nullptr,        nullptr, nullptr};
+                f.book = fp_chaos::BookArgs<float>{sx.data(),   sy.data(),    chosen.data(),  sprev.data(),
+                                                   sage.data(), sidle.data(), restart.data(), plotf.data(),
+                                                   idx.data(),  sleft.data(), sactive.data(), sr.data(),
+                                                   sg.data(),   sb.data(),    sdep.data(),    nb};
+                f.book.xmin = -1.5f, f.book.xmax = 1.5f, f.book.ymin = -1.5f, f.book.ymax = 1.5f;
+                f.book.scx = f.book.scy = 64.0f / 3.0f;
+                f.book.W = f.book.H = 64, f.book.dummy = 64 * 64, f.book.skip = 1, f.book.none = 3;
+                f.hits = hits.data();
+                f.colours_in_range = promise;
+                {
+                    using namespace fp_chaos; // (static dispatch names N_<target>::fused_f)
+                    HWY_DYNAMIC_DISPATCH(fused_f)(f);
+                }
+                map = sprev;
+                return sdep;
+            };
+            std::vector<uint32_t> map, map2;
+            const std::vector<uint64_t> dep_plain = step(false, map);
+            for (std::size_t i = 0; i < nb; ++i) {
+                ASSERT_LT(map[i], 3u) << i;
+                const float* c = cm[map[i]];
+                const uint64_t want = 1u | uint64_t(fp::quantise_colour((cr0[i] + c[0]) * 0.5f)) << 16 |
+                                      uint64_t(fp::quantise_colour((cg0[i] + c[1]) * 0.5f)) << 32 |
+                                      uint64_t(fp::quantise_colour((cb0[i] + c[2]) * 0.5f)) << 48;
+                EXPECT_EQ(dep_plain[i], want) << i << " " << cr0[i] << " " << cb0[i];
+            }
+            if (in_range) {
+                // The promise kept: the clamp skipped, the same bits.
+                const std::vector<uint64_t> dep_fast = step(true, map2);
+                EXPECT_EQ(map2, map);
+                for (std::size_t i = 0; i < nb; ++i) EXPECT_EQ(dep_fast[i], dep_plain[i]) << i;
+            }
+        }
+    fp::simd::force_target("");
+}
+
 struct Render {
     fp::Image img;
     fp::RenderStats stats;

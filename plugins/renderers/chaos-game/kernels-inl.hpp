@@ -466,14 +466,17 @@ void scatter_d(const double* gx, const double* gy, const uint32_t* gi, size_t n,
 
 // ---------------------------------------------------------------- bookkeeping
 /// round(c * 65535) of a colour clamped to [0, 1] (NaN to 0), as 32-bit integers: the lanes of
-/// fp::quantise_colour, in the same operations.
+/// fp::quantise_colour, in the same operations. Without `clamp` the caller knows the lanes in
+/// [0, 1], where the clamp changes nothing.
 template <class DF>
-HWY_INLINE hn::Vec<hn::RebindToSigned<DF>> quantise(DF df, const float* p) {
+HWY_INLINE hn::Vec<hn::RebindToSigned<DF>> quantise(DF df, hn::Vec<DF> c, bool clamp) {
     const hn::RebindToSigned<DF> di;
-    const auto zero = hn::Zero(df), one = hn::Set(df, 1.0f);
-    const auto c = hn::LoadU(df, p);
-    const auto c0 = hn::IfThenElse(hn::Gt(c, zero), c, zero);
-    const auto c1 = hn::IfThenElse(hn::Lt(c0, one), c0, one);
+    auto c1 = c;
+    if (clamp) {
+        const auto zero = hn::Zero(df), one = hn::Set(df, 1.0f);
+        const auto c0 = hn::IfThenElse(hn::Gt(c, zero), c, zero);
+        c1 = hn::IfThenElse(hn::Lt(c0, one), c0, one);
+    }
     // floor of v = c1 * 65535 + 0.5 in [0.5, 65535.5]: truncated, then 2^23 added, whose sum is
     // exact and holds the integer in its mantissa (as bin_index does): the integers of a
     // converting instruction without the overflow fix-up of Highway's ConvertTo.
@@ -482,13 +485,20 @@ HWY_INLINE hn::Vec<hn::RebindToSigned<DF>> quantise(DF df, const float* p) {
     return hn::Sub(hn::BitCast(di, hn::Add(hn::Trunc(v), big)), hn::BitCast(di, big));
 }
 
-/// dep[i] = 1 | r << 16 | g << 32 | b << 48 for the lanes of one vector of chains.
+/// The chains' colours (r, g, b) in lanes of floats, one per lane of D.
 template <class D>
-HWY_INLINE void pack_colours(D, const fp_chaos::BookArgs<hn::TFromD<D>>& a, size_t i) {
+using ColourVecs = hn::Vec<hn::Rebind<float, D>>[3];
+
+/// dep[i] = 1 | r << 16 | g << 32 | b << 48 for the lanes of one vector of chains, of
+/// colours col (the values at a.cr + i, a.cg + i, a.cb + i); `clamp` as quantise's.
+template <class D>
+HWY_INLINE void pack_colours(D, const fp_chaos::BookArgs<hn::TFromD<D>>& a, size_t i,
+                             const ColourVecs<D>& col, bool clamp = true) {
     const hn::Rebind<float, D> df;
     const hn::Rebind<uint32_t, D> d32;
-    const auto qr = hn::BitCast(d32, quantise(df, a.cr + i)), qg = hn::BitCast(d32, quantise(df, a.cg + i));
-    const auto qb = hn::BitCast(d32, quantise(df, a.cb + i));
+    const auto qr = hn::BitCast(d32, quantise(df, col[0], clamp));
+    const auto qg = hn::BitCast(d32, quantise(df, col[1], clamp));
+    const auto qb = hn::BitCast(d32, quantise(df, col[2], clamp));
     const auto lo = hn::Or(hn::Set(d32, 1u), hn::ShiftLeft<16>(qr));
     const auto hi = hn::Or(qg, hn::ShiftLeft<16>(qb));
 #if HWY_TARGET == HWY_SCALAR
@@ -585,7 +595,12 @@ HWY_INLINE fp_chaos::Counts bookkeep_t(const fp_chaos::BookArgs<T>& args, bool c
         const auto act = hn::And(nz, hn::Ne(load32(du, a.active + i), zero));
         store32(du, hn::IfThenElseZero(act, one), a.active + i);
         n.still += uint32_t(hn::CountTrue(du, hn::And(live, act)));
-        if (colour) pack_colours(d, a, i);
+        if (colour) {
+            const hn::Rebind<float, decltype(d)> df;
+            const ColourVecs<decltype(d)> col = {hn::LoadU(df, a.cr + i), hn::LoadU(df, a.cg + i),
+                                                 hn::LoadU(df, a.cb + i)};
+            pack_colours(d, a, i, col);
+        }
     }
     return n;
 }
@@ -771,11 +786,13 @@ HWY_INLINE void program_lanes(D d, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
     y = hn::Load(d, ry);
 }
 
-/// The chains' colours updated by the rule with the chosen maps' colours, where they moved.
+/// The chains' colours updated by the rule with the chosen maps' colours, where they moved;
+/// the new colours also in `col`, for the packing (k: t.k, from a local copy, so that its
+/// lanes of map indices are the map lookup's own, not made again after the stores).
 template <fp_chaos::LaneColour C, class D>
-HWY_INLINE void colour_lanes(D, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
+HWY_INLINE void colour_lanes(D, const fp_chaos::LaneTables<hn::TFromD<D>>& t, uint32_t k,
                              hn::Vec<hn::RebindToUnsigned<D>> c, hn::Mask<hn::RebindToUnsigned<D>> mv,
-                             const fp_chaos::BookArgs<hn::TFromD<D>>& b, size_t i) {
+                             const fp_chaos::BookArgs<hn::TFromD<D>>& b, size_t i, ColourVecs<D>& col) {
     const hn::Rebind<float, D> df;
     const hn::RebindToUnsigned<decltype(df)> du32;
     hn::Vec<decltype(du32)> c32;
@@ -792,15 +809,17 @@ HWY_INLINE void colour_lanes(D, const fp_chaos::LaneTables<hn::TFromD<D>>& t,
     per_maps(
         df, [&](size_t j) { return j == 0   ? t.cr
                                    : j == 1 ? t.cg
-                                            : t.cb; }, t.k, c32, mc);
+                                            : t.cb; }, k, c32, mc);
     auto one = [&](hn::Vec<decltype(df)> cm, float* chain) {
         const auto old = hn::LoadU(df, chain);
         const auto nc = C == fp_chaos::LaneColour::map ? cm : hn::Mul(hn::Add(old, cm), hn::Set(df, 0.5f));
-        hn::StoreU(hn::IfThenElse(m, nc, old), df, chain);
+        const auto v = hn::IfThenElse(m, nc, old);
+        hn::StoreU(v, df, chain);
+        return v;
     };
-    one(mc[0], b.cr + i);
-    one(mc[1], b.cg + i);
-    one(mc[2], b.cb + i);
+    col[0] = one(mc[0], b.cr + i);
+    col[1] = one(mc[1], b.cg + i);
+    col[2] = one(mc[2], b.cb + i);
 }
 
 /// bins[lag[l]] += the widened dep[l] for one chain l; the bin is listed in `full` (its count
@@ -882,6 +901,8 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
     const fp_chaos::DrawArgs a = f.draw;
     const fp_chaos::BookArgs<T> bk = f.book;
     const uint32_t k = t.k;
+    // The colours' clamp is needed unless every colour is known in [0, 1] (FusedArgs).
+    const bool clamp = !(f.colours_in_range && t.colours_in_range);
     const auto one = hn::Set(du, U(1)), zero = hn::Zero(du);
     fp_chaos::Counts n;
     // Each chain's draw (with the rules its first one) in a pass of its own, into `chosen`: it
@@ -973,8 +994,9 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
         y = hn::IfThenElse(mvf, y, y0);
         hn::StoreU(x, d, bk.x + i);
         hn::StoreU(y, d, bk.y + i);
+        ColourVecs<D> col;
         if constexpr (C == fp_chaos::LaneColour::map || C == fp_chaos::LaneColour::average)
-            colour_lanes<C>(d, t, c, mv, bk, i);
+            colour_lanes<C>(d, t, k, c, mv, bk, i, col);
         // The bookkeeping of bookkeep_t on the new points, in registers.
         const auto fin = hn::RebindMask(
             du, hn::And(fp::simd::HWY_NAMESPACE::finite(x), fp::simd::HWY_NAMESPACE::finite(y)));
@@ -1013,7 +1035,7 @@ HWY_NOINLINE fp_chaos::Counts fused_t(const fp_chaos::FusedArgs<T>& args) {
             store32(du, hn::Add(bin, mul_small(du, map, hn::Set(du, U(f.plane)))),
                     reinterpret_cast<uint32_t*>(bk.dep) + i);
         } else if constexpr (C != fp_chaos::LaneColour::none) {
-            pack_colours(d, bk, i);
+            pack_colours(d, bk, i, col, clamp);
         }
         if constexpr (C != fp_chaos::LaneColour::none) {
             // The previous step's points, whose bins are known from the start: their

@@ -139,6 +139,8 @@ struct LaneTables {
     LaneColour colour = LaneColour::none;
     bool rules = true;    ///< paper 01's rules (circles: their sets too); else the alias table
     bool uniform = false; ///< rules: every weight the same (see DrawArgs)
+    /// Every map's colour lies in [0, 1] (see FusedArgs::colours_in_range).
+    bool colours_in_range = false;
 };
 
 /// An iteration scheme's step as the fused step runs it: fp::SchemeProgram (scheme_program.hpp)
@@ -185,6 +187,12 @@ struct FusedArgs {
     std::uint32_t* nfull = nullptr;
     std::uint32_t spill_at = 0;
     std::uint32_t plane = 0;
+    /// Every chain's colour lies in [0, 1] (none NaN). With the maps' colours in range too
+    /// (LaneTables::colours_in_range), the colour rules keep them there: (c + c_j) * 0.5 of two
+    /// values in [0, 1] is in [0, 1] in float arithmetic (the sum is rounded within [0, 2], the
+    /// halving exact), c_j is. The packing then skips the clamp of fp::quantise_colour, whose
+    /// result it cannot change.
+    bool colours_in_range = false;
 };
 
 } // namespace fp_chaos
