@@ -21,6 +21,10 @@ for k in circles ifs gm wallpaper; do
     # shellcheck disable=SC2086
     g++ -O3 $flags -fopenmp -o "$out/$k" "$ref/$k.cpp"
 done
+# The flame rows' whole work written by hand (bench/flame-ref.cpp): beside the targets, what
+# the colour costs a kernel of the references' kind.
+# shellcheck disable=SC2086
+g++ -O3 $flags -o "$out/flame-ref" bench/flame-ref.cpp
 . bench/lib.sh # median
 ref_rate() { "$out/$1" "${@:2}" reps=3 | grep '^SUMMARY' | tr ' ' '\n' | sed -n 's/^median_rate=//p' |
     awk '{printf "%.1f", $1 / 1e6}'; }
@@ -58,6 +62,8 @@ row "circles, map-colour" ">= 0.45x" 1 circles variant=simd n=1e8 -- bench/circl
     --set renderer.colourer.type=map-colour
 row "Sierpinski, affine, flame" ">= 0.45x" 1 ifs map=sierpinski variant=simd n=1e8 -- bench/sierpinski.yaml
 row "Barnsley fern, affine, flame" ">= 0.45x" 1 ifs map=fern variant=simd n=1e8 -- bench/fern.yaml
+row "Sierpinski, flame, against flame-ref" "-" 1 flame-ref map=sierpinski n=1e8 -- bench/sierpinski.yaml
+row "Barnsley fern, flame, against flame-ref" "-" 1 flame-ref map=fern n=1e8 -- bench/fern.yaml
 row "Gumowski-Mira, many chains" ">= 0.5x" 1 gm variant=simd n=1e8 -- bench/gm-chains.yaml
 row "Gumowski-Mira, single orbit (double)" ">= 0.7x" 1 gm variant=orbit1 n=5e7 -- bench/gm-orbit.yaml
 row "circles, density, 2 threads" "-" 2 circles variant=simd n=1e8 -- bench/circles.yaml
