@@ -152,6 +152,13 @@ uint32_t draw_other(uint32_t r, uint32_t p, uint32_t k, bool uniform, const uint
     return c >= k ? c - k : c;
 }
 
+/// The kernel tests' image: 64 x 64 bins over [-1.5, 1.5]^2, skip 1, `none` the maps' count.
+void window64(fp_chaos::BookArgs<float>& b, uint32_t none) {
+    b.xmin = -1.5f, b.xmax = 1.5f, b.ymin = -1.5f, b.ymax = 1.5f;
+    b.scx = b.scy = 64.0f / 3.0f;
+    b.W = b.H = 64, b.dummy = 64 * 64, b.skip = 1, b.none = none;
+}
+
 TEST(ChaosKernel, FusedStepIsTheGenericStep) {
     const std::vector<double> cx = {1, 0.309, -0.809, -0.809, 0.309, 0},
                               cy = {0, 0.951, 0.588, -0.588, -0.951, 0};
@@ -252,9 +259,7 @@ TEST(ChaosKernel, FusedStepIsTheGenericStep) {
                                                    age.data(), idle.data(), restart.data(), plotf.data(),
                                                    idx.data(), left.data(), active.data(),  cr.data(),
                                                    cg.data(),  cb.data(),   dep.data(),     nb};
-                f.book.xmin = -1.5f, f.book.xmax = 1.5f, f.book.ymin = -1.5f, f.book.ymax = 1.5f;
-                f.book.scx = f.book.scy = 64.0f / 3.0f;
-                f.book.W = f.book.H = 64, f.book.dummy = 64 * 64, f.book.skip = 1, f.book.none = uint32_t(k);
+                window64(f.book, uint32_t(k));
                 f.hits = hits.data();
                 fp_chaos::Counts counts;
                 {
@@ -344,9 +349,7 @@ TEST(ChaosKernel, FusedPackingClampsUnlessColoursAreInRange) {
                                                    sage.data(), sidle.data(), restart.data(), plotf.data(),
                                                    idx.data(),  sleft.data(), sactive.data(), sr.data(),
                                                    sg.data(),   sb.data(),    sdep.data(),    nb};
-                f.book.xmin = -1.5f, f.book.xmax = 1.5f, f.book.ymin = -1.5f, f.book.ymax = 1.5f;
-                f.book.scx = f.book.scy = 64.0f / 3.0f;
-                f.book.W = f.book.H = 64, f.book.dummy = 64 * 64, f.book.skip = 1, f.book.none = 3;
+                window64(f.book, 3);
                 f.hits = hits.data();
                 f.colours_in_range = promise;
                 {
