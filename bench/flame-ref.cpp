@@ -45,13 +45,12 @@ std::string arg(int argc, char** argv, const char* key, const char* def) {
 constexpr int W = 1024, H = 1024;
 constexpr int DUMP = W * H;
 
-#if defined(__AVX512F__)
-constexpr int VBYTES = 64;
-#elif defined(__AVX__)
-constexpr int VBYTES = 32;
-#else
-constexpr int VBYTES = 16;
-#endif
+// The vectors are as wide as the widest the build's target aligns (the compiler's own
+// __BIGGEST_ALIGNMENT__: 64 bytes with AVX-512, 32 with AVX, 16 with SSE or NEON), capped to
+// 16..64: wider vectors than the hardware's make GCC fall back to scalar code.
+constexpr int VBYTES = __BIGGEST_ALIGNMENT__ > 64   ? 64
+                       : __BIGGEST_ALIGNMENT__ < 16 ? 16
+                                                    : __BIGGEST_ALIGNMENT__;
 constexpr int L = VBYTES / 4;
 typedef float vf __attribute__((vector_size(VBYTES)));
 typedef int32_t vi __attribute__((vector_size(VBYTES)));
