@@ -12,7 +12,8 @@
 //   - each point adds {1, r, g, b} to a 16-byte bin of 32-bit sums, and a bin whose hit count
 //     reaches 2^16 is spilled into 64-bit sums (before a colour sum can wrap).
 // Build: g++ -O3 -march=native -o flame-ref bench/flame-ref.cpp
-// Usage: flame-ref map=sierpinski|fern n=1e8 reps=5   (one thread; prints a SUMMARY line)
+// Usage: flame-ref map=sierpinski|fern n=1e8 reps=5 layout=rows|tiles
+//        (one thread; prints a SUMMARY line; layout: bin_of below, rows unless asked)
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -21,6 +22,8 @@
 #include <cstring>
 #include <string>
 #include <vector>
+
+#include <sys/mman.h>
 
 namespace {
 
@@ -118,18 +121,45 @@ Ifs make_ifs(const std::string& name) {
     return s;
 }
 
+/// The 16-byte bins {hits, r, g, b} in 2 MiB pages where the kernel grants them, as fixpoint's
+/// worker histograms are (plugins/renderers/chaos-game/state.hpp): 16 MiB of bins in 4 KiB
+/// pages would make most deposits a TLB miss as well as a cache miss, and measure the pages,
+/// not the kernel.
 struct Bins {
-    std::vector<uint32_t> sums = std::vector<uint32_t>(4 * (W * H + 1)); // {hits, r, g, b}
-    std::vector<uint64_t> wide = std::vector<uint64_t>(4 * (W * H + 1));
+    static constexpr size_t words = 4 * (size_t(W) * H + 1);
+    static constexpr size_t huge = size_t(2) << 20;
+    static constexpr size_t bytes = (words * 4 + huge - 1) / huge * huge;
+    uint32_t* sums = static_cast<uint32_t*>(std::aligned_alloc(huge, bytes));
+    std::vector<uint64_t> wide = std::vector<uint64_t>(words);
+    Bins() {
+        if (!sums) std::abort();
+#ifdef MADV_HUGEPAGE
+        ::madvise(sums, bytes, MADV_HUGEPAGE); // advice: without it, 4 KiB pages
+#endif
+        std::memset(sums, 0, bytes); // touched before the clock starts, as ifs.cpp's histogram
+    }
+    ~Bins() { std::free(sums); }
+    Bins(const Bins&) = delete;
+    Bins& operator=(const Bins&) = delete;
     [[gnu::noinline, gnu::cold]] void spill(uint32_t* b) {
-        uint64_t* o = wide.data() + (b - sums.data());
+        uint64_t* o = wide.data() + (b - sums);
         for (int j = 0; j < 4; ++j) o[j] += b[j], b[j] = 0;
     }
+    uint64_t hits(size_t bin) const { return sums[4 * bin] + wide[4 * bin]; }
 };
 
 constexpr int U = 64 / L; // 64 orbits in flight whatever the vector width
 
-template <int M>
+/// A point's bin: rows of W bins (fixpoint's layout), or with Tiles 2 x 2 blocks of bins, one
+/// 64-byte cache line each, in rows of blocks (a layout fixpoint does not have: for the
+/// ceiling of a hand-written kernel; DUMP stays the bin past the image either way).
+template <bool Tiles>
+vi bin_of(vi ix, vi iy) {
+    if constexpr (Tiles) return ((iy >> 1) * (W / 2) + (ix >> 1)) * 4 + (iy & 1) * 2 + (ix & 1);
+    return iy * W + ix;
+}
+
+template <int M, bool Tiles>
 void run(const Ifs& s, uint64_t n, uint64_t seed, Bins& bins) {
     Table A, B, C, D, E, F, CR, CG, CB;
     for (int i = 0; i < M; ++i) {
@@ -171,14 +201,14 @@ void run(const Ifs& s, uint64_t n, uint64_t seed, Bins& bins) {
     for (int i = 0; i < 32; ++i)
         for (int u = 0; u < U; ++u) step(u);
     alignas(64) int32_t ib[U * L], rb[U * L], gb[U * L], bb[U * L];
-    uint32_t* const sums = bins.sums.data();
+    uint32_t* const sums = bins.sums;
     for (uint64_t i = 0, steps = n / (L * U); i < steps; ++i) {
         for (int u = 0; u < U; ++u) {
             step(u);
             const vf fx = X[u] * sc + ox, fy = Y[u] * sc + oy;
             const vi ok = (fx >= zero) & (fx < fw) & (fy >= zero) & (fy < fh);
             const vi ix = __builtin_convertvector(fx, vi), iy = __builtin_convertvector(fy, vi);
-            *(vi*)(ib + u * L) = ok ? (iy * W + ix) : (vi{} + DUMP);
+            *(vi*)(ib + u * L) = ok ? bin_of<Tiles>(ix, iy) : (vi{} + DUMP);
             *(vi*)(rb + u * L) = quant(R[u]);
             *(vi*)(gb + u * L) = quant(G[u]);
             *(vi*)(bb + u * L) = quant(Bc[u]);
@@ -197,25 +227,32 @@ int main(int argc, char** argv) {
     const std::string map = arg(argc, argv, "map", "sierpinski");
     const uint64_t n = uint64_t(std::atof(arg(argc, argv, "n", "1e8").c_str()));
     const int reps = std::atoi(arg(argc, argv, "reps", "5").c_str());
+    const std::string layout = arg(argc, argv, "layout", "rows");
+    if (layout != "rows" && layout != "tiles") {
+        std::fprintf(stderr, "layout=%s: rows or tiles\n", layout.c_str());
+        return 2;
+    }
+    const bool tiles = layout == "tiles";
     const Ifs s = make_ifs(map);
     std::vector<double> times;
     uint64_t inwin = 0;
     for (int r = 0; r < reps; ++r) {
-        Bins bins; // touched before the clock starts, as ifs.cpp's histogram
-        std::memset(bins.sums.data(), 0, bins.sums.size() * 4);
+        Bins bins;
         const double t0 = now();
+        const uint64_t seed = 1234567ull + 7919ull * r;
         if (s.m == 3)
-            run<3>(s, n, 1234567ull + 7919ull * r, bins);
+            tiles ? run<3, true>(s, n, seed, bins) : run<3, false>(s, n, seed, bins);
         else
-            run<4>(s, n, 1234567ull + 7919ull * r, bins);
+            tiles ? run<4, true>(s, n, seed, bins) : run<4, false>(s, n, seed, bins);
         times.push_back(now() - t0);
         inwin = 0; // the points in the window (outside the timing)
-        for (size_t i = 0; i < size_t(W) * H; ++i) inwin += bins.sums[4 * i] + bins.wide[4 * i];
+        for (size_t i = 0; i < size_t(W) * H; ++i) inwin += bins.hits(i);
         std::printf("rep=%d time_s=%.4f rate=%.4g\n", r, times.back(), double(n) / times.back());
     }
     std::sort(times.begin(), times.end());
     const double med = times[times.size() / 2];
-    std::printf(
-        "SUMMARY kernel=flame-ref case=%s lanes=%d n=%llu median_s=%.4f median_rate=%.4g inwin=%llu\n",
-        map.c_str(), L, (unsigned long long)n, med, double(n) / med, (unsigned long long)inwin);
+    std::printf("SUMMARY kernel=flame-ref case=%s layout=%s lanes=%d n=%llu median_s=%.4f median_rate=%.4g "
+                "inwin=%llu\n",
+                map.c_str(), layout.c_str(), L, (unsigned long long)n, med, double(n) / med,
+                (unsigned long long)inwin);
 }
