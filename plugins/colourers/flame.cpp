@@ -20,7 +20,7 @@
 //               the set that was used to obtain the point": c = c_j, the pixel the colour of
 //               the set that produced its last point, shaded like the others.
 // `last` and `set-colour` need a renderer that keeps the last colours (chaos-game; the
-// superfractal renderer refuses them) and run chaos-game's generic path.
+// superfractal renderer refuses them); `last` runs chaos-game's generic path.
 #include "tone_map.hpp"
 
 // update() once per instruction set (update-inl.hpp), dispatched at run time.

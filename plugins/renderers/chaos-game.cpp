@@ -145,8 +145,10 @@
 // fp::chain_stream(seed + colour_stream_salt, chain), which its draws never touch), update()
 // changes it only at the steps where it plots, and each worker keeps per bin the colour of
 // its point with the largest (step, chain); the workers' entries merge by the same order, so
-// the winner, and the image, are the same on any number of threads. These renders take the
-// generic path (the fused step keeps no last colours).
+// the winner, and the image, are the same on any number of threads. With the map rule
+// (set-colour), where a point's colour is its map's, the fused step runs and the renderer
+// writes the last colours after each of its steps; the running colour (`last`) takes the
+// generic path.
 //
 // Strips (an image whose histogram and pixels do not fit the memory budget,
 // RenderContext::memory_budget: `fixpoint render --memory`, else what the machine has
@@ -383,6 +385,9 @@ private:
     bool uniform_ = true;                     ///< every weight the same (the rules' draw)
     std::vector<uint32_t> alias_thr_, alias_; ///< Walker's alias table (rules off; on, with unequal weights)
     std::vector<fp::Rgb> colours_;            ///< k + 1 entries (the last one is never used)
+    /// The maps' colours as deposits carry them (fp::quantise_colour): a point's last colour
+    /// under the map rule on the fused path.
+    std::vector<std::array<uint16_t, 3>> map_q_;
     fp::Rgb initial_colour_;
     std::shared_ptr<const fp::IterationScheme> iteration_;
     std::shared_ptr<const fp::Colourer> colourer_;
@@ -434,6 +439,10 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         colours_.push_back(c);
     }
     colours_.push_back(fp::Rgb{});
+    for (size_t j = 0; j < k; ++j)
+        map_q_.push_back({uint16_t(fp::quantise_colour(colours_[j].r)),
+                          uint16_t(fp::quantise_colour(colours_[j].g)),
+                          uint16_t(fp::quantise_colour(colours_[j].b))});
     initial_colour_ = fp::Rgb{};
     for (size_t j = 0; j < k; ++j) {
         initial_colour_.r += colours_[j].r / float(k);
@@ -516,10 +525,13 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     // table_size maps, and a colourer that needs no colour or whose update is a ColourRule;
     // `kernels: generic` turns it off (it gives the same bytes: tests/unit/test_chaos_kernel.cpp).
     const fp::ColourRule crule = colourer_->colour_rule();
-    // (Last colours are kept by the generic path only: a mode for the papers' figures, not for
-    // speed.)
+    // Last colours (the pixel rule last) with the map rule: paper 01's colouring by set
+    // (flame's set-colour, every configs/inversion figure). A point's colour is its map's
+    // whatever the chain's history, so the renderer writes the last colours from the maps the
+    // fused step took (run_block). The running colour of Algorithm 2 (flame's `last`) changes
+    // only where a chain plots, unlike the fused step's: that mode keeps the generic path.
     if (p.string("kernels") == "auto" && k <= fp_chaos::table_size &&
-        (!colour_ || crule != fp::ColourRule::none) && !last_) {
+        (!colour_ || crule != fp::ColourRule::none) && (!last_ || crule == fp::ColourRule::map)) {
         std::vector<fp::KnownKernel> kk;
         for (const auto& m : maps_) kk.push_back(m->kernel());
         const auto kind = kk[0].kind;
@@ -1366,20 +1378,10 @@ bool ChaosGame::lane_program(uint64_t n, LaneProgram<T>& out) const {
 // ---------------------------------------------------------------- last colours
 void ChaosGame::write_last(WorkerHist& hist, const uint32_t* idx, const uint64_t* dep, size_t nb, uint64_t n,
                            const uint32_t* chain_of, uint32_t dummy) {
-    LastWrite* lw = hist.last.get();
-    // A worker's blocks do not come in chain order, and a bin may hold an entry of an earlier
-    // block at a later step: compare. Within the step, chains come in increasing order.
-    const uint64_t step = n + 1;
-    for (size_t i = 0; i < nb; ++i) {
-        const uint32_t b = idx[i];
-        if (b == dummy) continue;
-        LastWrite& e = lw[b];
-        const uint32_t chain = chain_of[i];
-        if (step > e.step || (step == e.step && chain > e.chain)) {
-            const uint64_t v = dep[i]; // {1, r, g, b} in 16 bits each
-            e = LastWrite{step, chain, uint16_t(v >> 16), uint16_t(v >> 32), uint16_t(v >> 48), 0};
-        }
-    }
+    write_last_colours(hist.last.get(), idx, nb, n, chain_of, dummy, [&](size_t i) {
+        const uint64_t v = dep[i]; // {1, r, g, b} in 16 bits each
+        return std::array<uint16_t, 3>{uint16_t(v >> 16), uint16_t(v >> 32), uint16_t(v >> 48)};
+    });
 }
 
 // ---------------------------------------------------------------- one block of chains
@@ -1632,6 +1634,12 @@ bool ChaosGame::run_block(Task& t, Scratch<T>& s, WorkerHist& hist, fp::RenderCo
                     f.colours_in_range = colours_in_range;
                 }
                 sc = fp_chaos::fused(f);
+                // Last colours: the step's plotted points (the dummy bin holds the others), each
+                // the colour of its map, which the step left in `prev` (map rule only: see the
+                // constructor).
+                if (Colour && last_)
+                    write_last_colours(hist.last.get(), out, nb, n, s.chain.get(), bv.dummy,
+                                       [&](size_t i) { return map_q_[std::min(prev[i], none - 1)]; });
             }
             steps_run = ran;
             if (steady) {

@@ -576,6 +576,32 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
     EXPECT_EQ(render("{" + recipes[4] + "}", 1).stats.samples, 5003u);
 }
 
+// Paper 01's colouring by set (flame's set-colour: the pixel rule last, the map rule) on the
+// fused step, the renderer writing each bin's last colour after every step: the same pixels
+// and counts as the generic step, which writes them from its own deposits. Circles with the
+// rules (6 maps: the bins are tallies), with skip 3 and few points a chain (the chains' colours
+// during their skip, which the generic path keeps and the fused one sets, and the ends of
+// steady runs must not show); 20 circles (no tallies); affine maps in double (the alias draw).
+TEST(ChaosKernel, FusedSetColourIsGeneric) {
+    const std::string bench = "type: chaos-game, width: 96, height: 96, view: [-0.8, 0.8, -0.8, 0.8], ";
+    const std::string set_colour = "colourer: {type: flame, mode: set-colour}, ";
+    expect_fused_is_generic({
+        bench + "points: 120000, chains: 300, skip: 3, seed: 5, " + set_colour +
+            circles_maps(", colour: [0.2, 0.7, 0.9]"),
+        bench + "points: 5003, chains: 100, skip: 3, " + set_colour + circles_maps(),
+        "type: chaos-game, width: 64, height: 64, view: [-1.4, 1.4, -1.4, 1.4], points: 100000, chains: "
+        "300, " +
+            set_colour + ring_maps(20),
+        "type: chaos-game, width: 64, height: 64, view: [0, 1, 0, 1], points: 100000, chains: 333, "
+        "precision: "
+        "double, " +
+            set_colour +
+            "maps: [{type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}, {type: affine, coefficients: [0.5, "
+            "0, "
+            "0, 0.5, 0.5, 0], weight: 2}, {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, 0.5]}]",
+    });
+}
+
 // Schemes other than Picard in the fused step (IterationScheme::program, run by
 // kernels-inl.hpp's program_lanes): the same pixels and counts as the generic step, on 1, 2
 // and 3 threads. Two-, three- and four-instruction programs (lin2 and lin3), coefficients that

@@ -47,6 +47,7 @@ const std::vector<std::string> recipes = {
     frame + "points: 200000, chains: 300, colourer: {type: map-colour}, " + circles,
     frame + "points: 100000, precision: double, colourer: {type: density}, " + circles,
     frame + "points: 100000, precision: double, colourer: {type: flame}, " + circles,
+    frame + "points: 100000, chains: 300, skip: 3, colourer: {type: flame, mode: set-colour}, " + circles,
     frame + "points: 150000, kernels: generic, colourer: {type: map-colour}, " + circles,
     frame + "points: 150000, kernels: generic, precision: double, colourer: {type: flame}, " + circles,
     "type: chaos-game, width: 64, height: 64, view: [0, 1, 0, 1], points: 200000, chains: 333, "

@@ -9,6 +9,7 @@
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -316,6 +317,26 @@ struct LastWrite {
 /// Whether `a` comes after `b` in the order (step, chain) that decides a bin's last colour.
 inline bool later(const LastWrite& a, const LastWrite& b) {
     return a.step > b.step || (a.step == b.step && a.chain > b.chain);
+}
+
+/// The last colours of step n's points: lw[idx[i]] takes point i's (step n + 1, its chain,
+/// colour_of(i), {r, g, b} in 16 bits each) where that comes later than what the bin holds.
+/// The points in the dummy bin (not plotted) write nothing. A worker's blocks do not come in
+/// chain order, and a bin may hold an entry of an earlier block at a later step: compare.
+template <class ColourOf>
+void write_last_colours(LastWrite* lw, const uint32_t* idx, size_t nb, uint64_t n, const uint32_t* chain_of,
+                        uint32_t dummy, ColourOf colour_of) {
+    const uint64_t step = n + 1;
+    for (size_t i = 0; i < nb; ++i) {
+        const uint32_t b = idx[i];
+        if (b == dummy) continue;
+        LastWrite& e = lw[b];
+        const uint32_t chain = chain_of[i];
+        if (step > e.step || (step == e.step && chain > e.chain)) {
+            const std::array<uint16_t, 3> c = colour_of(i);
+            e = LastWrite{step, chain, c[0], c[1], c[2], 0};
+        }
+    }
 }
 
 struct WorkerHist {
