@@ -581,24 +581,24 @@ TEST(ChaosKernel, FusedAndGenericRendersAreIdentical) {
 // and counts as the generic step, which writes them from its own deposits. Circles with the
 // rules (6 maps: the bins are tallies), with skip 3 and few points a chain (the chains' colours
 // during their skip, which the generic path keeps and the fused one sets, and the ends of
-// steady runs must not show); 20 circles (no tallies); affine maps in double (the alias draw).
+// steady runs must not show); 20 circles (no tallies); affine maps in double (the alias draw);
+// the S-iteration's program.
 TEST(ChaosKernel, FusedSetColourIsGeneric) {
     const std::string bench = "type: chaos-game, width: 96, height: 96, view: [-0.8, 0.8, -0.8, 0.8], ";
+    const std::string small = "type: chaos-game, width: 64, height: 64, ";
     const std::string set_colour = "colourer: {type: flame, mode: set-colour}, ";
+    const std::string affine = "maps: [{type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}, "
+                               "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0], weight: 2}, "
+                               "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, 0.5]}]";
     expect_fused_is_generic({
         bench + "points: 120000, chains: 300, skip: 3, seed: 5, " + set_colour +
             circles_maps(", colour: [0.2, 0.7, 0.9]"),
         bench + "points: 5003, chains: 100, skip: 3, " + set_colour + circles_maps(),
-        "type: chaos-game, width: 64, height: 64, view: [-1.4, 1.4, -1.4, 1.4], points: 100000, chains: "
-        "300, " +
-            set_colour + ring_maps(20),
-        "type: chaos-game, width: 64, height: 64, view: [0, 1, 0, 1], points: 100000, chains: 333, "
-        "precision: "
-        "double, " +
-            set_colour +
-            "maps: [{type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}, {type: affine, coefficients: [0.5, "
-            "0, "
-            "0, 0.5, 0.5, 0], weight: 2}, {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, 0.5]}]",
+        small + "view: [-1.4, 1.4, -1.4, 1.4], points: 100000, chains: 300, " + set_colour + ring_maps(20),
+        small + "view: [0, 1, 0, 1], points: 100000, chains: 333, precision: double, " + set_colour + affine,
+        // Another scheme's program in the fused step.
+        bench + "points: 100000, iteration: {type: s-iteration, alpha: 0.7, beta: 0.5}, " + set_colour +
+            circles_maps(),
     });
 }
 
