@@ -385,8 +385,8 @@ private:
     bool uniform_ = true;                     ///< every weight the same (the rules' draw)
     std::vector<uint32_t> alias_thr_, alias_; ///< Walker's alias table (rules off; on, with unequal weights)
     std::vector<fp::Rgb> colours_;            ///< k + 1 entries (the last one is never used)
-    /// The maps' colours as deposits carry them (fp::quantise_colour): a point's last colour
-    /// under the map rule on the fused path.
+    /// The maps' colours as deposits carry them (fp::quantise_colour): the tallies' colours,
+    /// and a point's last colour under the map rule on the fused path.
     std::vector<std::array<uint16_t, 3>> map_q_;
     fp::Rgb initial_colour_;
     std::shared_ptr<const fp::IterationScheme> iteration_;
@@ -585,9 +585,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
                 auto t = std::make_shared<Tallies>();
                 t->k = uint32_t(k);
                 for (size_t j = 0; j < k; ++j)
-                    t->q[j][0] = fp::quantise_colour(colours_[j].r),
-                    t->q[j][1] = fp::quantise_colour(colours_[j].g),
-                    t->q[j][2] = fp::quantise_colour(colours_[j].b);
+                    for (int c = 0; c < 3; ++c) t->q[j][c] = map_q_[j][c];
                 tallies_ = t;
                 lanes_f_->colour = lanes_d_->colour = LaneColour::tally;
             }

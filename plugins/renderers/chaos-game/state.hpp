@@ -326,15 +326,14 @@ inline bool later(const LastWrite& a, const LastWrite& b) {
 template <class ColourOf>
 void write_last_colours(LastWrite* lw, const uint32_t* idx, size_t nb, uint64_t n, const uint32_t* chain_of,
                         uint32_t dummy, ColourOf colour_of) {
-    const uint64_t step = n + 1;
     for (size_t i = 0; i < nb; ++i) {
         const uint32_t b = idx[i];
         if (b == dummy) continue;
-        LastWrite& e = lw[b];
-        const uint32_t chain = chain_of[i];
-        if (step > e.step || (step == e.step && chain > e.chain)) {
+        LastWrite w{n + 1, chain_of[i], 0, 0, 0, 0};
+        if (later(w, lw[b])) {
             const std::array<uint16_t, 3> c = colour_of(i);
-            e = LastWrite{step, chain, c[0], c[1], c[2], 0};
+            w.r = c[0], w.g = c[1], w.b = c[2];
+            lw[b] = w;
         }
     }
 }
