@@ -6,7 +6,8 @@
 #   ./setup.sh test    the same, then run every test (this is what CI runs); then build again
 #                      in build-asan with clang, ASan, UBSan and libFuzzer's coverage, run
 #                      the unit, CLI and conformance tests there and fuzz the validate path
-#                      for a minute (tests/fuzz/run.sh). Warnings are errors in both builds.
+#                      for a minute (tests/fuzz/run.sh). Under CI, warnings are errors in
+#                      both builds; elsewhere the first command's build is reused as it is.
 #                      FIXPOINT_QUICK=1 skips the build-asan stage (not under CI).
 #
 # Needs root or sudo only to install missing packages; does nothing to the system when they
@@ -67,8 +68,11 @@ fi
 # Each stage of `./setup.sh test` says how long it took.
 stage() { echo "setup: $1: $((SECONDS - started)) s"; }
 jobs=$(nproc 2>/dev/null || echo 2)
+# Warnings are errors under CI (both builds). Elsewhere the flag is left as the build folder
+# has it, so that `./setup.sh test` after `./setup.sh` reuses the build rather than rebuilding
+# everything for a changed flag.
 werror=()
-[ "$mode" = test ] && werror=(-DFIXPOINT_WERROR=ON)
+[ -n "${CI:-}" ] && werror=(-DFIXPOINT_WERROR=ON)
 started=$SECONDS
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${werror[@]}" >/dev/null
 cmake --build build -j"$jobs"

@@ -92,9 +92,10 @@ void add_plugin_dir(const std::string& dir) {
     }
 }
 
-Pipeline pipeline_of(const std::string& config, bool is_text, const std::vector<std::string>& sets) {
+Pipeline pipeline_of(const std::string& config, bool is_text, const std::vector<std::string>& sets,
+                     bool allow_python) {
     Registry& reg = registry();
-    if (!is_text) return load_pipeline(reg, config, sets);
+    if (!is_text) return load_pipeline(reg, config, sets, "", allow_python);
     CNode root = parse_yaml(config, "<config>");
     for (const auto& s : sets) apply_override(root, s);
     return load_pipeline(reg, std::move(root));
@@ -148,12 +149,13 @@ void run_released(Work&& work, std::atomic<bool>& cancel, const std::function<st
     if (!progress.is_none()) progress(1.0);
 }
 
-/// render(config, is_text, sets, threads, progress, output)
+/// render(config, is_text, sets, threads, progress, output, allow_python)
 ///   -> (float pixels, recipe, stats, warnings, bit_depth)
 /// With an output path, checked before rendering and written after as `fixpoint render -o`.
+/// allow_python: a recipe read from an image may run its python-scheme's code.
 py::tuple render(const std::string& config, bool is_text, const std::vector<std::string>& sets,
-                 unsigned threads, const py::object& progress, const std::string& output) {
-    const Pipeline p = pipeline_of(config, is_text, sets);
+                 unsigned threads, const py::object& progress, const std::string& output, bool allow_python) {
+    const Pipeline p = pipeline_of(config, is_text, sets, allow_python);
     if (!threads) threads = hardware_threads();
     check_memory(p, threads);
     if (!output.empty()) {

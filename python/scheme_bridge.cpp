@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <mutex>
@@ -23,16 +24,44 @@ namespace py = pybind11;
 
 namespace {
 
+#ifndef FIXPOINT_PYTHON_EXECUTABLE
+#define FIXPOINT_PYTHON_EXECUTABLE "/usr/bin/python3"
+#endif
+
 /// Start the interpreter when the process has none (the fixpoint CLI), and let other threads
 /// take the GIL: the render's workers call the scheme.
 void ensure_interpreter() {
     static std::once_flag once;
     std::call_once(once, [] {
         if (Py_IsInitialized()) return;
+        PyConfig config;
+        PyConfig_InitPythonConfig(&config);
         // No signal handlers: the CLI's own SIGINT handler stops renders.
-        Py_InitializeEx(0);
+        config.install_signal_handlers = 0;
+        // The interpreter the build found (Debian's, with its numpy), as the Python module is
+        // built for: by default an embedded Python takes its prefix from the `python3` first on
+        // PATH (pyenv's, say), whose site-packages lack numpy.
+        PyConfig_SetBytesString(&config, &config.program_name, FIXPOINT_PYTHON_EXECUTABLE);
+        const PyStatus status = Py_InitializeFromConfig(&config);
+        PyConfig_Clear(&config);
+        if (PyStatus_Exception(status))
+            throw fp::ParamError(std::string("cannot start the Python of ") + FIXPOINT_PYTHON_EXECUTABLE + ": " +
+                                 (status.err_msg ? status.err_msg : "unknown error"));
         PyEval_SaveThread();
     });
+}
+
+/// Which Python ran the code, for an error that depends on it (a module it lacks).
+std::string interpreter_note(py::error_already_set& e) {
+    if (!e.matches(PyExc_ImportError)) return "";
+    try {
+        const py::module_ sys = py::module_::import("sys");
+        const std::string version = py::str(sys.attr("version"));
+        return " (python-scheme runs Python " + version.substr(0, version.find(' ')) + " of " +
+               std::string(py::str(sys.attr("prefix"))) + ")";
+    } catch (const py::error_already_set&) {
+        return "";
+    }
 }
 
 /// "file:line: Type: message" of the Python exception being handled, from its traceback's
@@ -81,6 +110,12 @@ public:
         std::string code;
         if (has_file) {
             source_ = p.string("file");
+            // A folder opens as a stream that reads nothing, and a FIFO or device would block
+            // or never end: a scheme is a regular file.
+            std::error_code ec;
+            const auto st = std::filesystem::status(source_, ec);
+            if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+                throw fp::ParamError("file", "'" + source_ + "' is not a regular file (a Python file is needed)");
             std::ifstream in(source_, std::ios::binary);
             if (!in)
                 throw fp::ParamError("file", "cannot read '" + source_ + "': " + std::strerror(errno) +
@@ -93,7 +128,12 @@ public:
             code = p.string("code");
         }
         ensure_interpreter();
+        const char* const key = has_file ? "file" : "code";
         py::gil_scoped_acquire gil;
+        // Every Python object lives in this block and reaches the members only once the scheme
+        // is whole: an exception then unwinds them here, with the GIL held. (Members assigned
+        // early were released by the unwinding after the GIL was: a scheme without `step`
+        // aborted the process.)
         try {
             // Each scheme its own namespace: two python-schemes never share globals.
             py::dict ns;
@@ -107,25 +147,26 @@ public:
             ns["np"] = py::module_::import("numpy");
             py::object compiled = builtins.attr("compile")(py::str(code), py::str(source_), "exec");
             builtins.attr("exec")(compiled, ns);
-            ns_ = ns;
             if (!ns.contains("step") || !PyCallable_Check(ns["step"].ptr()))
-                throw fp::ParamError(has_file ? "file" : "code",
-                                     source_ + " defines no function step(T, x, y, n)");
-            step_ = ns["step"];
+                throw fp::ParamError(key, source_ + " defines no function step(T, x, y, n)");
+            py::object step = ns["step"];
+            unsigned applications = 1;
             if (ns.contains("applications")) {
                 const long a = ns["applications"].cast<long>();
                 if (a < 1 || a > 64)
-                    throw fp::ParamError(has_file ? "file" : "code",
-                                         source_ + ": applications must be from 1 to 64, got " +
-                                             std::to_string(a));
-                applications_ = unsigned(a);
+                    throw fp::ParamError(key, source_ + ": applications must be from 1 to 64, got " +
+                                                  std::to_string(a));
+                applications = unsigned(a);
             }
-            if (ns.contains("picard")) picard_ = ns["picard"].cast<bool>();
+            const bool picard = ns.contains("picard") && ns["picard"].cast<bool>();
+            step_ = std::move(step);
+            ns_ = std::move(ns);
+            applications_ = applications;
+            picard_ = picard;
         } catch (py::error_already_set& e) {
-            throw fp::ParamError(has_file ? "file" : "code", describe(e, source_));
-        } catch (const py::cast_error& e) {
-            throw fp::ParamError(has_file ? "file" : "code",
-                                 source_ + ": 'applications' must be a whole number and 'picard' a bool");
+            throw fp::ParamError(key, describe(e, source_) + interpreter_note(e));
+        } catch (const py::cast_error&) {
+            throw fp::ParamError(key, source_ + ": 'applications' must be a whole number and 'picard' a bool");
         }
     }
 

@@ -126,6 +126,7 @@ struct Options {
     int columns = 0;
     unsigned threads = 0;
     bool quiet = false, force = false, check = false, verbose = false, draft = false, no_draft = false;
+    bool allow_python = false; // --allow-python: a recipe read from an image may run its Python
     std::string steps = "1";
     long long level = -1;
     // symmetry
@@ -358,7 +359,7 @@ std::string render_vector_checked(const Pipeline& p, unsigned threads, Format f,
 int cmd_addresses(const Options& o) {
     for (const auto& w : o.where) parse_where(w); // bad conditions before the work
     const Registry reg = make_registry(o);
-    const Pipeline p = told(load_pipeline(reg, o.config, o.sets));
+    const Pipeline p = told(load_pipeline(reg, o.config, o.sets, "", o.allow_python));
     std::vector<std::string> lines;
     try {
         lines = p.renderer->polygon_addresses(o.level);
@@ -463,9 +464,10 @@ int cmd_collection(const Options& o, bool validate_only) {
     const auto [path, values] = parse_vary(o.vary);
     std::vector<Pipeline> pipes;
     for (const auto& v : values) {
-        pipes.push_back(load_pipeline(reg, o.config, o.sets, path + "=" + v));
+        pipes.push_back(load_pipeline(reg, o.config, o.sets, path + "=" + v, o.allow_python));
         if (o.draft)
-            pipes.back() = load_pipeline(reg, o.config, with_draft(o, o.sets, pipes.back()), path + "=" + v);
+            pipes.back() =
+                load_pipeline(reg, o.config, with_draft(o, o.sets, pipes.back()), path + "=" + v, o.allow_python);
     }
     told(pipes[0]); // (every child has the same plugins: told once)
     const unsigned threads = o.threads ? o.threads : hardware_threads();
@@ -572,8 +574,8 @@ int cmd_render(const Options& o, bool validate_only) {
     if (o.draft && (o.print.dpi > 0 || !o.print.print_size.empty()))
         throw InputError("--draft: a quick small image: not with --dpi or --print-size");
     const Registry reg = make_registry(o);
-    Pipeline p = load_for_print(reg, o.config, o.sets, o.print);
-    if (o.draft) p = load_for_print(reg, o.config, with_draft(o, o.sets, p), o.print);
+    Pipeline p = load_for_print(reg, o.config, o.sets, o.print, o.allow_python);
+    if (o.draft) p = load_for_print(reg, o.config, with_draft(o, o.sets, p), o.print, o.allow_python);
     told(p);
     const unsigned threads = o.threads ? o.threads : hardware_threads();
     const std::uint64_t requested = o.memory.empty() ? 0 : parse_size(o.memory, "--memory");
@@ -1089,6 +1091,7 @@ int main(int argc, char** argv) {
                        "finished one to more points with --set renderer.points=N; checkpoints go on in FILE "
                        "unless --checkpoint names another");
     render->add_flag("-q,--quiet", o.quiet, "No progress bar, no summary");
+    render->add_flag("--allow-python", o.allow_python, "Run the Python of a python-scheme in a recipe read from an image (refused by default: an image may come from anywhere)");
     render->add_flag("--force", o.force,
                      "Replace an existing output that was not named with -o (the config's output.path or "
                      "the default name)");
@@ -1155,6 +1158,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1u, 4096u));
     explore->add_flag("-q,--quiet", o.quiet, "No summary lines");
     explore->add_flag("--force", ex.force, "Replace existing files in the folder");
+    explore->add_flag("--allow-python", ex.allow_python, "Run the Python of a python-scheme in a recipe read from an image (refused by default: an image may come from anywhere)");
     explore->footer(explore_help);
 
     auto* validate_cmd =
@@ -1167,6 +1171,7 @@ int main(int argc, char** argv) {
     validate_cmd->add_option("--memory", o.memory, "Memory to check the render against (as render --memory)");
     validate_cmd->add_flag("-q,--quiet", o.quiet, "Print nothing when valid");
     validate_cmd->add_flag("--force", o.force, "Check as render --force would");
+    validate_cmd->add_flag("--allow-python", o.allow_python, "Run the Python of a python-scheme in a recipe read from an image (refused by default: an image may come from anywhere)");
     validate_cmd->add_option("--vary", o.vary, "Check every child of a collection (as render --vary)");
 
     AnimateOptions ao;
@@ -1238,6 +1243,7 @@ int main(int argc, char** argv) {
     addresses->add_option("--level", o.level, "Level to list (default: the last)")
         ->check(CLI::Range(0LL, 1000LL));
     addresses->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
+    addresses->add_flag("--allow-python", o.allow_python, "Run the Python of a python-scheme in a recipe read from an image (refused by default: an image may come from anywhere)");
     addresses->add_option(
         "--where", o.where,
         "Only polygons that pass: 'centre in [x0, x1, y0, y1]', 'inside [...]' or 'meets [...]' "

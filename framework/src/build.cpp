@@ -386,6 +386,17 @@ std::unique_ptr<TObject> validate(const Registry& reg, Kind kind, const CNode& n
         fail(type->mark, path + ".type",
              quote(type->scalar) + " is " + article(kind_name(e->desc->kind)) + ", but this slot expects " +
                  article(kn));
+    // Code in a recipe read from an image: the image may come from anywhere, and rendering it
+    // must not run what it carries. (A --set on such a node does not launder the rest of it.)
+    if (e->desc->runs_code) {
+        bool refused = node.mark.refuse_code || type->mark.refuse_code;
+        for (const auto& [k, v] : node.keys) refused = refused || v.mark.refuse_code;
+        if (refused)
+            fail(type->mark, path,
+                 quote(type->scalar) +
+                     " runs the code it carries, and this config is the recipe of an image: fixpoint runs "
+                     "code from an image only with --allow-python (read the recipe first: fixpoint recipe IMAGE)");
+    }
     auto t = std::make_unique<TObject>();
     t->plugin = e;
     t->mark = node.mark;

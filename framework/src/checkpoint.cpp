@@ -85,8 +85,11 @@ std::uint64_t get64(const unsigned char* b) {
 
 void write_checkpoint_file(const std::string& path, const CheckpointHeader& header,
                            const std::function<void(CheckpointSink&)>& body) {
-    const std::string partial = path + ".partial";
-    const int fd = ::open(partial.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    // A temporary name of its own beside the file (never one that a planted link could
+    // redirect), synced and renamed over it.
+    fs::path partial_path;
+    const int fd = open_temp_beside(fs::path(path), partial_path);
+    const std::string partial = partial_path.string();
     if (fd < 0)
         throw WriteError("cannot write the checkpoint " + quote(path, 200) + ": " + std::strerror(errno));
     try {

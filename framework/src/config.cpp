@@ -26,6 +26,13 @@ std::string Mark::str() const {
 
 CNode::CNode() = default;
 
+void refuse_code(CNode& n) {
+    n.mark.refuse_code = true;
+    for (auto& m : n.key_marks) m.refuse_code = true;
+    for (auto& i : n.items) refuse_code(i);
+    for (auto& [k, v] : n.keys) refuse_code(v);
+}
+
 const CNode* CNode::find(const std::string& key) const {
     for (const auto& [k, v] : keys)
         if (k == key) return &v;

@@ -798,8 +798,7 @@ int run_explore(const Registry& reg, const ExploreOptions& o) {
     // The config with --set, validated as a whole first.
     // A config, or an image fixpoint wrote (its recipe); either without output.path, so that a
     // best-k.yaml rendered without -o does not write where the original did.
-    S.base =
-        is_recipe_image(o.config) ? parse_yaml(read_recipe(o.config), o.config) : load_yaml_file(o.config);
+    S.base = load_config(o.config, o.allow_python);
     if (CNode* out = S.base.find("output"); out && out->is_map())
         for (std::size_t i = 0; i < out->keys.size(); ++i)
             if (out->keys[i].first == "path") {

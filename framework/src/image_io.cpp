@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iterator>
 #include <mutex>
+#include <random>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -43,8 +44,31 @@ bool is_recipe_image(const std::string& path) {
     }
 }
 
-static fs::path temp_path_for(const fs::path& target) {
-    return target.parent_path() / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
+int open_temp_beside(const fs::path& target, fs::path& tmp) {
+    // The random part: unguessable enough that a link cannot be planted ahead, and unique
+    // between the threads of one process (serve writes side by side).
+    static std::mutex m;
+    static std::random_device seed;
+    static std::mt19937_64 rng(seed());
+    for (int attempt = 0; attempt < 64; ++attempt) {
+        std::uint64_t r;
+        {
+            const std::lock_guard<std::mutex> lock(m);
+            r = rng();
+        }
+        char hex[17];
+        std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(r));
+        tmp = target.parent_path() /
+              ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" + hex);
+        const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+        if (fd >= 0 || errno != EEXIST) {
+            if (fd < 0) tmp.clear();
+            return fd;
+        }
+    }
+    tmp.clear();
+    errno = EEXIST;
+    return -1;
 }
 
 static void check_image_module(const std::string& path);
@@ -62,9 +86,9 @@ void check_output(const std::string& path) {
     const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
     if (!fs::is_directory(dir, ec))
         throw InputError("cannot write '" + path + "': folder '" + dir.string() + "' does not exist");
-    // Probe with the temporary name the real write will use.
-    const fs::path probe = temp_path_for(target);
-    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+    // Probe with a temporary file as the real write will make.
+    fs::path probe;
+    const int fd = open_temp_beside(target, probe);
     if (fd < 0) throw InputError("cannot write '" + path + "': " + std::strerror(errno));
     ::close(fd);
     ::unlink(probe.c_str());
@@ -198,12 +222,8 @@ StreamedImage::StreamedImage(const std::string& path, int width, int height, int
     const bool tiles = tiled_file(path, width, height, tiled);
     const Format f = raster_format(path);
     m.api = &image_api();
-    m.tmp = temp_path_for(fs::path(path));
-    m.fd = ::open(m.tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (m.fd < 0) {
-        m.tmp.clear(); // (not ours to remove)
-        m.fail(std::strerror(errno));
-    }
+    m.fd = open_temp_beside(fs::path(path), m.tmp); // (m.tmp empty when it fails: nothing to remove)
+    if (m.fd < 0) m.fail(std::strerror(errno));
     std::string error;
     m.enc = m.api->stream_open(path, f, m.fd, width, height, bit_depth, recipe, resolution, tiles, error);
     if (!m.enc) m.fail(error);
@@ -280,8 +300,8 @@ void write_bytes(const std::string& bytes, const std::string& path) {
 
 void write_bytes(const char* data, std::size_t size, const std::string& path) {
     const fs::path target(path);
-    const fs::path tmp = temp_path_for(target);
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    fs::path tmp;
+    const int fd = open_temp_beside(target, tmp);
     if (fd < 0) throw InputError("cannot write '" + path + "': " + std::strerror(errno));
     std::size_t done = 0;
     while (done < size) {

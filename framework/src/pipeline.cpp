@@ -54,18 +54,24 @@ void used_plugins(const TObject& t, std::map<std::string, const PluginEntry*>& o
 
 } // namespace
 
-Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets,
-                       const std::string& vary) {
+CNode load_config(const std::string& path, bool allow_code) {
     const bool image = is_recipe_image(path);
     CNode root = parse_config(image ? read_recipe(path) : read_yaml_text(path), path);
-    if (image)
-        if (CNode* out = root.find("output"); out && out->is_map())
-            for (std::size_t i = 0; i < out->keys.size(); ++i)
-                if (out->keys[i].first == "path") {
-                    out->keys.erase(out->keys.begin() + std::ptrdiff_t(i));
-                    out->key_marks.erase(out->key_marks.begin() + std::ptrdiff_t(i));
-                    break;
-                }
+    if (!image) return root;
+    if (CNode* out = root.find("output"); out && out->is_map())
+        for (std::size_t i = 0; i < out->keys.size(); ++i)
+            if (out->keys[i].first == "path") {
+                out->keys.erase(out->keys.begin() + std::ptrdiff_t(i));
+                out->key_marks.erase(out->key_marks.begin() + std::ptrdiff_t(i));
+                break;
+            }
+    if (!allow_code) refuse_code(root);
+    return root;
+}
+
+Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets,
+                       const std::string& vary, bool allow_code) {
+    CNode root = load_config(path, allow_code);
     for (const auto& s : sets) apply_override(root, s);
     if (!vary.empty()) apply_override(root, vary, "--vary");
     return load_pipeline(reg, std::move(root));

@@ -73,7 +73,7 @@ Image repeat_image(const Image& img, const Repeat& r) {
 }
 
 Pipeline load_for_print(const Registry& reg, const std::string& config, std::vector<std::string> sets,
-                        const PrintRequest& req) {
+                        const PrintRequest& req, bool allow_code) {
     parse_repeat(req); // checked before the render
     if (req.dpi > 0 && !req.print_size.empty()) {
         const PrintSize size = parse_print_size(req.print_size);
@@ -91,7 +91,7 @@ Pipeline load_for_print(const Registry& reg, const std::string& config, std::vec
         if (size.height == 0 && !req.tile) {
             // The width alone: the height follows in proportion, so that the pixels keep their
             // shape over the renderer's view (a tile's height follows from its width anyway).
-            const Pipeline before = load_pipeline(reg, config, sets);
+            const Pipeline before = load_pipeline(reg, config, sets, "", allow_code);
             const double h = std::round(double(before.renderer->height()) * std::stod(width) /
                                         double(before.renderer->width()));
             sets.push_back("renderer.height=" + pixels(h / req.dpi, "a height (in proportion to the width)"));
@@ -101,8 +101,8 @@ Pipeline load_for_print(const Registry& reg, const std::string& config, std::vec
     } else if (!req.print_size.empty()) {
         parse_print_size(req.print_size); // checked before the render
     }
-    if (!req.tile) return load_pipeline(reg, config, sets);
-    const Pipeline plain = load_pipeline(reg, config, sets);
+    if (!req.tile) return load_pipeline(reg, config, sets, "", allow_code);
+    const Pipeline plain = load_pipeline(reg, config, sets, "", allow_code);
     const PluginEntry* r = reg.find(plain.renderer_type);
     bool declares = false;
     for (std::uint32_t i = 0; r && r->desc && i < r->desc->n_params; ++i)
@@ -113,7 +113,7 @@ Pipeline load_for_print(const Registry& reg, const std::string& config, std::vec
                          "wallpaper mapping)");
     sets.push_back("renderer.tile=true");
     try {
-        Pipeline p = load_pipeline(reg, config, sets);
+        Pipeline p = load_pipeline(reg, config, sets, "", allow_code);
         const Repeat r = parse_repeat(req);
         if (r.across * r.down > 1 && (std::int64_t(p.renderer->width()) * r.across > 65536 ||
                                       std::int64_t(p.renderer->height()) * r.down > 65536))

@@ -104,4 +104,5 @@ FIXPOINT_PLUGIN(fp::describe<PythonScheme>(
                     fp::Kind::IterationScheme, "python-scheme",
                     "an iteration scheme written in Python: step(T, x, y, n) on numpy arrays", params)
                     .with_example("{code: \"a = args[0]\\ndef step(T, x, y, n):\\n    tx, ty = T(x, y)\\n"
-                                  "    return (1 - a) * x + a * tx, (1 - a) * y + a * ty\\n\", args: [0.5]}"))
+                                  "    return (1 - a) * x + a * tx, (1 - a) * y + a * ty\\n\", args: [0.5]}")
+                    .with_runs_code())

@@ -47,7 +47,8 @@ def _config(config):
     raise TypeError(f"config: expected a path, a YAML string or a dict, got {type(config).__name__}")
 
 
-def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None, **overrides):
+def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None, allow_python=False,
+           **overrides):
     """Render a config and return ``(image, recipe)``.
 
     config     a config file (or an image fixpoint wrote: its recipe), YAML text, or a dict.
@@ -60,6 +61,8 @@ def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None
     output     also write the image there, with its recipe, as ``fixpoint render -o`` does.
     dtype      None: the pixels as the image file stores them (uint8, or uint16 for
                ``output.bit_depth: 16``), equal to the PNG's; "float32": linear floats.
+    allow_python  run the Python of a python-scheme in an image's recipe (refused by
+               default, as ``fixpoint render --allow-python``: an image may come from anywhere).
 
     The GIL is released while rendering; Ctrl-C stops the render (KeyboardInterrupt).
     ``render.last_stats`` holds the last render's summary (points, restarts, ...).
@@ -70,7 +73,8 @@ def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None
         raise ValueError(f"dtype: expected None or 'float32', got {dtype!r}")
     try:
         pixels, recipe, stats, warns, bit_depth = _fixpoint.render(
-            text, is_text, assignments, int(threads), progress, os.fspath(output) if output else "")
+            text, is_text, assignments, int(threads), progress, os.fspath(output) if output else "",
+            bool(allow_python))
     finally:
         _warn()
     for w in warns:

@@ -32,10 +32,11 @@ namespace fp {
 /// CheckpointSource, Renderer::keeps_checkpoints, for checkpoints; ABI 13:
 /// IterationScheme::program and SchemeProgram, for the chaos game's fused step with any
 /// scheme; ABI 14: Histogram::hits, size and hits_at, Colourer::reads_hits_only, histograms of
-/// hit counts alone):
+/// hit counts alone; ABI 15: PluginDescriptor::runs_code, so that the host refuses code from
+/// a recipe read from an image):
 /// the host refuses a plugin built for another value ("rebuild it against this SDK"), so a
 /// plugin always matches the headers the host was built with.
-constexpr std::uint32_t abi_version = 14;
+constexpr std::uint32_t abi_version = 15;
 
 struct PluginDescriptor {
     std::uint32_t abi = abi_version;
@@ -49,7 +50,16 @@ struct PluginDescriptor {
     /// builds from it (defaults fill the rest). "{}" when the defaults suffice.
     const char* example = "{}";
     Object* (*create)(const ParamBag&) = nullptr;
+    /// Building an instance runs code its parameters carry (python-scheme's Python). The host
+    /// refuses such a plugin in a recipe read from an image (a file from anywhere) unless the
+    /// user allows it (--allow-python), as it refuses it in serve's configs.
+    bool runs_code = false;
 
+    constexpr PluginDescriptor with_runs_code() const {
+        auto d = *this;
+        d.runs_code = true;
+        return d;
+    }
     constexpr PluginDescriptor with_version(const char* v) const {
         auto d = *this;
         d.version = v;

@@ -18,6 +18,9 @@ namespace fp::host {
 struct Mark {
     std::shared_ptr<const std::string> source;
     int line = 0, col = 0;
+    /// Read from a recipe embedded in an image (a file from anywhere) without --allow-python:
+    /// a plugin that runs code (python-scheme) is refused here (validate).
+    bool refuse_code = false;
     std::string str() const; ///< "file:line:col"
 };
 
@@ -61,6 +64,10 @@ CNode load_yaml_file(const std::string& path);
 /// A file's text, refused (fp::InputError "path: ...") when it cannot be read or is larger
 /// than max_yaml_bytes.
 std::string read_yaml_text(const std::string& path);
+
+/// Mark every node of `root` as read from an image's recipe that may not run code
+/// (Mark::refuse_code).
+void refuse_code(CNode& root);
 
 /// Apply `path.to.param=value` (value is YAML) to `root`. Throws fp::InputError.
 /// `flag` names the option in messages (--set, --vary).

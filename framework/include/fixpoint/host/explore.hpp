@@ -25,6 +25,7 @@ struct ExploreOptions {
     long long draft_points = 100000;
     unsigned threads = 0; ///< 0: all cores
     bool force = false;
+    bool allow_python = false; ///< --allow-python: a config from an image may run code
     const std::atomic<bool>* cancel = nullptr;
     std::function<void(const std::string&)> info; ///< progress lines (may be empty: silent)
 };

@@ -9,6 +9,7 @@
 #include <fixpoint/errors.hpp>
 #include <fixpoint/render.hpp>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -97,6 +98,11 @@ private:
 /// conversion, the one write_image uses): width * height * channels values of `bit_depth` bits
 /// at `out` (std::uint8_t or std::uint16_t).
 void quantise_pixels(const Image& img, int bit_depth, void* out);
+/// A new temporary file beside `target`, for a write renamed over it when complete: a name of
+/// its own (".NAME.tmp-PID-RANDOM"), created with O_CREAT | O_EXCL | O_NOFOLLOW, so that
+/// nothing planted at a guessable name (a symbolic link out of the folder) is followed or
+/// written through. Returns the descriptor and sets `tmp`; -1 with errno set when it cannot.
+int open_temp_beside(const std::filesystem::path& target, std::filesystem::path& tmp);
 /// Write a whole file (a vector document) atomically, as write_image does. Throws fp::InputError.
 void write_bytes(const std::string& bytes, const std::string& path);
 void write_bytes(const char* data, std::size_t size, const std::string& path);

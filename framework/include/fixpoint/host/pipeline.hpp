@@ -40,12 +40,16 @@ struct Pipeline {
     std::vector<std::string> warnings;
 };
 
-/// Parse, apply the overrides (`sets`, then `vary`: one more assignment from --vary), validate,
-/// build. `path` may name an image fixpoint wrote (PNG, EXR, TIFF, SVG): its recipe is the
-/// config, without the recipe's output.path (an image from elsewhere does not choose where
-/// fixpoint writes).
+/// The tree of a config file. `path` may name an image fixpoint wrote (PNG, EXR, TIFF, SVG):
+/// its recipe is the config, without the recipe's output.path (an image from elsewhere does not
+/// choose where fixpoint writes), and a plugin in it that runs code (python-scheme) is refused
+/// unless `allow_code` (--allow-python): an image may come from anywhere.
+CNode load_config(const std::string& path, bool allow_code);
+
+/// Parse (load_config), apply the overrides (`sets`, then `vary`: one more assignment from
+/// --vary), validate, build.
 Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets,
-                       const std::string& vary = "");
+                       const std::string& vary = "", bool allow_code = false);
 Pipeline load_pipeline(const Registry& reg, CNode root);
 
 /// Refuse, before it starts, a render that needs more memory than the machine has available

@@ -47,9 +47,9 @@ Image repeat_image(const Image& img, const Repeat& r);
 ///     renders one period (with a wallpaper mapping)", and the renderer's refusal of `tile`
 ///     is said as "--tile: ...";
 ///   --repeat: checked (NxM, with --tile, at most 65536 pixels across and down).
-/// Throws fp::InputError.
+/// `allow_code` as load_pipeline's. Throws fp::InputError.
 Pipeline load_for_print(const Registry& reg, const std::string& config, std::vector<std::string> sets,
-                        const PrintRequest& req);
+                        const PrintRequest& req, bool allow_code = false);
 
 /// The resolution to declare for a width x height image: --dpi as given, or, from --print-size
 /// alone, pixels / inches (the height's when given, else the width's for both: square pixels).
