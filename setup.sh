@@ -6,7 +6,8 @@
 #   ./setup.sh test    the same, then run every test (this is what CI runs); then build again
 #                      in build-asan with clang, ASan, UBSan and libFuzzer's coverage, run
 #                      the unit, CLI and conformance tests there and fuzz the validate path
-#                      for a minute (tests/fuzz/run.sh). Under CI, warnings are errors in
+#                      for a minute, serve's requests and the checkpoint reader for half a
+#                      minute each (tests/fuzz/run.sh). Under CI, warnings are errors in
 #                      both builds; elsewhere the first command's build is reused as it is.
 #                      FIXPOINT_QUICK=1 skips the build-asan stage (not under CI).
 #
@@ -132,5 +133,7 @@ started=$SECONDS
 ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -E '^(clang_format|external_plugin|external_scheme|doc_code_blocks|browser_page)$'
 stage "tests (build-asan)"
 started=$SECONDS
-tests/fuzz/run.sh build-asan 60
+tests/fuzz/run.sh build-asan 60 validate
+tests/fuzz/run.sh build-asan 30 serve
+tests/fuzz/run.sh build-asan 30 checkpoint
 stage "fuzzing (build-asan)"

@@ -12,6 +12,7 @@
 #include <pybind11/pybind11.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -27,6 +28,43 @@ namespace {
 #ifndef FIXPOINT_PYTHON_EXECUTABLE
 #define FIXPOINT_PYTHON_EXECUTABLE "/usr/bin/python3"
 #endif
+
+// Ctrl-C and SIGTERM reach both the CLI and the Python code: the CLI's handler sets its flag
+// (the render stops), and Python's makes the running code raise KeyboardInterrupt at its next
+// bytecode, so that a scheme looping at load (or in a step) stops too. Each handler is called
+// from this one, which is set over both.
+struct sigaction g_host_handler[2], g_python_handler[2];
+
+extern "C" void on_signal(int sig) {
+    const int i = sig == SIGINT ? 0 : 1;
+    for (const struct sigaction* a : {&g_host_handler[i], &g_python_handler[i]})
+        if (!(a->sa_flags & SA_SIGINFO) && a->sa_handler != SIG_DFL && a->sa_handler != SIG_IGN)
+            a->sa_handler(sig);
+}
+
+/// Python's KeyboardInterrupt for SIGINT and SIGTERM, beside the handlers the host set
+/// (only where the host set its own: a process that leaves them to the default ends at once).
+void chain_signals() {
+    int i = 0;
+    for (const int sig : {SIGINT, SIGTERM}) {
+        struct sigaction current {};
+        sigaction(sig, nullptr, &current);
+        if ((current.sa_flags & SA_SIGINFO) || current.sa_handler == SIG_DFL ||
+            current.sa_handler == SIG_IGN) {
+            ++i;
+            continue;
+        }
+        g_host_handler[i] = current;
+        // Python's own C handler, installed by signal.signal, then taken back under ours.
+        py::module_::import("signal").attr("signal")(
+            sig, py::module_::import("signal").attr("default_int_handler"));
+        struct sigaction ours {};
+        ours.sa_handler = on_signal;
+        sigemptyset(&ours.sa_mask);
+        sigaction(sig, &ours, &g_python_handler[i]);
+        ++i;
+    }
+}
 
 /// Start the interpreter when the process has none (the fixpoint CLI), and let other threads
 /// take the GIL: the render's workers call the scheme.
@@ -45,8 +83,13 @@ void ensure_interpreter() {
         const PyStatus status = Py_InitializeFromConfig(&config);
         PyConfig_Clear(&config);
         if (PyStatus_Exception(status))
-            throw fp::ParamError(std::string("cannot start the Python of ") + FIXPOINT_PYTHON_EXECUTABLE + ": " +
-                                 (status.err_msg ? status.err_msg : "unknown error"));
+            throw fp::ParamError(std::string("cannot start the Python of ") + FIXPOINT_PYTHON_EXECUTABLE +
+                                 ": " + (status.err_msg ? status.err_msg : "unknown error"));
+        try {
+            chain_signals();
+        } catch (const py::error_already_set&) {
+            // (No signal module: Ctrl-C still stops the render, between batches.)
+        }
         PyEval_SaveThread();
     });
 }
@@ -115,7 +158,8 @@ public:
             std::error_code ec;
             const auto st = std::filesystem::status(source_, ec);
             if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
-                throw fp::ParamError("file", "'" + source_ + "' is not a regular file (a Python file is needed)");
+                throw fp::ParamError("file",
+                                     "'" + source_ + "' is not a regular file (a Python file is needed)");
             std::ifstream in(source_, std::ios::binary);
             if (!in)
                 throw fp::ParamError("file", "cannot read '" + source_ + "': " + std::strerror(errno) +
@@ -164,9 +208,11 @@ public:
             applications_ = applications;
             picard_ = picard;
         } catch (py::error_already_set& e) {
+            if (e.matches(PyExc_KeyboardInterrupt)) throw fp::Cancelled();
             throw fp::ParamError(key, describe(e, source_) + interpreter_note(e));
         } catch (const py::cast_error&) {
-            throw fp::ParamError(key, source_ + ": 'applications' must be a whole number and 'picard' a bool");
+            throw fp::ParamError(key,
+                                 source_ + ": 'applications' must be a whole number and 'picard' a bool");
         }
     }
 
@@ -231,6 +277,7 @@ private:
             for (std::size_t i = 0; i < p.n; ++i)
                 if (!mask || mask[i]) p.x[i] = ax[i], p.y[i] = ay[i];
         } catch (py::error_already_set& e) {
+            if (e.matches(PyExc_KeyboardInterrupt)) throw fp::Cancelled();
             throw fp::InputError("python-scheme: " + describe(e, source_));
         } catch (const py::cast_error& e) {
             throw fp::InputError("python-scheme: " + source_ +

@@ -63,17 +63,34 @@ struct AgreedFailure {
 // Under mpirun, once every check before a render has passed on this rank: wait for the
 // others' verdicts. A rank that failed makes every rank stop here with its error line, before
 // any rank starts the work (and its collective calls).
-void agree_checks() {
+void agree_checks(const std::string& recipes) {
     if (ranks::size() <= 1 || ranks::phase() != ranks::Phase::checking) return;
-    const ranks::Verdict v = ranks::agree(0, "");
+    const ranks::Verdict v = ranks::agree(0, "", ranks::fingerprint(recipes));
     ranks::set_phase(v.code ? ranks::Phase::free : ranks::Phase::rendering);
     if (v.code) throw AgreedFailure{v};
+}
+
+// An error line as the terminal shows it: one line whatever the input it echoes held
+// (newlines, terminal escapes, bytes that are not UTF-8 become escapes), and of a readable
+// length: a line longer than about 1000 characters keeps its start and its end (where the
+// reason is) and says how much was cut (a 4 kB file name quoted twice).
+std::string error_line(const std::string& raw) {
+    const std::string line = excerpt(raw, std::string::npos);
+    constexpr std::size_t keep = 480;
+    if (line.size() <= 2 * keep + 64) return line;
+    // Cut at UTF-8 character boundaries.
+    std::size_t head = keep, tail = line.size() - keep;
+    while (head > 0 && (static_cast<unsigned char>(line[head]) & 0xc0) == 0x80) --head;
+    while (tail < line.size() && (static_cast<unsigned char>(line[tail]) & 0xc0) == 0x80) ++tail;
+    return line.substr(0, head) + " [... " + std::to_string(tail - head) + " bytes cut ...] " +
+           line.substr(tail);
 }
 
 // An error line and the exit code: as is on one process; under mpirun, as the rank's phase
 // requires (host/ranks.hpp): agreed with the others during the checks, or ending the whole job
 // during the render (the other ranks may be waiting for this one).
-int report(int code, const std::string& line) {
+int report(int code, const std::string& raw) {
+    const std::string line = error_line(raw);
     if (ranks::size() <= 1) {
         std::fprintf(stderr, "%s\n", line.c_str());
         return code;
@@ -466,8 +483,8 @@ int cmd_collection(const Options& o, bool validate_only) {
     for (const auto& v : values) {
         pipes.push_back(load_pipeline(reg, o.config, o.sets, path + "=" + v, o.allow_python));
         if (o.draft)
-            pipes.back() =
-                load_pipeline(reg, o.config, with_draft(o, o.sets, pipes.back()), path + "=" + v, o.allow_python);
+            pipes.back() = load_pipeline(reg, o.config, with_draft(o, o.sets, pipes.back()), path + "=" + v,
+                                         o.allow_python);
     }
     told(pipes[0]); // (every child has the same plugins: told once)
     const unsigned threads = o.threads ? o.threads : hardware_threads();
@@ -486,7 +503,9 @@ int cmd_collection(const Options& o, bool validate_only) {
         check_tiled(pipes[k], child_path(out, k + 1));
     }
     if (g_interrupted.load()) throw Cancelled(); // during the checks above
-    agree_checks();
+    std::string recipes;
+    for (const auto& p : pipes) recipes += p.recipe;
+    agree_checks(recipes);
     if (validate_only) {
         if (!o.quiet)
             spdlog::info("{}: valid: a collection of {} children to {}", o.config, pipes.size(), out);
@@ -539,15 +558,17 @@ int cmd_collection(const Options& o, bool validate_only) {
                                 : ", " + std::to_string(stats[k].restarts) + " restarted chains");
         captions.push_back(path.substr(path.rfind('.') + 1) + " = " + values[k]);
     }
+    // All the files or none: a Ctrl-C or a full disk half way removes those written.
+    FileSet files(&g_interrupted);
     for (std::size_t k = 0; k < pipes.size(); ++k)
-        write_image(children[k], child_path(out, k + 1), pipes[k].bit_depth, pipes[k].recipe, {},
-                    pipes[k].tiled);
+        files.image(children[k], child_path(out, k + 1), pipes[k].bit_depth, pipes[k].recipe, pipes[k].tiled);
     bool text = true;
     const Image sheet = contact_sheet(children, captions, o.columns, &text);
     if (!text) spdlog::warn("warning: no font found for the captions (install fonts-dejavu-core)");
-    write_image(sheet, out, pipes[0].bit_depth,
+    files.image(sheet, out, pipes[0].bit_depth,
                 "# contact sheet: --vary " + o.vary + "; children " + child_path(out, 1) + " ... " +
                     child_path(out, pipes.size()) + "\n# the recipe of the first child:\n" + pipes[0].recipe);
+    files.commit();
     if (!o.quiet)
         spdlog::info("{}: contact sheet of {} children ({} ... {}) in {:.2f} s{}", out, pipes.size(),
                      child_path(out, 1), child_path(out, pipes.size()), total,
@@ -603,11 +624,15 @@ int cmd_render(const Options& o, bool validate_only) {
                             !vector && parse_repeat(o.print).across * parse_repeat(o.print).down == 1, held);
     Checkpoints checkpoints = plan_checkpoints(o, p, out, vector, memory.stream);
     if (g_interrupted.load()) throw Cancelled(); // during the checks above
-    agree_checks();
+    agree_checks(p.recipe);
     if (validate_only) {
-        if (!o.quiet)
+        // The animation's frames are checked before "valid" is said of anything.
+        const std::string animation = validate_animation(reg, o.config, o.sets, &g_interrupted);
+        if (!o.quiet) {
             spdlog::info("{}: valid: a {}x{} render to {}", o.config, p.renderer->width(),
                          p.renderer->height(), out);
+            if (!animation.empty()) spdlog::info("{}: valid: {}", o.config, animation);
+        }
         return 0;
     }
 
@@ -668,14 +693,8 @@ int cmd_render(const Options& o, bool validate_only) {
 }
 
 // validate: the config as render takes it, and every frame of its animation: section if any.
-int cmd_validate(const Options& o) {
-    const int rc = cmd_render(o, true);
-    if (rc == 0 && o.vary.empty())
-        if (const std::string a = validate_animation(make_registry(o), o.config, o.sets);
-            !a.empty() && !o.quiet)
-            spdlog::info("{}: valid: {}", o.config, a);
-    return rc;
-}
+// validate: render's checks, and an animation's frames (cmd_render's validate_only).
+int cmd_validate(const Options& o) { return cmd_render(o, true); }
 
 // animate: framework/src/animate.cpp; each frame rendered as render renders one.
 int cmd_animate(const Options& o, AnimateOptions ao) {
@@ -1031,6 +1050,9 @@ int cmd_conformance(const Options& o) {
 } // namespace
 
 int main(int argc, char** argv) {
+    // A file-size limit (ulimit -f) must make a write fail with EFBIG, reported and cleaned up
+    // like a full disk, not kill the process with its temporary file left behind.
+    std::signal(SIGXFSZ, SIG_IGN);
     auto logger = spdlog::stderr_logger_st("fixpoint");
     logger->set_pattern("%v");
     spdlog::set_default_logger(logger);
@@ -1091,7 +1113,9 @@ int main(int argc, char** argv) {
                        "finished one to more points with --set renderer.points=N; checkpoints go on in FILE "
                        "unless --checkpoint names another");
     render->add_flag("-q,--quiet", o.quiet, "No progress bar, no summary");
-    render->add_flag("--allow-python", o.allow_python, "Run the Python of a python-scheme in a recipe read from an image (refused by default: an image may come from anywhere)");
+    render->add_flag("--allow-python", o.allow_python,
+                     "Run the Python of a python-scheme in a recipe read from an image (refused by default: "
+                     "an image may come from anywhere)");
     render->add_flag("--force", o.force,
                      "Replace an existing output that was not named with -o (the config's output.path or "
                      "the default name)");
@@ -1158,7 +1182,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1u, 4096u));
     explore->add_flag("-q,--quiet", o.quiet, "No summary lines");
     explore->add_flag("--force", ex.force, "Replace existing files in the folder");
-    explore->add_flag("--allow-python", ex.allow_python, "Run the Python of a python-scheme in a recipe read from an image (refused by default: an image may come from anywhere)");
+    explore->add_flag("--allow-python", ex.allow_python,
+                      "Run the Python of a python-scheme in a recipe read from an image (refused by default: "
+                      "an image may come from anywhere)");
     explore->footer(explore_help);
 
     auto* validate_cmd =
@@ -1171,7 +1197,9 @@ int main(int argc, char** argv) {
     validate_cmd->add_option("--memory", o.memory, "Memory to check the render against (as render --memory)");
     validate_cmd->add_flag("-q,--quiet", o.quiet, "Print nothing when valid");
     validate_cmd->add_flag("--force", o.force, "Check as render --force would");
-    validate_cmd->add_flag("--allow-python", o.allow_python, "Run the Python of a python-scheme in a recipe read from an image (refused by default: an image may come from anywhere)");
+    validate_cmd->add_flag("--allow-python", o.allow_python,
+                           "Run the Python of a python-scheme in a recipe read from an image (refused by "
+                           "default: an image may come from anywhere)");
     validate_cmd->add_option("--vary", o.vary, "Check every child of a collection (as render --vary)");
 
     AnimateOptions ao;
@@ -1243,7 +1271,9 @@ int main(int argc, char** argv) {
     addresses->add_option("--level", o.level, "Level to list (default: the last)")
         ->check(CLI::Range(0LL, 1000LL));
     addresses->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
-    addresses->add_flag("--allow-python", o.allow_python, "Run the Python of a python-scheme in a recipe read from an image (refused by default: an image may come from anywhere)");
+    addresses->add_flag("--allow-python", o.allow_python,
+                        "Run the Python of a python-scheme in a recipe read from an image (refused by "
+                        "default: an image may come from anywhere)");
     addresses->add_option(
         "--where", o.where,
         "Only polygons that pass: 'centre in [x0, x1, y0, y1]', 'inside [...]' or 'meets [...]' "

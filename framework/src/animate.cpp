@@ -560,14 +560,23 @@ frame.
 )";
 }
 
+// Every frame's config checked; Ctrl-C polled between frames (an animation may have 100 000).
+void check_frames(const Registry& reg, const CNode& root, const Animation& a,
+                  const std::atomic<bool>* interrupted) {
+    for (long k = 0; k < a.frames; ++k) {
+        if (interrupted && interrupted->load()) throw Cancelled();
+        frame_pipeline(reg, root, a, k);
+    }
+}
+
 std::string validate_animation(const Registry& reg, const std::string& config,
-                               const std::vector<std::string>& sets) {
+                               const std::vector<std::string>& sets, const std::atomic<bool>* interrupted) {
     if (is_recipe_image(config)) return "";
     CNode root = load_yaml_file(config);
     for (const auto& s : sets) apply_override(root, s);
     if (!has_animation(root)) return "";
     const Animation a = prepare(reg, root);
-    for (long k = 0; k < a.frames; ++k) frame_pipeline(reg, root, a, k);
+    check_frames(reg, root, a, interrupted);
     return "an animation of " + std::to_string(a.frames) + " frame" + (a.frames == 1 ? "" : "s") + " (" +
            std::to_string(a.keys.size()) + " key" + (a.keys.size() == 1 ? "" : "s") + ")";
 }
@@ -583,7 +592,7 @@ int animate(const Registry& reg, const AnimateOptions& o, const FrameRenderer& r
         o.frames.empty() ? std::pair<long, long>{0, a.frames - 1} : parse_range(o.frames, a.frames);
     if (o.list) {
         // Every frame is checked first: a listing is of frames that render.
-        for (long k = 0; k < a.frames; ++k) frame_pipeline(reg, root, a, k);
+        check_frames(reg, root, a, interrupted);
         for (long k = first; k <= last; ++k) {
             std::string line = std::to_string(k);
             for (const auto& key : a.keys)

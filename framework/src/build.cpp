@@ -271,6 +271,11 @@ TParam validate_param(const Registry& reg, const ParamSpec& s, const CNode& n, c
     case ParamType::Real: t.value = real_value(s, n, path); break;
     case ParamType::String: {
         if (!n.is_scalar()) fail(n.mark, path, "expected a string, got " + n.describe());
+        // ("\0" in a quoted YAML string): a file name would end there, silently another file.
+        if (n.scalar.find('\0') != std::string::npos)
+            fail(n.mark, path,
+                 "the text holds a NUL character (\\0), which no name or text of a plugin takes: " +
+                     quote(n.scalar, 80));
         if (s.choices) {
             std::vector<std::string> options;
             std::string all = s.choices;
@@ -395,7 +400,8 @@ std::unique_ptr<TObject> validate(const Registry& reg, Kind kind, const CNode& n
             fail(type->mark, path,
                  quote(type->scalar) +
                      " runs the code it carries, and this config is the recipe of an image: fixpoint runs "
-                     "code from an image only with --allow-python (read the recipe first: fixpoint recipe IMAGE)");
+                     "code from an image only with --allow-python (read the recipe first: fixpoint recipe " +
+                     (type->mark.source ? *type->mark.source : std::string("IMAGE")) + ")");
     }
     auto t = std::make_unique<TObject>();
     t->plugin = e;

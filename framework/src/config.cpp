@@ -234,6 +234,19 @@ CNode parse_yaml(const std::string& text, const std::string& source) {
     if (text.size() > max_yaml_bytes)
         throw InputError(source + ": file too large (" + std::to_string(text.size()) + " bytes; at most " +
                          std::to_string(max_yaml_bytes) + ")");
+    // yaml-cpp guesses UTF-16 or UTF-32 from a byte-order mark or from NUL bytes among the first
+    // four ("a\0" read as UTF-16): a config is UTF-8, and a NUL byte is in no text of one.
+    const auto starts = [&](std::string_view bom) { return text.compare(0, bom.size(), bom) == 0; };
+    if (starts("\xff\xfe") || starts("\xfe\xff") || starts(std::string_view("\0\0\xfe\xff", 4)))
+        throw InputError(source +
+                         ":1:1: the text is UTF-16 or UTF-32: fixpoint reads UTF-8 (save it as UTF-8)");
+    if (const auto nul = text.find('\0'); nul != std::string::npos) {
+        const auto line = std::count(text.begin(), text.begin() + std::ptrdiff_t(nul), '\n') + 1;
+        const auto col =
+            nul - (text.rfind('\n', nul) == std::string::npos ? 0 : text.rfind('\n', nul) + 1) + 1;
+        throw InputError(source + ":" + std::to_string(line) + ":" + std::to_string(col) +
+                         ": a NUL byte: a config is UTF-8 text (UTF-16 and UTF-32 are refused)");
+    }
     try {
         {
             std::istringstream in(text);

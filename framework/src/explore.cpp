@@ -979,6 +979,8 @@ int run_explore(const Registry& reg, const ExploreOptions& o) {
     for (const auto& p : o.params) command += " --param '" + p + "'";
     for (const auto& r : o.random) command += " --random " + r;
     if (!o.weights.empty()) command += " --weights " + o.weights;
+    // All the files or none: a Ctrl-C or a full disk half way removes those written.
+    FileSet written(o.cancel);
     for (std::size_t k = 0; k < keep; ++k) {
         const Candidate& c = *ranked[k];
         std::string head = "# " + command + "\n# rank " + std::to_string(k + 1) + " of " +
@@ -987,12 +989,12 @@ int run_explore(const Registry& reg, const ExploreOptions& o) {
                            measures_line(c) + "\n";
         for (const auto& s : c.overrides) head += "# " + s + "\n";
         const std::string base_name = (dir / ("best-" + std::to_string(k + 1))).string();
-        write_bytes(head + emit_yaml(roots[k]), base_name + ".yaml");
-        write_image(images[k], base_name + ".png", pipes[k].bit_depth, pipes[k].recipe);
+        written.bytes(head + emit_yaml(roots[k]), base_name + ".yaml");
+        written.image(images[k], base_name + ".png", pipes[k].bit_depth, pipes[k].recipe);
     }
     const Image sheet = contact_sheet(images, captions, o.columns);
-    write_image(sheet, (dir / "sheet.png").string(), 8,
-                "# contact sheet: " + command + "\n# the recipe of best-1:\n" + pipes[0].recipe);
+    written.image(sheet, (dir / "sheet.png").string(), 8,
+                  "# contact sheet: " + command + "\n# the recipe of best-1:\n" + pipes[0].recipe);
 
     // Every candidate: ranked ones by rank, then the refused ones.
     std::string tsv = "rank\tid\tgeneration\tscore";
@@ -1015,7 +1017,8 @@ int run_explore(const Registry& reg, const ExploreOptions& o) {
     for (std::size_t k = 0; k < ranked.size(); ++k) row(*ranked[k], std::to_string(k + 1));
     for (const auto& c : S.all)
         if (!c.valid) row(c, "-");
-    write_bytes(tsv, (dir / "candidates.tsv").string());
+    written.bytes(tsv, (dir / "candidates.tsv").string());
+    written.commit();
     say(o.out_dir + ": best-1 ... best-" + std::to_string(keep) +
         " (.yaml, .png), sheet.png, candidates.tsv");
     return 0;

@@ -331,6 +331,28 @@ void write_bytes(const char* data, std::size_t size, const std::string& path) {
     }
 }
 
+FileSet::~FileSet() {
+    std::error_code ec;
+    for (const auto& f : written_) fs::remove(f, ec);
+}
+
+void FileSet::poll() const {
+    if (cancel_ && cancel_->load()) throw Cancelled();
+}
+
+void FileSet::image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
+                    Tiled tiled) {
+    poll();
+    write_image(img, path, bit_depth, recipe, {}, tiled);
+    written_.push_back(path);
+}
+
+void FileSet::bytes(const std::string& data, const std::string& path) {
+    poll();
+    write_bytes(data, path);
+    written_.push_back(path);
+}
+
 std::string read_recipe(const std::string& path) {
     // A device or a pipe (/dev/zero) would be read for ever: a recipe lives in a file.
     std::error_code ec;

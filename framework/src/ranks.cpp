@@ -140,12 +140,23 @@ void recv(unsigned from, void* data, std::size_t bytes) {
               "receive");
 }
 
-Verdict agree(int code, const std::string& message) {
+Verdict agree(int code, const std::string& message, std::uint64_t fingerprint) {
     if (g_size <= 1) return {code, message};
     std::vector<int> codes(g_size);
     check(MPI_Allgather(&code, 1, MPI_INT, codes.data(), 1, MPI_INT, MPI_COMM_WORLD), "allgather");
+    std::vector<std::uint64_t> prints(g_size);
+    check(MPI_Allgather(&fingerprint, 1, MPI_UINT64_T, prints.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD),
+          "allgather");
     const auto first = std::find_if(codes.begin(), codes.end(), [](int c) { return c != 0; });
-    if (first == codes.end()) return {};
+    if (first == codes.end()) {
+        const auto other =
+            std::find_if(prints.begin(), prints.end(), [&](std::uint64_t f) { return f != prints[0]; });
+        if (other == prints.end()) return {};
+        return {2, "fixpoint: rank " + std::to_string(other - prints.begin()) + " of " +
+                       std::to_string(g_size) +
+                       " would render another recipe than rank 0 (another config, --set, seed or plugin "
+                       "build on its machine): every rank must render the same; nothing rendered"};
+    }
     const int root = int(first - codes.begin());
     Verdict v{*first, g_rank == unsigned(root) ? message : std::string()};
     int len = int(v.message.size());
@@ -159,7 +170,13 @@ void combine(void*, std::size_t, std::size_t, const std::function<void(const voi
              bool) {}
 void send(unsigned, const void*, std::size_t) { throw InternalError("send: a build without MPI"); }
 void recv(unsigned, void*, std::size_t) { throw InternalError("recv: a build without MPI"); }
-Verdict agree(int code, const std::string& message) { return {code, message}; }
+Verdict agree(int code, const std::string& message, std::uint64_t) { return {code, message}; }
 #endif
+
+std::uint64_t fingerprint(const std::string& text) {
+    std::uint64_t h = 14695981039346656037ull;
+    for (const unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+    return h;
+}
 
 } // namespace fp::host::ranks

@@ -8,12 +8,16 @@
 
 #include <fixpoint/errors.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <fstream>
+#include <optional>
+#include <sstream>
 #include <string>
+#include <sys/resource.h>
 #include <thread>
 #include <unistd.h>
 
@@ -83,15 +87,60 @@ unsigned hardware_threads() {
     return n ? n : 1;
 }
 
+namespace {
+
+/// A number read from a one-line file (a cgroup's memory.max), or nothing ("max", missing).
+std::optional<std::uint64_t> read_number(const char* path) {
+    std::ifstream in(path);
+    std::uint64_t v = 0;
+    if (in >> v) return v;
+    return std::nullopt;
+}
+
+/// A "Key: N kB" line of a /proc file, in bytes.
+std::optional<std::uint64_t> proc_kb(const char* path, const std::string& want) {
+    std::ifstream in(path);
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind(want, 0) == 0) {
+            std::istringstream ls(line.substr(want.size()));
+            std::uint64_t kb = 0;
+            if (ls >> kb) return kb * 1024;
+        }
+    return std::nullopt;
+}
+
+} // namespace
+
 std::uint64_t available_memory() {
-    std::ifstream in("/proc/meminfo");
-    std::string key;
-    std::uint64_t kb = 0;
-    std::string unit;
-    while (in >> key >> kb >> unit)
-        if (key == "MemAvailable:") return kb * 1024;
-    const long pages = sysconf(_SC_AVPHYS_PAGES), size = sysconf(_SC_PAGESIZE);
-    return pages > 0 && size > 0 ? std::uint64_t(pages) * std::uint64_t(size) : UINT64_MAX;
+    std::uint64_t have = UINT64_MAX;
+    const auto least = [&](std::optional<std::uint64_t> v) {
+        if (v) have = std::min(have, *v);
+    };
+    // The machine's: MemAvailable (what can be had without swapping).
+    if (const auto a = proc_kb("/proc/meminfo", "MemAvailable:")) {
+        least(a);
+    } else {
+        const long pages = sysconf(_SC_AVPHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+        if (pages > 0 && size > 0) least(std::uint64_t(pages) * std::uint64_t(size));
+    }
+    // A container's or a job's: the cgroup's limit less what it uses (v2, then v1). Past it
+    // the kernel kills the process, whatever the machine has.
+    const auto cgroup = [&](const char* limit, const char* usage) {
+        const auto l = read_number(limit), u = read_number(usage);
+        if (l && *l < (std::uint64_t(1) << 60)) least(*l > u.value_or(0) ? *l - u.value_or(0) : 0);
+    };
+    cgroup("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current");
+    cgroup("/sys/fs/cgroup/memory/memory.limit_in_bytes", "/sys/fs/cgroup/memory/memory.usage_in_bytes");
+    // An address-space limit (ulimit -v): past it an allocation fails, after the checks passed.
+    rlimit as{};
+    if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
+        const std::uint64_t used = proc_kb("/proc/self/status", "VmSize:").value_or(0);
+        least(as.rlim_cur > used ? std::uint64_t(as.rlim_cur) - used : 0);
+    }
+    // Headroom: the estimates count a render's large buffers, not the allocator's slack, the
+    // libraries, or what other processes take meanwhile.
+    return have == UINT64_MAX ? have : have - have / 8;
 }
 
 std::string format_bytes(std::uint64_t b) {

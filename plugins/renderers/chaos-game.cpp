@@ -1099,9 +1099,19 @@ void ChaosGame::resume(fp::CheckpointSource& in, std::vector<Task>& tasks, Keepi
     const auto more = [&](uint64_t chain) {
         return points_of(chain, points_, chains_) - points_of(chain, head.points, chains_);
     };
+    // Every field bounded by the recipe: a forged payload (its CRC recomputed) must not make a
+    // resume run longer than the render it claims to continue, nor read out of its arrays.
+    // Each chain is in the payload once: pending (fresh, or suspended and running) or final.
+    std::vector<uint8_t> seen(chains_, 0);
     const auto check_chain = [&](uint64_t chain) {
         if (chain >= chains_)
             throw fp::InputError("the checkpoint's payload names a chain that does not exist");
+        if (seen[chain]++) throw fp::InputError("the checkpoint's payload names a chain twice (damaged?)");
+    };
+    const auto check_state = [&](const ChainRec& c) {
+        if (c.left > points_of(c.chain, head.points, chains_) || c.prev > maps_.size() || c.active > 1)
+            throw fp::InputError(
+                "the checkpoint's payload holds a chain state this render cannot have (damaged?)");
     };
     std::vector<uint32_t> fresh;
     for (uint64_t t = 0; t < head.tasks; ++t) {
@@ -1122,8 +1132,11 @@ void ChaosGame::resume(fp::CheckpointSource& in, std::vector<Task>& tasks, Keepi
         // final states.
         std::vector<ChainRec> running;
         for (ChainRec c : task.saved) {
+            if (c.chain >= chains_)
+                throw fp::InputError("the checkpoint's payload names a chain that does not exist");
+            check_state(c);
+            if (!c.active) continue; // (recorded again among the final states)
             check_chain(c.chain);
-            if (!c.active) continue;
             c.left += more(c.chain);
             running.push_back(c);
         }
@@ -1137,6 +1150,7 @@ void ChaosGame::resume(fp::CheckpointSource& in, std::vector<Task>& tasks, Keepi
         ChainRec c;
         in.read(&c, sizeof c);
         check_chain(c.chain);
+        check_state(c);
         const uint64_t gain = c.idle > max_idle_restarts ? 0 : more(c.chain);
         if (gain == 0) {
             keep.finals[c.chain] = c;
@@ -1163,6 +1177,8 @@ void ChaosGame::resume(fp::CheckpointSource& in, std::vector<Task>& tasks, Keepi
                         fresh.begin() + std::ptrdiff_t(std::min(fresh.size(), i + block_size)));
         tasks.push_back(std::move(task));
     }
+    if (std::find(seen.begin(), seen.end(), uint8_t(0)) != seen.end())
+        throw fp::InputError("the checkpoint's payload leaves a chain out (damaged?)");
     in.read(total.bins.data(), total.bins.size() * sizeof(fp::HistBin));
     if (!last.empty()) in.read(last.data(), last.size() * sizeof(LastWrite));
     if (in.left() != 0) throw fp::InputError("the checkpoint's payload is longer than this render's state");

@@ -295,14 +295,19 @@ Picture png_picture(const std::string& file) {
     using fp_render::CairoContext;
     using fp_render::CairoSurface;
     auto refuse = [&](const std::string& why) {
-        throw fp::ParamError("picture", "cannot read the picture \"" + file + "\": " + why +
+        throw fp::ParamError("picture", "cannot read the picture \"" + fp::excerpt(file, 200) + "\": " + why +
                                             " (give a PNG file, relative to the working folder, or hues)");
     };
     {
         // Cairo tells a missing file apart, but reports any file that is not a PNG as "out of
         // memory": look at the signature first.
+        // A FIFO or a device would block the open (or the read) for ever: a picture is a file.
+        std::error_code ec;
+        const auto st = std::filesystem::status(file, ec);
+        if (!std::filesystem::exists(st)) refuse("no such file");
+        if (!std::filesystem::is_regular_file(st)) refuse("it is not a regular file");
         std::ifstream in(file, std::ios::binary);
-        if (!in) refuse(std::filesystem::exists(file) ? "it cannot be opened" : "no such file");
+        if (!in) refuse("it cannot be opened");
         char sig[8] = {};
         in.read(sig, 8);
         if (in.gcount() != 8 || std::memcmp(sig, "\x89PNG\r\n\x1a\n", 8) != 0) refuse("it is not a PNG file");

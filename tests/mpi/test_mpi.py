@@ -215,6 +215,29 @@ def test_a_rank_that_fails_its_checks(tmp_path):
     assert not (tmp_path / "x.png").exists()
 
 
+def test_ranks_with_different_recipes_are_refused(tmp_path):
+    # MPMD: rank 1 with another seed (as a node with another copy of the config would be). Each
+    # rank alone passes its checks; together they would write an image of two recipes that
+    # neither reproduces. Refused by every rank before any work, in one line.
+    cfg = SOURCE / "configs/inversion/fig6a.yaml"
+    out = tmp_path / "x.png"
+    common = ["render", str(cfg), "-o", str(out), "--quiet", *sets(width=64, height=64, points=20000)]
+    cmd = [MPIRUN, "--oversubscribe", "-np", "1", CLI, *common, "--set", "renderer.seed=1", ":",
+           "-np", "1", CLI, *common, "--set", "renderer.seed=2"]
+    r = subprocess.run(cmd, capture_output=True, text=True, env=mpi_env(), timeout=600)
+    assert r.returncode == 2, r.stderr
+    ours = [l for l in r.stderr.splitlines() if "another recipe" in l]
+    assert ours == ["fixpoint: rank 1 of 2 would render another recipe than rank 0 (another config, --set, "
+                    "seed or plugin build on its machine): every rank must render the same; nothing rendered"], \
+        r.stderr
+    assert not out.exists()
+    # The same seed on both: rendered.
+    cmd = [a if a != "renderer.seed=2" else "renderer.seed=1" for a in cmd]
+    r = subprocess.run(cmd, capture_output=True, text=True, env=mpi_env(), timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert out.exists()
+
+
 def test_a_rank_that_fails_mid_render(tmp_path):
     # Rank 1's scheme raises during the render: the job ends with its error line and no file.
     cfg = scheme_config(tmp_path, at_step='if os.environ["OMPI_COMM_WORLD_RANK"] == "1": raise RuntimeError("node lost")')

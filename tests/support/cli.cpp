@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstring>
 #include <fcntl.h>
@@ -207,6 +208,97 @@ std::string replace_once(std::string s, const std::string& from, const std::stri
     const auto at = s.find(from);
     if (at == std::string::npos) throw std::runtime_error("test setup: '" + from + "' not in the text");
     return s.replace(at, from.size(), to);
+}
+
+BusyLoad::BusyLoad(int n) {
+    for (int i = 0; i < n; ++i) {
+        const pid_t pid = ::fork();
+        if (pid == 0) {
+            volatile unsigned long spin = 0;
+            for (;;) spin = spin + 1;
+        }
+        if (pid > 0) pids_.push_back(pid);
+    }
+}
+
+BusyLoad::~BusyLoad() {
+    for (const int pid : pids_) ::kill(pid, SIGKILL);
+    for (const int pid : pids_) ::waitpid(pid, nullptr, 0);
+}
+
+namespace {
+
+// A process's user + system time so far, in seconds (/proc/PID/stat, fields 14 and 15).
+double cpu_seconds(pid_t pid) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+    std::string stat;
+    std::getline(in, stat);
+    const auto close = stat.rfind(')'); // (the command name may hold spaces)
+    if (close == std::string::npos) return 0;
+    std::istringstream rest(stat.substr(close + 2));
+    std::string field;
+    unsigned long long utime = 0, stime = 0;
+    for (int i = 3; i <= 15 && rest >> field; ++i) {
+        if (i == 14) utime = std::stoull(field);
+        if (i == 15) stime = std::stoull(field);
+    }
+    return double(utime + stime) / double(::sysconf(_SC_CLK_TCK));
+}
+
+// Whether `pid` catches signal `sig` (its SigCgt mask in /proc/PID/status).
+bool catches(pid_t pid, int sig) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1;
+    return false;
+}
+
+} // namespace
+
+Interrupted interrupt_cli(const std::vector<std::string>& args, const std::string& dir, double delay, int sig,
+                          double give_up) {
+    Interrupted r;
+    // Everything the child needs made before fork (no allocation between fork and exec).
+    std::vector<std::string> a = {FIXPOINT_BIN};
+    a.insert(a.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& x : a) argv.push_back(x.data());
+    argv.push_back(nullptr);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        if (::chdir(dir.c_str()) != 0) ::_exit(127);
+        const int null = ::open("/dev/null", O_RDWR);
+        ::dup2(null, 0), ::dup2(null, 1), ::dup2(null, 2);
+        ::execv(FIXPOINT_BIN, argv.data());
+        ::_exit(127);
+    }
+    // Up to a minute for the handler (a slow start under a sanitizer and a loaded machine).
+    for (int i = 0; i < 1200 && !catches(pid, sig); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    std::this_thread::sleep_for(std::chrono::duration<double>(delay));
+    const double cpu0 = cpu_seconds(pid);
+    const auto t0 = std::chrono::steady_clock::now();
+    ::kill(pid, sig);
+    int status = 0;
+    rusage ru{};
+    for (;;) {
+        const pid_t w = ::wait4(pid, &status, WNOHANG, &ru);
+        if (w == pid) break;
+        if (std::chrono::steady_clock::now() - t0 > std::chrono::duration<double>(give_up)) {
+            r.hung = true;
+            ::kill(pid, SIGKILL);
+            ::wait4(pid, &status, 0, &ru);
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double total = double(ru.ru_utime.tv_sec) + double(ru.ru_utime.tv_usec) * 1e-6 +
+                         double(ru.ru_stime.tv_sec) + double(ru.ru_stime.tv_usec) * 1e-6;
+    r.cpu = std::max(0.0, total - cpu0);
+    r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return r;
 }
 
 } // namespace fp::test

@@ -52,6 +52,31 @@ std::string run_bad_input(const std::string& name, const std::string& yaml,
 /// `s` with the first `from` replaced by `to`; throws when `from` is not in `s` (a test setup bug).
 std::string replace_once(std::string s, const std::string& from, const std::string& to);
 
+/// A loaded machine for as long as it lives: `n` processes that spin on a core each. The
+/// latency tests (cancel) run beside them, so that their bounds are known to hold under load.
+class BusyLoad {
+public:
+    explicit BusyLoad(int n = 2);
+    ~BusyLoad();
+    BusyLoad(const BusyLoad&) = delete;
+    BusyLoad& operator=(const BusyLoad&) = delete;
+
+private:
+    std::vector<int> pids_;
+};
+
+/// The CLI run with `args` in `dir`, sent `sig` `delay` seconds after it catches that signal
+/// (SigCgt in /proc: a signal before its handler is installed would be lost), and waited for.
+struct Interrupted {
+    int rc = -1;       ///< its exit code (128 + N when killed by signal N)
+    double wall = 0;   ///< seconds from the signal to its exit
+    double cpu = 0;    ///< its user and system time in them: the work it did after the signal,
+                       ///< which another process holding a core does not inflate as it does `wall`
+    bool hung = false; ///< still running `give_up` seconds after the signal (then killed)
+};
+Interrupted interrupt_cli(const std::vector<std::string>& args, const std::string& dir, double delay,
+                          int sig = 2 /* SIGINT */, double give_up = 120);
+
 /// The source tree's configs/ folder and tests/ folder.
 std::string source_dir();
 

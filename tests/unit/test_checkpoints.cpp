@@ -260,6 +260,74 @@ TEST(ChaosCheckpoint, DamagedPayloadsAreRefused) {
     }
 }
 
+/// The offsets of the suspended chains' states (ChainRec, 72 bytes) and of the fresh chains' ids
+/// in a chain-game payload: PayloadHead (88 bytes), then per task its kind, its size and its
+/// records (chaos-game/checkpoint.hpp).
+struct PayloadMap {
+    std::vector<std::size_t> states, ids;
+};
+PayloadMap map_payload(const std::string& p) {
+    PayloadMap m;
+    std::uint64_t tasks = 0;
+    std::memcpy(&tasks, p.data() + 72, 8);
+    std::size_t at = 88;
+    for (std::uint64_t t = 0; t < tasks; ++t) {
+        std::uint64_t kind = 0, n = 0;
+        std::memcpy(&kind, p.data() + at, 8);
+        std::memcpy(&n, p.data() + at + 8, 8);
+        at += 16;
+        for (std::uint64_t i = 0; i < n; ++i) (kind ? m.states : m.ids).push_back(at + i * (kind ? 72 : 4));
+        at += n * (kind ? 72 : 4);
+    }
+    return m;
+}
+
+// A forged payload (issue 43, item 10: a checkpoint whose CRC was recomputed over a changed
+// payload) is bounded by the recipe: a chain with more points left than its share would run for
+// hours; a chain named twice would be drawn twice.
+TEST(ChaosCheckpoint, ForgedPayloadsAreBoundedByTheRecipe) {
+    const Recipe r = recipes()[0];
+    ASSERT_TRUE(r.stops);
+    const std::string yaml = with_points(r, r.points);
+    Keeper k(2, 3);
+    render(yaml, k);
+    ASSERT_GE(k.saved.size(), 2u);
+    const std::string mid = k.saved[0];
+    const PayloadMap m = map_payload(mid);
+    const auto refused = [&](std::string forged, const char* what, const std::string& why) {
+        Keeper again(2, 0, &forged);
+        try {
+            render(yaml, again);
+            ADD_FAILURE() << what << ": resumed";
+        } catch (const fp::InputError& e) {
+            EXPECT_EQ(std::string(e.what()), why) << what;
+        }
+    };
+    std::string more_left = mid;
+    const std::uint64_t huge = std::uint64_t(1) << 50;
+    std::memcpy(more_left.data() + m.states[0] + 24, &huge, 8);
+    refused(more_left, "points left past the chain's share",
+            "the checkpoint's payload holds a chain state this render cannot have (damaged?)");
+    std::string bad_map = mid;
+    const std::uint32_t map = 1000;
+    std::memcpy(bad_map.data() + m.states[0] + 44, &map, 4);
+    refused(bad_map, "a previous map that does not exist",
+            "the checkpoint's payload holds a chain state this render cannot have (damaged?)");
+    std::vector<std::size_t> active;
+    for (const std::size_t at : m.states) {
+        std::uint32_t a = 0;
+        std::memcpy(&a, mid.data() + at + 56, 4);
+        if (a) active.push_back(at);
+    }
+    ASSERT_GE(active.size(), 2u);
+    std::string twice = mid;
+    std::memcpy(twice.data() + active[1] + 40, mid.data() + active[0] + 40, 4);
+    refused(twice, "a chain twice", "the checkpoint's payload names a chain twice (damaged?)");
+    // The unforged payload still resumes to the uninterrupted bytes.
+    Keeper again(2, 0, &mid);
+    expect_same(render(yaml, again), plain(yaml), "the unforged checkpoint");
+}
+
 // An orbit-trap render (affine mapping, the circles of paper 04's Fig. 1a, 4 samples a pixel).
 const std::string orbit_trap =
     "{type: orbit-trap, width: 96, height: 80, samples: 4, mapping: {type: affine, "

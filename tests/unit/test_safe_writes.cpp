@@ -31,7 +31,8 @@ std::string plant(const std::string& dir, const std::string& name) {
     const std::string victim = dir + "/victim.txt";
     write_file(victim, "precious");
     const std::string pid = std::to_string(::getpid());
-    for (const std::string& t : {"." + name + ".tmp-" + pid, name + ".partial", "." + name + ".partial-" + pid})
+    for (const std::string& t :
+         {"." + name + ".tmp-" + pid, name + ".partial", "." + name + ".partial-" + pid})
         fs::create_symlink(victim, dir + "/out/" + t);
     return victim;
 }
@@ -92,7 +93,8 @@ TEST(SafeWrites, TemporaryNamesAreUniqueAndNew) {
         ASSERT_GE(fd, 0);
         fds.push_back(fd);
         EXPECT_EQ(tmp.parent_path(), fs::path(dir));
-        EXPECT_EQ(tmp.filename().string().rfind(".a.png.tmp-" + std::to_string(::getpid()) + "-", 0), 0u) << tmp;
+        EXPECT_EQ(tmp.filename().string().rfind(".a.png.tmp-" + std::to_string(::getpid()) + "-", 0), 0u)
+            << tmp;
         EXPECT_TRUE(seen.insert(tmp.string()).second) << tmp;
     }
     for (const int fd : fds) ::close(fd);

@@ -80,8 +80,9 @@ const char* animate_help();
 
 /// `fixpoint validate` of a config with an animation section: every frame's config is checked.
 /// Returns a one-line summary ("an animation of N frames (K keys)"); empty for a config without
-/// one (or an image's recipe).
+/// one (or an image's recipe). fp::host::Cancelled when `interrupted` is set between frames.
 std::string validate_animation(const Registry& reg, const std::string& config,
-                               const std::vector<std::string>& sets);
+                               const std::vector<std::string>& sets,
+                               const std::atomic<bool>* interrupted = nullptr);
 
 } // namespace fp::host

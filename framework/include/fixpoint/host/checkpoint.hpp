@@ -11,8 +11,9 @@
 //   u64 payload bytes
 //   u32 CRC-32                of everything before it (zlib's)
 //
-// Integers little-endian, strings as u64 length and bytes. A checkpoint is written to FILE.partial
-// and renamed over FILE once whole and synced, so FILE is always the last whole checkpoint, even
+// Integers little-endian, strings as u64 length and bytes. A checkpoint is written to a
+// temporary file of its own beside FILE (open_temp_beside) and renamed over FILE once whole and
+// synced, so FILE is always the last whole checkpoint, even
 // after a kill or a full disk mid-write.
 #pragma once
 

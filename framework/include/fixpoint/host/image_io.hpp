@@ -2,6 +2,7 @@
 // framework/image/) OpenImageIO's encoding and decoding of raster images.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <utility>
@@ -106,6 +107,28 @@ int open_temp_beside(const std::filesystem::path& target, std::filesystem::path&
 /// Write a whole file (a vector document) atomically, as write_image does. Throws fp::InputError.
 void write_bytes(const std::string& bytes, const std::string& path);
 void write_bytes(const char* data, std::size_t size, const std::string& path);
+
+/// Files written as one whole (a collection's children and contact sheet, explore's results):
+/// each write first polls `cancel` (fp::Cancelled when set); unless commit() is called, the
+/// destructor removes every file written so far, so that a full disk or a Ctrl-C half way
+/// leaves none of them.
+class FileSet {
+public:
+    explicit FileSet(const std::atomic<bool>* cancel) : cancel_(cancel) {}
+    FileSet(const FileSet&) = delete;
+    FileSet& operator=(const FileSet&) = delete;
+    ~FileSet();
+    void image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
+               Tiled tiled = Tiled::Auto);
+    void bytes(const std::string& data, const std::string& path);
+    /// Every file is written: they stay.
+    void commit() { written_.clear(); }
+
+private:
+    void poll() const;
+    const std::atomic<bool>* cancel_;
+    std::vector<std::string> written_;
+};
 
 /// The recipe embedded in an image written by fixpoint. Throws fp::InputError.
 std::string read_recipe(const std::string& path);

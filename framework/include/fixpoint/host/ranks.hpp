@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -36,12 +37,20 @@ void send(unsigned to, const void* data, std::size_t bytes);
 void recv(unsigned from, void* data, std::size_t bytes);
 
 /// The checks before a render, agreed: every rank says its verdict (code 0: fine) and all
-/// learn the first failing rank's code and error line. Collective.
+/// learn the first failing rank's code and error line. When every rank passed, their
+/// `fingerprint`s (of what each will render: the recipe, with the plugins' hashes) must be
+/// rank 0's: a rank with another seed, config or plugin build would mix its work into an image
+/// that no recipe reproduces, so all learn a refusal (code 2) naming the first that differs.
+/// Collective.
 struct Verdict {
     int code = 0;
     std::string message;
 };
-Verdict agree(int code, const std::string& message);
+Verdict agree(int code, const std::string& message, std::uint64_t fingerprint = 0);
+
+/// The fingerprint of a render's text for agree (FNV-1a, 64 bits: an identity, not a
+/// security measure).
+std::uint64_t fingerprint(const std::string& text);
 
 /// Where this rank stands, so that an error is reported the right way: before the agreement a
 /// failing rank joins it (one line from rank 0, every rank exits); after it, the others may

@@ -67,7 +67,9 @@ private:
 /// Threads this machine offers.
 unsigned hardware_threads();
 
-/// Memory available for a render, in bytes (MemAvailable).
+/// Memory available for a render, in bytes: the least of the machine's (MemAvailable), the
+/// cgroup's (its limit less its use) and the address space left under RLIMIT_AS, less an eighth
+/// for headroom.
 std::uint64_t available_memory();
 
 /// "1.5 GiB"

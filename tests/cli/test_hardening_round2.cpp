@@ -1,0 +1,167 @@
+// Regression tests of the second hardening campaign (issue 43): each failed before its fix.
+// A render ends cleanly on every path out: one escaped, readable line, a meaningful exit code,
+// nothing half-written.
+#include "cli.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+using fp::test::read_file;
+using fp::test::replace_once;
+using fp::test::run_cli;
+using fp::test::scratch_dir;
+using fp::test::write_file;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string base = R"(renderer:
+  type: chaos-game
+  width: 256
+  height: 256
+  points: 400000
+  chains: 64
+  maps:
+    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}
+    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0]}
+    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, 0.5]}
+)";
+
+const std::string bin = FIXPOINT_BIN;
+
+struct Shell {
+    int rc = -1;
+    std::string err;
+};
+// A bash command in `dir` (for ulimit), its exit code (128 + N for a signal) and its stderr.
+Shell shell(const std::string& dir, const std::string& command) {
+    const std::string err_file = dir + "/../" + fs::path(dir).filename().string() + ".stderr";
+    const std::string full =
+        "cd '" + dir + "' && bash -c '" + command + "' 2>'" + err_file + "' >/dev/null </dev/null";
+    const int status = std::system(full.c_str());
+    Shell r;
+    r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.err = read_file(err_file);
+    fs::remove(err_file);
+    return r;
+}
+
+std::vector<std::string> files_in(const std::string& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+int lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+// Item 6: under `ulimit -f`, SIGXFSZ ended the process (exit 153, no message) and left its
+// temporary file. Now the write fails with EFBIG, as on a full disk.
+TEST(HardeningRound2, AFileSizeLimitIsAWriteErrorNotASignal) {
+    const std::string dir = scratch_dir("round2_xfsz");
+    write_file(dir + "/c.yaml", base);
+    for (const char* memory : {"", " --memory 5M"}) {
+        const auto r = shell(dir, "ulimit -f 4; exec " + bin + " render -q c.yaml -o out.png" + memory);
+        EXPECT_EQ(r.rc, 2) << memory << ": " << r.err;
+        EXPECT_EQ(r.err, "cannot write 'out.png': File too large\n") << memory;
+        EXPECT_EQ(files_in(dir), std::vector<std::string>{"c.yaml"}) << memory;
+    }
+}
+
+// Item 7: a collection written half way (a full disk, here the file-size limit that the
+// contact sheet passes and the children do not) left the children written so far.
+TEST(HardeningRound2, ACollectionIsWrittenWholeOrNotAtAll) {
+    const std::string dir = scratch_dir("round2_collection");
+    write_file(dir + "/c.yaml",
+               replace_once(replace_once(base, "width: 256", "width: 48"), "height: 256", "height: 48"));
+    const auto r = shell(dir, "ulimit -f 3; exec " + bin +
+                                  " render -q c.yaml --vary renderer.points=1000,2000,3000 -o s.png");
+    EXPECT_EQ(r.rc, 2) << r.err;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_EQ(files_in(dir), std::vector<std::string>{"c.yaml"});
+    // Without the limit, every file.
+    const auto ok =
+        shell(dir, "exec " + bin + " render -q c.yaml --vary renderer.points=1000,2000,3000 -o s.png");
+    EXPECT_EQ(ok.rc, 0) << ok.err;
+    EXPECT_EQ(files_in(dir).size(), 5u);
+}
+
+// Item 7: a FIFO as a superfractal's picture blocked for ever in open().
+TEST(HardeningRound2, AFifoAsAPictureIsRefusedAtOnce) {
+    const std::string dir = scratch_dir("round2_fifo");
+    ASSERT_EQ(::mkfifo((dir + "/pic.png").c_str(), 0644), 0);
+    write_file(dir + "/c.yaml", R"(renderer:
+  type: superfractal
+  width: 64
+  height: 64
+  points_per_buffer: 1000
+  steps: 2
+  picture: pic.png
+  maps:
+    - {type: affine, coefficients: [0.5, 0.375, 0.5, -0.375, -0.0625, 0.5625]}
+    - {type: affine, coefficients: [0.5, -0.375, -0.5, -0.375, 0.5625, 1.0625]}
+)");
+    const auto r = shell(dir, "exec timeout 60 " + bin + " validate c.yaml");
+    EXPECT_EQ(r.rc, 2) << r.err;
+    EXPECT_NE(r.err.find("cannot read the picture \"pic.png\": it is not a regular file"), std::string::npos)
+        << r.err;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+}
+
+// Item 9: a NUL in a string (a picture's name) was cut silently: another file was read.
+TEST(HardeningRound2, ANulInAStringIsRefused) {
+    const std::string line = fp::test::run_bad_input(
+        "round2_nul", replace_once(base, "  chains: 64\n", "  chains: 64\n  precision: \"fl\\0oat\"\n"));
+    EXPECT_NE(line.find("bad.yaml:7:14: renderer.precision: the text holds a NUL character"),
+              std::string::npos)
+        << line;
+}
+
+// Item 9: a file starting "a\0" was decoded as UTF-16; byte-order marks of UTF-16 likewise.
+TEST(HardeningRound2, Utf16AndUtf32AreRefusedWithAClearLine) {
+    EXPECT_EQ(fp::test::run_bad_input("round2_utf16_nul", std::string("a\0b\0", 4)),
+              "bad.yaml:1:2: a NUL byte: a config is UTF-8 text (UTF-16 and UTF-32 are refused)");
+    EXPECT_EQ(fp::test::run_bad_input("round2_utf16_bom", std::string("\xff\xfer\0e\0", 6)),
+              "bad.yaml:1:1: the text is UTF-16 or UTF-32: fixpoint reads UTF-8 (save it as UTF-8)");
+}
+
+// Item 9: a 4 kB output path gave an 8 kB error line; an escape sequence in a name reached the
+// terminal.
+TEST(HardeningRound2, ErrorLinesAreEscapedAndOfAReadableLength) {
+    const std::string dir = scratch_dir("round2_long");
+    write_file(dir + "/c.yaml", base);
+    const std::string name = std::string(4000, 'a') + "/x.png";
+    const auto r = run_cli({"render", "-q", dir + "/c.yaml", "-o", name});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_LT(r.err.size(), 1200u) << r.err.size();
+    EXPECT_NE(r.err.find("bytes cut ...]"), std::string::npos);
+    EXPECT_NE(r.err.find("does not exist"), std::string::npos) << "the reason, at the end, is kept";
+    const auto e = run_cli({"render", "-q", dir + "/c.yaml", "-o", dir + "/no\x1b[31m/x.png"});
+    EXPECT_EQ(e.rc, 2);
+    EXPECT_EQ(e.err.find('\x1b'), std::string::npos) << e.err;
+    EXPECT_NE(e.err.find("\\x1b[31m"), std::string::npos) << e.err;
+}
+
+// Item 9: validate of a config whose animation is bad said "valid" before the error.
+TEST(HardeningRound2, ValidateSaysValidOnlyOfAValidAnimation) {
+    const std::string dir = scratch_dir("round2_animation");
+    write_file(dir + "/c.yaml",
+               replace_once(base, "width: 256", "width: 32") +
+                   "animation:\n  frames: 3\n  keys:\n    renderer.height: {0: 32, 2: -5}\n");
+    const auto r = run_cli({"validate", dir + "/c.yaml"});
+    EXPECT_EQ(r.rc, 2) << r.err;
+    EXPECT_EQ(r.err.find("valid:"), std::string::npos) << r.err;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+}
+
+} // namespace
