@@ -678,7 +678,7 @@ std::string ChaosGame::render_vector(fp::RenderContext& ctx, fp::RenderStats& st
     stats.samples = set_drawings_.size();
     stats.unit = "sets";
     std::string doc = fp_render::cairo_document(frame_.width, frame_.height, format == fp::VectorFormat::Pdf,
-                                                recipe, [&](cairo_t* cr) { draw_set_panel(cr); });
+                                                recipe, &ctx, [&](cairo_t* cr) { draw_set_panel(cr); });
     if (doc.empty()) throw fp::InternalError("chaos-game: Cairo could not write the sets");
     ctx.progress(1);
     return doc;

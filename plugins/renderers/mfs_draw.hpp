@@ -126,7 +126,8 @@ inline std::vector<float> raster(const Scene& s) {
 
 /// The scene as an SVG (recipe in a <metadata> element) or PDF document.
 inline std::string vector_document(const Scene& s, bool pdf, const std::string& recipe) {
-    return fp_render::cairo_document(s.width, s.height, pdf, recipe, [&](cairo_t* cr) { draw_scene(cr, s); });
+    return fp_render::cairo_document(s.width, s.height, pdf, recipe, s.ctx,
+                                     [&](cairo_t* cr) { draw_scene(cr, s); });
 }
 
 } // namespace fp_mfs
