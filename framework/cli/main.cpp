@@ -642,7 +642,9 @@ int cmd_render(const Options& o, bool validate_only) {
         const std::string doc = render_vector_checked(p, threads, format_for(out), stats, secs);
         if (ranks::rank() != 0) return 0; // rank 0 writes
         ranks::set_phase(ranks::Phase::free);
-        write_bytes(doc, out);
+        FileSet file(&g_interrupted); // (a Ctrl-C while it is written: no document)
+        file.bytes(doc, out);
+        file.commit();
     } else if (memory.stream) {
         // Rank 0 encodes the rows as they come, into a file that takes the output's name only
         // once it is whole; the other ranks' rows go nowhere.
@@ -674,8 +676,10 @@ int cmd_render(const Options& o, bool validate_only) {
                                        ? p.recipe
                                        : "# the tile repeated " + o.print.repeat +
                                              " (--repeat); the recipe renders one tile\n" + p.recipe;
-        write_image(repeat_image(img, r), out, p.bit_depth, recipe,
-                    print_resolution(o.print, img.width, img.height), p.tiled);
+        FileSet file(&g_interrupted); // (a Ctrl-C while it is encoded and written: no image)
+        file.image(repeat_image(img, r), out, p.bit_depth, recipe, p.tiled,
+                   print_resolution(o.print, img.width, img.height));
+        file.commit();
     }
     if (!o.quiet)
         spdlog::info("{}: {} {} in {:.2f} s ({:.3g} {}/s, {}{} thread{}, {}), {} restarted chain{}, {} bad "

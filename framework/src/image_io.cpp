@@ -176,14 +176,14 @@ static Format raster_format(const std::string& path) {
 }
 
 void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
-                 const Resolution& resolution, Tiled tiled) {
+                 const Resolution& resolution, Tiled tiled, const std::atomic<bool>* cancel) {
     const bool tiles = tiled_file(path, img.width, img.height, tiled);
     const Format f = raster_format(path);
     // Encoded in memory, then written here: OpenImageIO's writers do not all check their
     // writes to a file (image_module::Api::encode).
     const std::vector<unsigned char> bytes =
         image_api().encode(img, path, f, bit_depth, recipe, resolution, tiles);
-    write_bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size(), path);
+    write_bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size(), path, cancel);
 }
 
 struct StreamedImage::Impl {
@@ -294,11 +294,13 @@ static Format format_for_or_png(const std::string& path) {
     }
 }
 
-void write_bytes(const std::string& bytes, const std::string& path) {
-    write_bytes(bytes.data(), bytes.size(), path);
+void write_bytes(const std::string& bytes, const std::string& path, const std::atomic<bool>* cancel) {
+    write_bytes(bytes.data(), bytes.size(), path, cancel);
 }
 
-void write_bytes(const char* data, std::size_t size, const std::string& path) {
+void write_bytes(const char* data, std::size_t size, const std::string& path,
+                 const std::atomic<bool>* cancel) {
+    if (cancel && cancel->load()) throw Cancelled();
     const fs::path target(path);
     fs::path tmp;
     const int fd = open_temp_beside(target, tmp);
@@ -323,6 +325,10 @@ void write_bytes(const char* data, std::size_t size, const std::string& path) {
         ::unlink(tmp.c_str());
         throw InputError("cannot write '" + path + "': " + err);
     }
+    if (cancel && cancel->load()) {
+        ::unlink(tmp.c_str());
+        throw Cancelled();
+    }
     std::error_code ec;
     fs::rename(tmp, target, ec);
     if (ec) {
@@ -341,15 +347,15 @@ void FileSet::poll() const {
 }
 
 void FileSet::image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
-                    Tiled tiled) {
+                    Tiled tiled, const Resolution& resolution) {
     poll();
-    write_image(img, path, bit_depth, recipe, {}, tiled);
+    write_image(img, path, bit_depth, recipe, resolution, tiled, cancel_);
     written_.push_back(path);
 }
 
 void FileSet::bytes(const std::string& data, const std::string& path) {
     poll();
-    write_bytes(data, path);
+    write_bytes(data, path, cancel_);
     written_.push_back(path);
 }
 

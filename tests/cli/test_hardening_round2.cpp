@@ -95,6 +95,21 @@ TEST(HardeningRound2, ACollectionIsWrittenWholeOrNotAtAll) {
     EXPECT_EQ(files_in(dir).size(), 5u);
 }
 
+// Item 7: a Ctrl-C in a collection's write phase was ignored (exit 0, every file written).
+// The signal is sent when the first child's file appears: the others are still being encoded.
+TEST(HardeningRound2, CtrlCInACollectionsWritePhaseLeavesNoFile) {
+    const std::string dir = scratch_dir("round2_collection_ctrl_c");
+    write_file(dir + "/c.yaml", replace_once(replace_once(replace_once(base, "width: 256", "width: 2048"),
+                                                          "height: 256", "height: 2048"),
+                                             "points: 400000", "points: 4000000"));
+    const auto r = shell(dir, bin + " render -q c.yaml --vary renderer.seed=1,2,3,4 -o s.png & pid=$!; " +
+                                  "for i in $(seq 12000); do [ -e s-1.png ] && break; sleep 0.01; done; " +
+                                  "kill -INT $pid; wait $pid");
+    EXPECT_EQ(r.rc, 130) << r.err;
+    EXPECT_EQ(r.err, "fixpoint: interrupted; no image written\n");
+    EXPECT_EQ(files_in(dir), std::vector<std::string>{"c.yaml"});
+}
+
 // Item 7: a FIFO as a superfractal's picture blocked for ever in open().
 TEST(HardeningRound2, AFifoAsAPictureIsRefusedAtOnce) {
     const std::string dir = scratch_dir("round2_fifo");

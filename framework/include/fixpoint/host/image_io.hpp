@@ -61,8 +61,11 @@ bool tiled_file(const std::string& path, int width, int height, Tiled tiled);
 /// `recipe` goes into the ImageDescription metadata; a resolution, when given, into
 /// XResolution, YResolution and ResolutionUnit "inch" (TIFF's tags, PNG's pHYs chunk). TIFF
 /// and EXR in tiles of tile_side where tiled_file says so.
+/// `cancel`, when given, is polled after the encoding and before the file takes `path`'s name
+/// (fp::Cancelled: nothing written, a file there before kept).
 void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
-                 const Resolution& resolution = {}, Tiled tiled = Tiled::Auto);
+                 const Resolution& resolution = {}, Tiled tiled = Tiled::Auto,
+                 const std::atomic<bool>* cancel = nullptr);
 
 /// A write of the output that failed (a full disk): raised by a StreamedImage from inside a
 /// render, and reported as it is, not as the renderer's.
@@ -105,13 +108,16 @@ void quantise_pixels(const Image& img, int bit_depth, void* out);
 /// written through. Returns the descriptor and sets `tmp`; -1 with errno set when it cannot.
 int open_temp_beside(const std::filesystem::path& target, std::filesystem::path& tmp);
 /// Write a whole file (a vector document) atomically, as write_image does. Throws fp::InputError.
-void write_bytes(const std::string& bytes, const std::string& path);
-void write_bytes(const char* data, std::size_t size, const std::string& path);
+void write_bytes(const std::string& bytes, const std::string& path,
+                 const std::atomic<bool>* cancel = nullptr);
+void write_bytes(const char* data, std::size_t size, const std::string& path,
+                 const std::atomic<bool>* cancel = nullptr);
 
-/// Files written as one whole (a collection's children and contact sheet, explore's results):
-/// each write first polls `cancel` (fp::Cancelled when set); unless commit() is called, the
-/// destructor removes every file written so far, so that a full disk or a Ctrl-C half way
-/// leaves none of them.
+/// Files written as one whole (a render's image, a collection's children and contact sheet,
+/// explore's results): `cancel` is polled before each write and before each file takes its
+/// name (fp::Cancelled when set: a Ctrl-C while an image is encoded is not ignored); unless
+/// commit() is called, the destructor removes every file written so far, so that a full disk
+/// or a Ctrl-C half way leaves none of them.
 class FileSet {
 public:
     explicit FileSet(const std::atomic<bool>* cancel) : cancel_(cancel) {}
@@ -119,7 +125,7 @@ public:
     FileSet& operator=(const FileSet&) = delete;
     ~FileSet();
     void image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
-               Tiled tiled = Tiled::Auto);
+               Tiled tiled = Tiled::Auto, const Resolution& resolution = {});
     void bytes(const std::string& data, const std::string& path);
     /// Every file is written: they stay.
     void commit() { written_.clear(); }
