@@ -8,6 +8,7 @@
 // step's result depends on its batch alone.
 #include <fixpoint/fixpoint.hpp>
 
+#include <pybind11/eval.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -89,6 +90,19 @@ void ensure_interpreter() {
             chain_signals();
         } catch (const py::error_already_set&) {
             // (No signal module: Ctrl-C still stops the render, between batches.)
+        }
+        // os._exit in a scheme would end the CLI at once, with exit code 0 and no image: an
+        // exception instead, reported as the scheme's error. (The Python module's process is
+        // the user's own: left alone.)
+        try {
+            py::exec(R"(
+import os as _os
+def _no_exit(code=0):
+    raise SystemExit(f"os._exit({code}): a python-scheme may not end the process")
+_os._exit = _no_exit
+del _os, _no_exit
+)");
+        } catch (const py::error_already_set&) {
         }
         PyEval_SaveThread();
     });

@@ -115,6 +115,15 @@ def test_a_scheme_without_a_callable_step_is_one_line_not_an_abort(tmp_path, sch
     assert not (tmp_path / "out.png").exists()
 
 
+def test_os_exit_in_a_scheme_is_an_error_not_a_silent_success(tmp_path):
+    # os._exit(0) ended the CLI with exit code 0 and no image.
+    cfg = scheme_config(tmp_path, '{type: python-scheme, code: "import os\\nos._exit(0)"}')
+    r = run_cli("render", cfg, "-o", tmp_path / "out.png")
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.strip().endswith("SystemExit: os._exit(0): a python-scheme may not end the process"), r.stderr
+    assert not (tmp_path / "out.png").exists()
+
+
 def test_the_cli_s_python_is_the_build_s_not_the_one_on_path(tmp_path):
     # A python3 first on PATH that is not the build's interpreter (pyenv's shim, here one that
     # is no Python at all): an embedded Python that took its prefix from it found no standard
