@@ -124,14 +124,36 @@ std::uint64_t available_memory() {
         const long pages = sysconf(_SC_AVPHYS_PAGES), size = sysconf(_SC_PAGESIZE);
         if (pages > 0 && size > 0) least(std::uint64_t(pages) * std::uint64_t(size));
     }
-    // A container's or a job's: the cgroup's limit less what it uses (v2, then v1). Past it
-    // the kernel kills the process, whatever the machine has.
-    const auto cgroup = [&](const char* limit, const char* usage) {
-        const auto l = read_number(limit), u = read_number(usage);
-        if (l && *l < (std::uint64_t(1) << 60)) least(*l > u.value_or(0) ? *l - u.value_or(0) : 0);
+    // A container's or a job's: the cgroup's limit less its working set (its use less the
+    // file cache it can drop, as the kernel counts before it kills). Past it the kernel kills
+    // the process, whatever the machine has.
+    const auto cgroup = [&](const char* limit, const char* usage, const char* stat,
+                            const std::string& cache) {
+        const auto l = read_number(limit);
+        if (!l || *l >= (std::uint64_t(1) << 60)) return; // ("max", or no limit)
+        const std::uint64_t used = read_number(usage).value_or(0);
+        std::uint64_t dropped = 0;
+        std::ifstream in(stat);
+        std::string key;
+        std::uint64_t v = 0;
+        while (in >> key >> v)
+            if (key == cache) dropped = v;
+        const std::uint64_t working = used > dropped ? used - dropped : 0;
+        least(*l > working ? *l - working : 0);
     };
-    cgroup("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current");
-    cgroup("/sys/fs/cgroup/memory/memory.limit_in_bytes", "/sys/fs/cgroup/memory/memory.usage_in_bytes");
+    // v2: this process's group (/proc/self/cgroup, "0::/PATH": a Slurm job's, a service's), and
+    // the namespace's root (a container's own).
+    std::string group;
+    {
+        std::ifstream in("/proc/self/cgroup");
+        for (std::string line; std::getline(in, line);)
+            if (line.rfind("0::", 0) == 0) group = line.substr(3);
+    }
+    for (const std::string& dir : {"/sys/fs/cgroup" + group, std::string("/sys/fs/cgroup")})
+        cgroup((dir + "/memory.max").c_str(), (dir + "/memory.current").c_str(),
+               (dir + "/memory.stat").c_str(), "inactive_file");
+    cgroup("/sys/fs/cgroup/memory/memory.limit_in_bytes", "/sys/fs/cgroup/memory/memory.usage_in_bytes",
+           "/sys/fs/cgroup/memory/memory.stat", "total_inactive_file");
     // An address-space limit (ulimit -v): past it an allocation fails, after the checks passed.
     rlimit as{};
     if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {

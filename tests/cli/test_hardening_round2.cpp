@@ -132,6 +132,28 @@ TEST(HardeningRound2, AFifoAsAPictureIsRefusedAtOnce) {
     EXPECT_EQ(lines(r.err), 1) << r.err;
 }
 
+// Item 11: the memory budget was all of the machine's available memory: under an
+// address-space limit, an mfs 32768^2 SVG passed the check and died of memory in the render.
+TEST(HardeningRound2, TheMemoryBudgetHonoursTheAddressSpaceLimit) {
+    if (!fp::test::cli_address_space_limited())
+        GTEST_SKIP() << "ASan: the CLI runs without an address-space limit";
+    const std::string dir = scratch_dir("round2_rlimit_as");
+    const std::string tri =
+        "{type: subdivision, points: [[0, 0], [1, 0], [0.5, 0.6666666666666666]], divisor: "
+        "2, S: [2, 0, 0, 1, 1, 0, 1, 0, 1]}";
+    write_file(dir + "/mfs.yaml",
+               "renderer:\n  type: mfs\n  width: 32768\n  height: 32768\n  path: [0, 0, 0]\n"
+               "  maps:\n    - " +
+                   tri + "\n    - " + tri + "\n");
+    const auto r = run_cli({"validate", dir + "/mfs.yaml", "-o", dir + "/big.svg"});
+    EXPECT_EQ(r.rc, 2) << r.err;
+    EXPECT_NE(r.err.find("renderer: a 32768x32768 render needs "), std::string::npos) << r.err;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    // As a PNG it streams in bands within the same budget.
+    const auto png = run_cli({"validate", dir + "/mfs.yaml", "-o", dir + "/big.png"});
+    EXPECT_EQ(png.rc, 0) << png.err;
+}
+
 // Item 9: a NUL in a string (a picture's name) was cut silently: another file was read.
 TEST(HardeningRound2, ANulInAStringIsRefused) {
     const std::string line = fp::test::run_bad_input(
