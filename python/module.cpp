@@ -297,6 +297,7 @@ py::dict describe_plugin(const std::string& name) {
     for (std::uint32_t i = 0; i < e->desc->n_params; ++i) ps.append(param_dict(e->desc->params[i]));
     d["params"] = ps;
     d["example"] = e->desc->example ? e->desc->example : "{}";
+    d["runs_code"] = e->desc->runs_code; // (refused in an image's recipe unless allow_python)
     return d;
 }
 

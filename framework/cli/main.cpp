@@ -804,6 +804,9 @@ int cmd_describe(const Options& o) {
     const auto& d = *e->desc;
     std::printf("%s (%s, version %s)\n  %s\n  file: %s\n", d.name, std::string(kind_name(d.kind)).c_str(),
                 d.version, d.summary, e->file.c_str());
+    if (d.runs_code)
+        std::printf("  runs the code its parameters carry: refused in a recipe read from an image unless "
+                    "--allow-python, and by serve unless started with it\n");
     if (d.n_params) {
         std::printf("parameters:\n");
         print_params(d.params, d.n_params, "  ");

@@ -18,6 +18,8 @@
 #include <fixpoint/host/runtime.hpp>
 #include <fixpoint/version.hpp>
 
+#include "verdict.hpp"
+
 #include <unistd.h>
 #include <zlib.h>
 
@@ -34,12 +36,6 @@ namespace {
 const fp::host::Pipeline* g_pipeline = nullptr;
 std::string g_file; // the input, as a file (CheckpointFile reads a path)
 
-[[noreturn]] void finding(const char* what, const char* message) {
-    std::fprintf(stderr, "fuzz_checkpoint: %s escaped the resume path: %s\n", what, message);
-    std::fflush(stderr);
-    std::abort();
-}
-
 void resume(const std::uint8_t* data, std::size_t size) {
     using namespace fp::host;
     std::string bytes(reinterpret_cast<const char*>(data), size);
@@ -49,7 +45,7 @@ void resume(const std::uint8_t* data, std::size_t size) {
     }
     std::FILE* f = std::fopen(g_file.c_str(), "wb");
     if (!f || std::fwrite(bytes.data(), 1, size, f) != size || std::fclose(f) != 0)
-        finding("a write", g_file.c_str());
+        fp::fuzz::finding("fuzz_checkpoint", "a write", g_file.c_str());
     const Pipeline& p = *g_pipeline;
     const CheckpointHeader header{FIXPOINT_VERSION, p.renderer_type, p.identity, p.points};
     auto file = std::make_unique<CheckpointFile>(g_file);
@@ -70,7 +66,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
         g_pipeline = &p;
         char name[] = "/tmp/fuzz_checkpoint-XXXXXX";
         const int fd = ::mkstemp(name);
-        if (fd < 0) finding("mkstemp", name);
+        if (fd < 0) fp::fuzz::finding("fuzz_checkpoint", "mkstemp", name);
         ::close(fd);
         g_file = name;
         std::atexit([] { ::unlink(g_file.c_str()); });
@@ -82,18 +78,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    try {
-        resume(data, size);
-    } catch (const fp::InputError&) {
-        // Refused: not a checkpoint, damaged, of another recipe, or a payload out of bounds.
-    } catch (const fp::InternalError& e) {
-        finding("fp::InternalError", e.what());
-    } catch (const fp::Error& e) {
-        finding("fp::Error", e.what());
-    } catch (const std::exception& e) {
-        finding("std::exception", e.what());
-    } catch (...) {
-        finding("an unknown exception", "(not a std::exception)");
-    }
+    // Refused: not a checkpoint, damaged, of another recipe, or a payload out of bounds.
+    fp::fuzz::verdict("fuzz_checkpoint", [&] { resume(data, size); });
     return 0;
 }

@@ -9,6 +9,7 @@
 // another address (token "t0ken"). Refusals (HttpError, fp::InputError) are the expected
 // answers; anything else escaping is a finding (printed, then abort()). Writes no file.
 #include "serve/context.hpp"
+#include "verdict.hpp"
 
 #include <fixpoint/fixpoint.hpp>
 #include <fixpoint/host/config.hpp>
@@ -26,12 +27,6 @@
 namespace {
 
 using namespace fp::host::serve_detail;
-
-[[noreturn]] void finding(const char* what, const char* message) {
-    std::fprintf(stderr, "fuzz_serve: %s escaped the request path: %s\n", what, message);
-    std::fflush(stderr);
-    std::abort();
-}
 
 httplib::Request parse_request(const std::string& text) {
     httplib::Request req;
@@ -96,20 +91,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     c.loopback = loopback;
     if (!loopback) c.token = "t0ken";
     const std::string text(reinterpret_cast<const char*>(data) + (size ? 1 : 0), size ? size - 1 : 0);
-    try {
-        serve_request(c, text);
-    } catch (const HttpError&) {
-        // A refusal with its status: the expected answer to most inputs.
-    } catch (const fp::InputError&) {
-        // A config refused at its place (the /api/check answer).
-    } catch (const fp::InternalError& e) {
-        finding("fp::InternalError", e.what());
-    } catch (const fp::Error& e) {
-        finding("fp::Error", e.what());
-    } catch (const std::exception& e) {
-        finding("std::exception", e.what());
-    } catch (...) {
-        finding("an unknown exception", "(not a std::exception)");
-    }
+    fp::fuzz::verdict("fuzz_serve", [&] {
+        try {
+            serve_request(c, text);
+        } catch (const HttpError&) {
+            // A refusal with its status: the expected answer to most inputs.
+        }
+    });
     return 0;
 }

@@ -13,6 +13,8 @@
 #include <fixpoint/host/pipeline.hpp>
 #include <fixpoint/host/registry.hpp>
 
+#include "verdict.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -28,12 +30,6 @@ namespace {
 // the modules, and would cost every run of a single input (the regression test) nothing but
 // time. Never unloaded: the objects of a run must not outlive their plugin's library.
 const fp::host::Registry* g_registry = nullptr;
-
-[[noreturn]] void finding(const char* what, const char* message) {
-    std::fprintf(stderr, "fuzz_validate: %s escaped the validate path: %s\n", what, message);
-    std::fflush(stderr);
-    std::abort();
-}
 
 void validate(const std::string& text) {
     using namespace fp::host;
@@ -71,18 +67,6 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);
-    try {
-        validate(text);
-    } catch (const fp::InputError&) {
-        // Bad input, refused with a message: the expected outcome for most inputs.
-    } catch (const fp::InternalError& e) {
-        finding("fp::InternalError", e.what());
-    } catch (const fp::Error& e) {
-        finding("fp::Error", e.what());
-    } catch (const std::exception& e) {
-        finding("std::exception", e.what());
-    } catch (...) {
-        finding("an unknown exception", "(not a std::exception)");
-    }
+    fp::fuzz::verdict("fuzz_validate", [&] { validate(text); });
     return 0;
 }

@@ -183,3 +183,13 @@ def test_python_that_loops_at_load_stops_on_a_signal(tmp_path, sig):
     assert p.returncode == 130, err
     assert err.strip() == "fixpoint: interrupted; no image written", err
     assert not (tmp_path / "out.png").exists()
+
+
+def test_describe_says_which_plugins_run_code():
+    assert fixpoint.describe("python-scheme")["runs_code"] is True
+    assert fixpoint.describe("mann")["runs_code"] is False
+    r = run_cli("describe", "python-scheme")
+    assert r.returncode == 0
+    assert "runs the code its parameters carry: refused in a recipe read from an image unless --allow-python" \
+        in r.stdout
+    assert "runs the code" not in run_cli("describe", "mann").stdout
