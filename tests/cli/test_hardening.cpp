@@ -131,31 +131,8 @@ TEST(Hardening, SetMadeMappingsHaveAPosition) {
 
 namespace {
 
-// A shell command run in `dir` (bash, for ulimit and trap); its exit code and what it wrote to
-// standard error.
-struct Shell {
-    int rc = -1;
-    std::string err;
-};
-Shell shell(const std::string& dir, const std::string& command) {
-    const std::string err_file = dir + "/.stderr";
-    const std::string full =
-        "cd '" + dir + "' && bash -c '" + command + "' 2>'" + err_file + "' >/dev/null </dev/null";
-    const int status = std::system(full.c_str());
-    Shell r;
-    r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.err = fp::test::read_file(err_file);
-    std::filesystem::remove(err_file);
-    return r;
-}
-
-std::vector<std::string> files_in(const std::string& dir) {
-    std::vector<std::string> names;
-    for (const auto& e : std::filesystem::directory_iterator(dir))
-        names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-}
+using fp::test::files_in;
+using fp::test::shell;
 
 const std::string bin = FIXPOINT_BIN;
 

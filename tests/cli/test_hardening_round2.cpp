@@ -38,29 +38,8 @@ const std::string base = R"(renderer:
 
 const std::string bin = FIXPOINT_BIN;
 
-struct Shell {
-    int rc = -1;
-    std::string err;
-};
-// A bash command in `dir` (for ulimit), its exit code (128 + N for a signal) and its stderr.
-Shell shell(const std::string& dir, const std::string& command) {
-    const std::string err_file = dir + "/../" + fs::path(dir).filename().string() + ".stderr";
-    const std::string full =
-        "cd '" + dir + "' && bash -c '" + command + "' 2>'" + err_file + "' >/dev/null </dev/null";
-    const int status = std::system(full.c_str());
-    Shell r;
-    r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.err = read_file(err_file);
-    fs::remove(err_file);
-    return r;
-}
-
-std::vector<std::string> files_in(const std::string& dir) {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-}
+using fp::test::files_in;
+using fp::test::shell;
 
 int lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 

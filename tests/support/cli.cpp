@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
@@ -208,6 +209,26 @@ std::string replace_once(std::string s, const std::string& from, const std::stri
     const auto at = s.find(from);
     if (at == std::string::npos) throw std::runtime_error("test setup: '" + from + "' not in the text");
     return s.replace(at, from.size(), to);
+}
+
+Shell shell(const std::string& dir, const std::string& command) {
+    const std::string err_file = dir + ".stderr";
+    const std::string full =
+        "cd '" + dir + "' && bash -c '" + command + "' 2>'" + err_file + "' >/dev/null </dev/null";
+    const int status = std::system(full.c_str());
+    Shell r;
+    r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.err = read_file(err_file);
+    std::filesystem::remove(err_file);
+    return r;
+}
+
+std::vector<std::string> files_in(const std::string& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
 }
 
 BusyLoad::BusyLoad(int n) {

@@ -52,6 +52,18 @@ std::string run_bad_input(const std::string& name, const std::string& yaml,
 /// `s` with the first `from` replaced by `to`; throws when `from` is not in `s` (a test setup bug).
 std::string replace_once(std::string s, const std::string& from, const std::string& to);
 
+/// A bash command run in `dir` (for ulimit, traps and background jobs): its exit code (128 + N
+/// when killed by signal N) and what it wrote to standard error (kept outside `dir`, so that
+/// the folder holds only what the command left).
+struct Shell {
+    int rc = -1;
+    std::string err;
+};
+Shell shell(const std::string& dir, const std::string& command);
+
+/// The names in `dir`, sorted.
+std::vector<std::string> files_in(const std::string& dir);
+
 /// A loaded machine for as long as it lives: `n` processes that spin on a core each. The
 /// latency tests (cancel) run beside them, so that their bounds are known to hold under load.
 class BusyLoad {
