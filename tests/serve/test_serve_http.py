@@ -601,9 +601,8 @@ PWN = '{type: python-scheme, code: "open(\'pwned\', \'w\')\\ndef step(T, x, y, n
 def test_python_scheme_is_refused_without_allow_python(srv, endpoint):
     text, line, col = python_scheme_text(PWN)
     got = srv.api(endpoint, {"text": text, "path": "fig4a.yaml", "output": "py.png"})
-    assert got == {"ok": False, "error": f"fig4a.yaml:{line}:{col}: renderer.iteration: python-scheme runs the "
-                                         "code it carries: fixpoint serve refuses it unless started with "
-                                         "--allow-python",
+    assert got == {"ok": False, "error": f"fig4a.yaml:{line}:{col}: renderer.iteration: python-scheme runs Python "
+                                         "code: fixpoint serve refuses it unless started with --allow-python",
                    "line": line, "column": col}
     assert not os.path.exists(os.path.join(srv.root, "pwned"))
     assert not os.path.exists(os.path.join(srv.root, "py.png"))
@@ -615,7 +614,7 @@ def test_python_scheme_is_found_anywhere_in_the_tree(srv):
     got = srv.api("api/check", {"text": text})
     line = position(got["error"])[0]
     assert got["error"] == (f"<config>:{line}:{got['column']}: renderer.maps[0].iteration: python-scheme runs "
-                            "the code it carries: fixpoint serve refuses it unless started with --allow-python")
+                            "Python code: fixpoint serve refuses it unless started with --allow-python")
     assert text.splitlines()[line - 1][got["column"] - 1:].startswith("{type: python-scheme")
 
 

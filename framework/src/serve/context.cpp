@@ -265,16 +265,13 @@ void check_node(const Context& c, const CNode& n, const std::string& at) {
     }
     if (!n.is_map()) return;
     if (const CNode* type = n.find("type"); type && type->is_scalar()) {
-        const PluginEntry* plugin = c.reg ? c.reg->find(type->scalar) : nullptr;
-        if (plugin && plugin->desc->runs_code) {
-            // A plugin that runs the code it carries (python-scheme's `code:` or `file:`) when
-            // the config loads: a page (or any local process) could run anything as this user
-            // through /api/check.
+        if (type->scalar == "python-scheme") {
+            // It runs the Python of `code:` or `file:` when the config loads: a page (or any
+            // local process) could run anything as this user through /api/check.
             if (!c.allow_python)
-                throw InputError(n.mark.str() + ": " + (at.empty() ? std::string("the config") : at) + ": " +
-                                 type->scalar +
-                                 " runs the code it carries: fixpoint serve refuses it unless started with "
-                                 "--allow-python");
+                throw InputError(n.mark.str() + ": " + (at.empty() ? std::string("the config") : at) +
+                                 ": python-scheme runs Python code: fixpoint serve refuses it unless "
+                                 "started with --allow-python");
             check_read_file(c, n, "file", at);
         }
         if (type->scalar == "superfractal")
