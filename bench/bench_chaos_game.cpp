@@ -8,8 +8,8 @@
 // circle-inversion step turned off (`kernels: generic`): the generic plugin path.
 //
 //   fixpoint_bench [--benchmark_filter=...]    FIXPOINT_BENCH_POINTS overrides the 1e8 points
-#include <fixpoint/host/pipeline.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/pipeline.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/rng.hpp>
 
 #include <benchmark/benchmark.h>

@@ -16,9 +16,9 @@
 //
 //   fixpoint_bench_orbit_trap [--benchmark_filter=...]
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/host.hpp>
-#include <fixpoint/host/registry.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/host.hpp>
+#include <fixpoint/host/core/registry.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/simd.hpp>
 
 #include <benchmark/benchmark.h>

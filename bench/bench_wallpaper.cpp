@@ -6,7 +6,7 @@
 // (random: dense) and p3m1 (Fig. 5: hexagonal); float and double; with and without a mask.
 //
 //   fixpoint_bench_wallpaper [--benchmark_filter=...]
-#include <fixpoint/host/host.hpp>
+#include <fixpoint/host/core/host.hpp>
 
 #include <benchmark/benchmark.h>
 

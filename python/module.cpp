@@ -5,12 +5,12 @@
 // reports progress and watches for Ctrl-C: a Python callback and Python's signal handling
 // both need the calling thread and the GIL.
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/build.hpp>
-#include <fixpoint/host/config.hpp>
-#include <fixpoint/host/image_io.hpp>
-#include <fixpoint/host/pipeline.hpp>
-#include <fixpoint/host/registry.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/build.hpp>
+#include <fixpoint/host/core/config.hpp>
+#include <fixpoint/host/core/image_io.hpp>
+#include <fixpoint/host/core/pipeline.hpp>
+#include <fixpoint/host/core/registry.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/simd.hpp>
 
 #include <pybind11/numpy.h>

@@ -4,24 +4,24 @@
 // failure or a check's "no" (`symmetry --group G`: G is not kept), 130 interrupted. Every
 // error is one line on stderr.
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/animate.hpp>
-#include <fixpoint/host/build.hpp>
-#include <fixpoint/host/checkpoint.hpp>
-#include <fixpoint/host/conformance.hpp>
-#include <fixpoint/host/converse.hpp>
-#include <fixpoint/host/draft.hpp>
-#include <fixpoint/host/explore.hpp>
-#include <fixpoint/host/image_io.hpp>
-#include <fixpoint/host/pipeline.hpp>
-#include <fixpoint/host/print.hpp>
-#include <fixpoint/host/progress.hpp>
-#include <fixpoint/host/ranks.hpp>
-#include <fixpoint/host/registry.hpp>
-#include <fixpoint/host/runtime.hpp>
-#include <fixpoint/host/serve.hpp>
-#include <fixpoint/host/symmetry.hpp>
-#include <fixpoint/host/watch.hpp>
-#include <fixpoint/host/where.hpp>
+#include <fixpoint/host/conformance/conformance.hpp>
+#include <fixpoint/host/core/build.hpp>
+#include <fixpoint/host/core/checkpoint.hpp>
+#include <fixpoint/host/core/image_io.hpp>
+#include <fixpoint/host/core/pipeline.hpp>
+#include <fixpoint/host/core/progress.hpp>
+#include <fixpoint/host/core/ranks.hpp>
+#include <fixpoint/host/core/registry.hpp>
+#include <fixpoint/host/core/runtime.hpp>
+#include <fixpoint/host/job/draft.hpp>
+#include <fixpoint/host/job/print.hpp>
+#include <fixpoint/host/serve/serve.hpp>
+#include <fixpoint/host/tools/animate.hpp>
+#include <fixpoint/host/tools/converse.hpp>
+#include <fixpoint/host/tools/explore.hpp>
+#include <fixpoint/host/tools/symmetry.hpp>
+#include <fixpoint/host/tools/watch.hpp>
+#include <fixpoint/host/tools/where.hpp>
 #include <fixpoint/simd.hpp>
 #include <fixpoint/version.hpp>
 

@@ -11,7 +11,7 @@
 // to raise as fp::host::WriteError (its own type).
 #pragma once
 
-#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 
 #include <cstdint>
 #include <string>

@@ -9,7 +9,7 @@
 //   - the same bytes on 1, 2 and 3 threads.
 #include "cli.hpp"
 
-#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/rng.hpp>
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // save, and keeps the last good image when a save is refused.
 #include "cli.hpp"
 
-#include <fixpoint/host/draft.hpp>
+#include <fixpoint/host/job/draft.hpp>
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // exact error lines).
 #include "cli.hpp"
 
-#include <fixpoint/host/measures.hpp>
+#include <fixpoint/host/tools/measures.hpp>
 
 #include <gtest/gtest.h>
 

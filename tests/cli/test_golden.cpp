@@ -10,7 +10,7 @@
 // and look at the new images before committing them.
 #include "cli.hpp"
 
-#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // output; nothing crashes, hangs or overwrites what it was not asked to.
 #include "cli.hpp"
 
-#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 
 #include <gtest/gtest.h>
 

@@ -18,9 +18,9 @@
 #include "host.hpp"
 
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/config.hpp>
-#include <fixpoint/host/host.hpp>
-#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/core/config.hpp>
+#include <fixpoint/host/core/host.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 
 #include <gtest/gtest.h>
 

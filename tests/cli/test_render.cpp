@@ -1,7 +1,7 @@
 // End-to-end behaviour of `fixpoint render` and friends, as a user runs them.
 #include "cli.hpp"
 
-#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 
 #include <gtest/gtest.h>
 

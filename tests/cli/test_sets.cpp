@@ -4,7 +4,7 @@
 // at the fill's opacity; a centre is its map's colour; outside every set, the background.
 #include "cli.hpp"
 
-#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 
 #include <gtest/gtest.h>
 

@@ -27,8 +27,8 @@
 //     traps' order reversed is exactly the mirror image; see MirrorBrokenByTrapOrder).
 #include "cli.hpp"
 
-#include <fixpoint/host/image_io.hpp>
-#include <fixpoint/host/symmetry.hpp>
+#include <fixpoint/host/core/image_io.hpp>
+#include <fixpoint/host/tools/symmetry.hpp>
 
 #include <gtest/gtest.h>
 

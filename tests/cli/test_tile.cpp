@@ -18,7 +18,7 @@
 #include "cli.hpp"
 #include "host.hpp"
 
-#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // The conformance suite as a GoogleTest program: `fixpoint_conformance_runner FILE...` runs
 // every check on each plugin file (third-party authors can run it on theirs, or use
 // `fixpoint conformance FILE`). The paths are collected before InitGoogleTest.
-#include <fixpoint/host/conformance.hpp>
-#include <fixpoint/host/registry.hpp>
+#include <fixpoint/host/conformance/conformance.hpp>
+#include <fixpoint/host/core/registry.hpp>
 
 #include <gtest/gtest.h>
 

@@ -12,10 +12,10 @@
 // expected answers; anything else escaping is a finding (printed, then abort()). Writes one
 // temporary file, the input, rewritten for each run.
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/checkpoint.hpp>
-#include <fixpoint/host/pipeline.hpp>
-#include <fixpoint/host/registry.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/checkpoint.hpp>
+#include <fixpoint/host/core/pipeline.hpp>
+#include <fixpoint/host/core/registry.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/version.hpp>
 
 #include "verdict.hpp"

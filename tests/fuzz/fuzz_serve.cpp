@@ -12,7 +12,7 @@
 #include "verdict.hpp"
 
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/config.hpp>
+#include <fixpoint/host/core/config.hpp>
 
 #include <httplib.h>
 

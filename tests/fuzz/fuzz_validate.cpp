@@ -9,9 +9,9 @@
 // finding: printed, then abort() makes libFuzzer keep the input. Crashes, leaks, hangs and
 // the sanitizers' reports are findings as usual. Writes no file.
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/config.hpp>
-#include <fixpoint/host/pipeline.hpp>
-#include <fixpoint/host/registry.hpp>
+#include <fixpoint/host/core/config.hpp>
+#include <fixpoint/host/core/pipeline.hpp>
+#include <fixpoint/host/core/registry.hpp>
 
 #include "verdict.hpp"
 

@@ -1,7 +1,7 @@
 // One plugin host for every unit test of a test program (loading the plugins once).
 #pragma once
 
-#include <fixpoint/host/host.hpp>
+#include <fixpoint/host/core/host.hpp>
 
 #include <functional>
 #include <string>

@@ -2,8 +2,8 @@
 // the known-kernel contract of `inversion` in a `circle`, is_picard, the fused step on every
 // instruction set this machine has against the generic step's arithmetic written out per
 // chain, and whole renders with `kernels: auto` and `kernels: generic` giving the same bytes.
-#include <fixpoint/host/host.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/host.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/simd.hpp>
 
 // The renderer's kernels, compiled here for every target too (the plugin keeps its own

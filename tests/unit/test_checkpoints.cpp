@@ -14,8 +14,8 @@
 // orbit-trap (orbit-trap.cpp's "Checkpoints"): stopped between tiles for checkpoints, resumed
 // from them, the same pixels and counts; a payload of another image refused.
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/host.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/host.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The host's YAML stages, tested below the CLI.
-#include <fixpoint/host/build.hpp>
-#include <fixpoint/host/config.hpp>
-#include <fixpoint/host/host.hpp>
+#include <fixpoint/host/core/build.hpp>
+#include <fixpoint/host/core/config.hpp>
+#include <fixpoint/host/core/host.hpp>
 
 #include "host.hpp"
 

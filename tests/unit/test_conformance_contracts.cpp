@@ -6,7 +6,7 @@
 #include "host.hpp"
 
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/conformance.hpp>
+#include <fixpoint/host/conformance/conformance.hpp>
 
 #include <gtest/gtest.h>
 

@@ -6,7 +6,7 @@
 // path, the mask; the colourer's centroid and its colours at the centre and the rim.
 #include "host.hpp"
 
-#include <fixpoint/host/host.hpp>
+#include <fixpoint/host/core/host.hpp>
 
 #include <gtest/gtest.h>
 
@@ -199,7 +199,7 @@ TEST(CentroidDistance, OneBinAndEmpty) {
 
 } // namespace
 
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 
 namespace {
 

@@ -8,8 +8,8 @@
 #include "host.hpp"
 
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/host.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/host.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 
 #include <gtest/gtest.h>
 

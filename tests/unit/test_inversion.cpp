@@ -4,7 +4,7 @@
 // every shape, the kernel check of the centre, and the mask.
 #include "host.hpp"
 
-#include <fixpoint/host/host.hpp>
+#include <fixpoint/host/core/host.hpp>
 
 #include <gtest/gtest.h>
 

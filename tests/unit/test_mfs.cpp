@@ -1,7 +1,7 @@
 // The mfs renderer (paper 05): multiple function systems of subdivision maps, paths,
 // placements (Proposition 1, Algorithm 2) and addresses (Algorithm 1).
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 
 #include "host.hpp"
 

@@ -3,7 +3,7 @@
 // which is Q_{-1,0}. The plugins are built through the host, as a config builds them.
 #include "host.hpp"
 
-#include <fixpoint/host/host.hpp>
+#include <fixpoint/host/core/host.hpp>
 
 #include <gtest/gtest.h>
 

@@ -6,7 +6,7 @@
 #include "../../plugins/renderers/orbit-trap/reduce.hpp"
 
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // The parameters of a config for the preview page's panel (host/param_list.hpp): exact entries
 // on a small config and on hand-written ones (unknown plugins, wrong values), and every config
 // of configs/ listed with paths that --set takes and values that read back as the config's.
-#include <fixpoint/host/config.hpp>
-#include <fixpoint/host/host.hpp>
-#include <fixpoint/host/param_list.hpp>
+#include <fixpoint/host/core/config.hpp>
+#include <fixpoint/host/core/host.hpp>
+#include <fixpoint/host/core/param_list.hpp>
 
 #include <cli.hpp>
 

@@ -12,7 +12,7 @@
 // of the map, for Picard-S, where T is applied after the rounding).
 #include "host.hpp"
 
-#include <fixpoint/host/host.hpp>
+#include <fixpoint/host/core/host.hpp>
 #include <fixpoint/transform_base.hpp>
 
 #include <gtest/gtest.h>

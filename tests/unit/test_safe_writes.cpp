@@ -2,8 +2,8 @@
 // link planted at the temporary names a writer could be expected to use (the old
 // ".NAME.tmp-PID", the checkpoints' "NAME.partial") is never followed, whatever writes: a
 // whole file (write_bytes: vector documents, serve's saves), a streamed image, a checkpoint.
-#include <fixpoint/host/checkpoint.hpp>
-#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/core/checkpoint.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 
 #include "cli.hpp"
 

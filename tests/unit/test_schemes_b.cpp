@@ -12,8 +12,8 @@
 #include "host.hpp"
 #include <fixpoint/fixpoint.hpp>
 
-#include <fixpoint/host/host.hpp>
-#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/core/host.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 
 #include <gtest/gtest.h>
 

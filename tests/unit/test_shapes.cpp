@@ -3,7 +3,7 @@
 // exact error messages of refused shapes.
 #include "host.hpp"
 
-#include <fixpoint/host/host.hpp>
+#include <fixpoint/host/core/host.hpp>
 #include <fixpoint/simd.hpp>
 
 #include <gtest/gtest.h>

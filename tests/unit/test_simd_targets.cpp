@@ -2,8 +2,8 @@
 // instruction set the kernels dispatch to. Each recipe is rendered with dispatch pinned to
 // each target this machine has (fp::simd::force_target), from the portable one-lane SCALAR
 // up to the widest, and compared with the best target's image and counts.
-#include <fixpoint/host/host.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/host.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/simd.hpp>
 
 #include <gtest/gtest.h>

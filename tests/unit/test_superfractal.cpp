@@ -1,7 +1,7 @@
 // The superfractal renderer (paper 03, Sec. III): Barnsley's V-variable algorithm with buffers.
-#include <fixpoint/host/host.hpp>
-#include <fixpoint/host/image_io.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/host.hpp>
+#include <fixpoint/host/core/image_io.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 
 #include "cli.hpp"
 

@@ -1,7 +1,7 @@
 // output.tiled's rule (host/image_io.hpp's tiled_file): by default TIFF and EXR images of more
 // than 2^26 pixels (8192 x 8192) are tiled, PNG never; `true` and `false` say so whatever the
 // size, and `true` for a PNG is refused.
-#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 
 #include <gtest/gtest.h>
 

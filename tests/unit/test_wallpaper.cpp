@@ -10,7 +10,7 @@
 
 #include "../../plugins/transforms/wallpaper_kernel.hpp"
 
-#include <fixpoint/host/host.hpp>
+#include <fixpoint/host/core/host.hpp>
 
 #include <gtest/gtest.h>
 

@@ -18,8 +18,8 @@
 #include "../../plugins/transforms/wallpaper_kernel.hpp"
 
 #include <fixpoint/fixpoint.hpp>
-#include <fixpoint/host/host.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/host.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/simd.hpp>
 
 #include <gtest/gtest.h>

@@ -2,8 +2,8 @@
 // configs, and on every config of configs/ the two properties the preview page relies on:
 // the edited text reads as --set would make the tree, and no other line changes.
 #include <fixpoint/errors.hpp>
-#include <fixpoint/host/config.hpp>
-#include <fixpoint/host/yaml_edit.hpp>
+#include <fixpoint/host/core/config.hpp>
+#include <fixpoint/host/core/yaml_edit.hpp>
 
 #include "host.hpp"
 #include <cli.hpp>

@@ -6,11 +6,11 @@
 #include "context.hpp"
 #include "preview.hpp"
 
-#include <fixpoint/host/draft.hpp>
-#include <fixpoint/host/image_io.hpp>
-#include <fixpoint/host/param_list.hpp>
-#include <fixpoint/host/runtime.hpp>
-#include <fixpoint/host/yaml_edit.hpp>
+#include <fixpoint/host/core/image_io.hpp>
+#include <fixpoint/host/core/param_list.hpp>
+#include <fixpoint/host/core/runtime.hpp>
+#include <fixpoint/host/core/yaml_edit.hpp>
+#include <fixpoint/host/job/draft.hpp>
 #include <fixpoint/text.hpp>
 #include <fixpoint/version.hpp>
 

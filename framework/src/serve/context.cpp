@@ -1,6 +1,6 @@
 #include "context.hpp"
 
-#include <fixpoint/host/image_io.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/text.hpp>
 
 #include <httplib.h>

@@ -5,9 +5,9 @@
 
 #include "preview.hpp"
 
-#include <fixpoint/host/config.hpp>
-#include <fixpoint/host/pipeline.hpp>
-#include <fixpoint/host/registry.hpp>
+#include <fixpoint/host/core/config.hpp>
+#include <fixpoint/host/core/pipeline.hpp>
+#include <fixpoint/host/core/registry.hpp>
 
 #include <nlohmann/json.hpp>
 

@@ -1,8 +1,8 @@
 #include "preview.hpp"
 
-#include <fixpoint/host/draft.hpp>
-#include <fixpoint/host/image_io.hpp>
-#include <fixpoint/host/runtime.hpp>
+#include <fixpoint/host/core/image_io.hpp>
+#include <fixpoint/host/core/runtime.hpp>
+#include <fixpoint/host/job/draft.hpp>
 
 #include <fstream>
 #include <iterator>

@@ -3,7 +3,7 @@
 // the running one through its Runtime's cancel flag.
 #pragma once
 
-#include <fixpoint/host/pipeline.hpp>
+#include <fixpoint/host/core/pipeline.hpp>
 
 #include <atomic>
 #include <chrono>

@@ -1,0 +1,83 @@
+// The parallel runtime: a RenderContext on a oneTBB arena of a fixed number of threads.
+#pragma once
+
+#include <fixpoint/host/core/checkpoint.hpp>
+#include <fixpoint/render.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace fp::host {
+
+class Runtime : public RenderContext {
+public:
+    /// `cancel` (may be null) is polled by renderers; a signal handler sets it. `distributed`:
+    /// the render is split over the MPI ranks (host/ranks.hpp), as `fixpoint render` under
+    /// mpirun does; otherwise this process renders alone.
+    Runtime(unsigned threads, const std::atomic<bool>* cancel, bool distributed = false);
+    ~Runtime() override;
+
+    unsigned workers() const override { return threads_; }
+    void parallel_for(std::size_t n, const std::function<void(std::size_t, unsigned)>& task) override;
+    void progress(std::uint64_t units) override { done_.fetch_add(units, std::memory_order_relaxed); }
+    bool cancelled() const override { return cancel_ && cancel_->load(std::memory_order_relaxed); }
+
+    unsigned rank() const override;
+    unsigned ranks() const override;
+    void combine(void* data, std::size_t bytes, std::size_t record,
+                 const std::function<void(const void*, void*, std::size_t)>& fold, bool everywhere) override;
+
+    std::uint64_t memory_budget() const override { return budget_; }
+    /// The budget renderers see (check_memory's answer); unset: no limit.
+    void set_memory_budget(std::uint64_t bytes) { budget_ = bytes; }
+
+    std::uint64_t done() const { return done_.load(std::memory_order_relaxed); }
+
+    // Checkpoints (host/checkpoint.hpp): written to `path` every `every_s` seconds and when the
+    // render ends, with `header`; `resume`: the checkpoint the render continues from (null: from
+    // the start).
+    void set_checkpoints(std::string path, double every_s, CheckpointHeader header,
+                         std::unique_ptr<CheckpointFile> resume);
+    bool checkpointing() const override { return !checkpoint_path_.empty(); }
+    bool checkpoint_due() const override;
+    void write_checkpoint(const std::function<void(CheckpointSink&)>& body) override;
+    CheckpointSource* resume_from() override { return resume_.get(); }
+    /// Checkpoints written so far.
+    unsigned checkpoints_written() const { return written_; }
+
+private:
+    struct Impl;
+    unsigned threads_;
+    const std::atomic<bool>* cancel_;
+    bool distributed_;
+    std::atomic<std::uint64_t> done_{0};
+    std::uint64_t budget_ = UINT64_MAX;
+    std::string checkpoint_path_;
+    double checkpoint_every_ = 0;
+    CheckpointHeader checkpoint_header_;
+    std::unique_ptr<CheckpointFile> resume_;
+    std::chrono::steady_clock::time_point checkpoint_due_;
+    unsigned written_ = 0;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// Threads this machine offers.
+unsigned hardware_threads();
+
+/// Memory available for a render, in bytes: the least of the machine's (MemAvailable), the
+/// cgroup's (its limit less its use) and the address space left under RLIMIT_AS, less an eighth
+/// for headroom.
+std::uint64_t available_memory();
+
+/// "1.5 GiB"
+std::string format_bytes(std::uint64_t b);
+
+/// A size as `--memory` takes it: a number of bytes with an optional binary unit, K, M, G or T
+/// (KiB, MiB, GiB, TiB; "B" and "iB" optional, any case): "8G", "512MiB", "1.5g", "1000000".
+/// fp::InputError naming `option` otherwise, or for a size below 1 MiB.
+std::uint64_t parse_size(const std::string& text, const std::string& option);
+
+} // namespace fp::host
