@@ -91,7 +91,8 @@ private:
 constexpr fp::ParamSpec params[] = {
     fp::param::string("file",
                       "the Python file that defines step(T, x, y, n) (relative to the working folder)")
-        .opt(),
+        .opt()
+        .reads_file(),
     fp::param::string("code",
                       "the Python code itself, instead of a file (recipes then hold the whole scheme)")
         .opt(),

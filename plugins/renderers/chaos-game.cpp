@@ -1789,7 +1789,8 @@ constexpr fp::ParamSpec params[] = {
     fp::param::integer("points", "total number of points plotted over all chains")
         .def("1000000")
         .min(1)
-        .max(1e15),
+        .max(1e15)
+        .as(fp::ParamRole::work),
     fp::param::integer("seed", "seed of the random streams (chain i uses stream (seed, i))").def("1").min(0),
     fp::param::integer("skip", "points not plotted at the start of each chain and after each restart")
         .def("20")
@@ -1858,4 +1859,5 @@ FIXPOINT_PLUGIN(
         .with_example("{maps: [{type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.8}}, "
                       "{type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.8}}, "
                       "{type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.8}}], "
-                      "width: 32, height: 32, points: 20000, chains: 64}"))
+                      "width: 32, height: 32, points: 20000, chains: 64}")
+        .with_abilities(fp::ability::weighted_maps))

@@ -613,7 +613,8 @@ constexpr fp::ParamSpec params[] = {
                        "number, on fixed patterns closed under the square's symmetries")
         .def("8")
         .min(1)
-        .max(1024),
+        .max(1024)
+        .as(fp::ParamRole::samples),
     fp::param::object("mapping", fp::Kind::Transform,
                       "the map f iterated (a wallpaper map for paper 04's patterns)"),
     fp::param::object(

@@ -800,7 +800,8 @@ constexpr fp::ParamSpec params[] = {
                        "points in each buffer (the child is drawn with this many points)")
         .def("100000")
         .min(1)
-        .max(1e10),
+        .max(1e10)
+        .as(fp::ParamRole::work),
     fp::param::integer("buffers", "number of buffers (V of V-variable; the paper's L and R are 2)")
         .def("2")
         .min(1)
@@ -829,7 +830,8 @@ constexpr fp::ParamSpec params[] = {
     fp::param::string("picture", "colour stealing (Barnsley): each point takes the colour of this picture at "
                                  "the point of the colour IFS (the maps' colour_map) run with the same "
                                  "choices; hues (built in) or a PNG file relative to the working folder")
-        .opt(),
+        .opt()
+        .reads_file("hues"),
 };
 
 } // namespace

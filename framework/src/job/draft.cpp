@@ -39,15 +39,20 @@ std::vector<std::string> draft_overrides(const Pipeline& full, int factor) {
     if (!r || !r->is_map()) return sets;
     const long double area = static_cast<long double>(factor) * factor;
     long double v = 0;
-    // The work in proportion to the pixels: a pixel of the draft gets about the points a
-    // pixel of the full render gets, so that the tone mapping sees the same densities.
-    for (const char* key : {"points", "points_per_buffer"})
-        if (integer_at(*r, key, v))
-            sets.push_back("renderer." + std::string(key) + "=" +
+    // What the renderer declares of its parameters (fp::ParamRole): the work in proportion to
+    // the pixels, so that a pixel of the draft gets about the points a pixel of the full render
+    // gets and the tone mapping sees the same densities; one sample per pixel (its pixels are
+    // already factor^2 fewer).
+    const PluginDescriptor& d = *full.renderer_plugin->desc;
+    for (std::uint32_t i = 0; i < d.n_params; ++i) {
+        const ParamSpec& s = d.params[i];
+        if (s.type != ParamType::Int || !integer_at(*r, s.name, v)) continue;
+        if (s.role == ParamRole::work)
+            sets.push_back("renderer." + std::string(s.name) + "=" +
                            integer_text(std::max<long double>(1, v / area)));
-    // orbit-trap: one sample per pixel (its pixels are already factor^2 fewer).
-    if (full.renderer_type == "orbit-trap" && integer_at(*r, "samples", v) && v > 1)
-        sets.push_back("renderer.samples=1");
+        else if (s.role == ParamRole::samples && v > 1)
+            sets.push_back("renderer." + std::string(s.name) + "=1");
+    }
     return sets;
 }
 

@@ -257,6 +257,18 @@ void check_read_file(const Context& c, const CNode& node, const std::string& key
     }
 }
 
+// One of the values a file parameter declares as built in rather than a file ("hues").
+bool is_builtin(const ParamSpec& s, const std::string& value) {
+    if (!s.builtins) return false;
+    const std::string_view all(s.builtins);
+    for (std::size_t a = 0; a <= all.size();) {
+        const std::size_t b = std::min(all.find('|', a), all.size());
+        if (all.substr(a, b - a) == value) return true;
+        a = b + 1;
+    }
+    return false;
+}
+
 void check_node(const Context& c, const CNode& n, const std::string& at) {
     if (n.is_seq()) {
         for (std::size_t i = 0; i < n.items.size(); ++i)
@@ -264,20 +276,27 @@ void check_node(const Context& c, const CNode& n, const std::string& at) {
         return;
     }
     if (!n.is_map()) return;
-    if (const CNode* type = n.find("type"); type && type->is_scalar()) {
-        if (type->scalar == "python-scheme") {
-            // It runs the Python of `code:` or `file:` when the config loads: a page (or any
-            // local process) could run anything as this user through /api/check.
-            if (!c.allow_python)
-                throw InputError(n.mark.str() + ": " + (at.empty() ? std::string("the config") : at) +
-                                 ": python-scheme runs Python code: fixpoint serve refuses it unless "
-                                 "started with --allow-python");
-            check_read_file(c, n, "file", at);
+    // What the plugin named by `type:` declares (its descriptor): whether building it runs code
+    // its parameters carry, and which parameters name files it reads. Any node with a `type:` is
+    // asked, wherever it stands (a plugin may not even take it there: refused before validation
+    // would say so). A name no plugin has is left to validation ("unknown plugin").
+    if (const CNode* type = n.find("type"); type && type->is_scalar())
+        if (const PluginEntry* e = c.reg->find(type->scalar)) {
+            const PluginDescriptor& d = *e->desc;
+            // It runs the code of its parameters when the config loads: a page (or any local
+            // process) could run anything as this user through /api/check.
+            if (d.runs_code && !c.allow_python)
+                throw InputError(n.mark.str() + ": " + (at.empty() ? std::string("the config") : at) + ": " +
+                                 d.name +
+                                 " runs Python code: fixpoint serve refuses it unless started with "
+                                 "--allow-python");
+            for (std::uint32_t i = 0; i < d.n_params; ++i) {
+                const ParamSpec& s = d.params[i];
+                if (s.role != ParamRole::file) continue;
+                const CNode* v = n.find(s.name);
+                if (v && v->is_scalar() && !is_builtin(s, v->scalar)) check_read_file(c, n, s.name, at);
+            }
         }
-        if (type->scalar == "superfractal")
-            if (const CNode* picture = n.find("picture"); picture && picture->scalar != "hues")
-                check_read_file(c, n, "picture", at);
-    }
     for (const auto& [key, child] : n.keys) check_node(c, child, child_path(at, key));
 }
 

@@ -40,6 +40,22 @@ enum class ParamType : std::uint32_t {
 
 std::string_view param_type_name(ParamType t);
 
+/// What the host may do with a parameter besides handing it to the plugin. Declared in the
+/// schema, so that the host asks a plugin's declaration instead of testing its name; plain
+/// data, so a new use adds a value here, not a virtual function to every plugin. (ABI 16.)
+enum class ParamRole : std::uint8_t {
+    none,
+    /// A count of work in proportion to the picture's pixels (chaos-game `points`, superfractal
+    /// `points_per_buffer`): a draft of factor f (host/job/draft.hpp) takes 1/f^2 of it, so a
+    /// pixel of the draft gets the points a pixel of the full render gets.
+    work,
+    /// Samples per pixel (orbit-trap `samples`): a draft takes one.
+    samples,
+    /// A file the plugin reads (a picture, a script), relative to the working folder: serve keeps
+    /// it inside its root. `builtins` names the values that are not files ("hues").
+    file,
+};
+
 struct ParamSpec {
     const char* name = nullptr;
     ParamType type = ParamType::Real;
@@ -59,6 +75,8 @@ struct ParamSpec {
     const char* choices = nullptr;          ///< String: "a|b|c"
     const ParamSpec* item_params = nullptr; ///< Objects: extra keys beside `type:`
     std::uint32_t n_item_params = 0;
+    ParamRole role = ParamRole::none;
+    const char* builtins = nullptr; ///< role file: the values, "a|b", that name no file
 
     // constexpr builders: `param::real("radius", "radius of the circle").def("1").above(0)`
     constexpr ParamSpec def(const char* yaml) const {
@@ -113,6 +131,18 @@ struct ParamSpec {
     constexpr ParamSpec one_of(const char* c) const {
         auto s = *this;
         s.choices = c;
+        return s;
+    }
+    constexpr ParamSpec as(ParamRole r) const {
+        auto s = *this;
+        s.role = r;
+        return s;
+    }
+    /// role file, with the values that are built in rather than files ("hues").
+    constexpr ParamSpec reads_file(const char* builtin_values = nullptr) const {
+        auto s = *this;
+        s.role = ParamRole::file;
+        s.builtins = builtin_values;
         return s;
     }
     template <std::size_t N>

@@ -33,10 +33,21 @@ namespace fp {
 /// IterationScheme::program and SchemeProgram, for the chaos game's fused step with any
 /// scheme; ABI 14: Histogram::hits, size and hits_at, Colourer::reads_hits_only, histograms of
 /// hit counts alone; ABI 15: PluginDescriptor::runs_code, so that the host refuses code from
-/// a recipe read from an image):
+/// a recipe read from an image; ABI 16: ParamSpec::role and builtins, PluginDescriptor::abilities,
+/// so that the host asks what a plugin can do instead of testing its name):
 /// the host refuses a plugin built for another value ("rebuild it against this SDK"), so a
 /// plugin always matches the headers the host was built with.
-constexpr std::uint32_t abi_version = 15;
+constexpr std::uint32_t abi_version = 16;
+
+/// What a plugin can do that the host asks of its descriptor, as bits of
+/// PluginDescriptor::abilities: data, so that a new ability adds a bit here rather than a
+/// virtual function to an interface (and to every plugin of it).
+namespace ability {
+/// A renderer whose `maps` (transforms, each with a `weight`) are drawn by weight at each step
+/// and applied through its `iteration` scheme from its `start` or its `view`: a chaos game.
+/// `fixpoint explore` measures the Lyapunov exponent of such maps.
+constexpr std::uint32_t weighted_maps = 1u << 0;
+} // namespace ability
 
 struct PluginDescriptor {
     std::uint32_t abi = abi_version;
@@ -54,7 +65,14 @@ struct PluginDescriptor {
     /// refuses such a plugin in a recipe read from an image (a file from anywhere) unless the
     /// user allows it (--allow-python), as it refuses it in serve's configs.
     bool runs_code = false;
+    /// Bits of fp::ability.
+    std::uint32_t abilities = 0;
 
+    constexpr PluginDescriptor with_abilities(std::uint32_t bits) const {
+        auto d = *this;
+        d.abilities |= bits;
+        return d;
+    }
     constexpr PluginDescriptor with_runs_code() const {
         auto d = *this;
         d.runs_code = true;
