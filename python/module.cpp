@@ -11,6 +11,7 @@
 #include <fixpoint/host/core/pipeline.hpp>
 #include <fixpoint/host/core/registry.hpp>
 #include <fixpoint/host/core/runtime.hpp>
+#include <fixpoint/host/job/render_job.hpp>
 #include <fixpoint/simd.hpp>
 
 #include <pybind11/numpy.h>
@@ -24,6 +25,7 @@
 #include <condition_variable>
 #include <exception>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -149,51 +151,61 @@ void run_released(Work&& work, std::atomic<bool>& cancel, const std::function<st
     if (!progress.is_none()) progress(1.0);
 }
 
-/// render(config, is_text, sets, threads, progress, output, allow_python)
-///   -> (float pixels, recipe, stats, warnings, bit_depth)
-/// With an output path, checked before rendering and written after as `fixpoint render -o`.
-/// allow_python: a recipe read from an image may run its python-scheme's code.
+/// render(config, is_text, sets, threads, progress, output, allow_python, pixels, job)
+///   -> (float pixels or None, recipe, stats, warnings, bit_depth)
+/// `job`: the render job's further requests as strings, as the CLI's options take them:
+/// memory, checkpoint, checkpoint_every, resume ("" where not given).
+/// With an output path, planned and written by the render job as `fixpoint render -o` does
+/// (output.tiled honoured); without `pixels` the image is only written, and may stream in strips
+/// when it does not fit in memory. allow_python: a recipe read from an image may run its
+/// python-scheme's code.
 py::tuple render(const std::string& config, bool is_text, const std::vector<std::string>& sets,
-                 unsigned threads, const py::object& progress, const std::string& output, bool allow_python) {
+                 unsigned threads, const py::object& progress, const std::string& output, bool allow_python,
+                 bool pixels, const std::map<std::string, std::string>& job) {
     const Pipeline p = pipeline_of(config, is_text, sets, allow_python);
-    if (!threads) threads = hardware_threads();
-    check_memory(p, threads);
-    if (!output.empty()) {
-        std::error_code ec;
-        if (!is_text && fs::equivalent(output, config, ec))
-            throw InputError("cannot write '" + output + "': it is the config being rendered");
-        check_output(output);
-        if (is_vector(format_for(output)))
-            throw InputError("'" + output + "': the Python module writes images (.png, .exr, .tif)");
-    }
+    if (!pixels && output.empty()) throw InputError("render: pixels=False needs an output file to write");
+    RenderRequest request;
+    request.output = output;
+    request.source = is_text ? "" : config;
+    request.raster_only = "{}: the Python module writes images (.png, .exr, .tif)";
+    request.keep_image = pixels;
+    request.threads = threads;
+    const auto opt = [&job](const char* key) {
+        const auto it = job.find(key);
+        return it == job.end() ? std::string() : it->second;
+    };
+    if (const std::string m = opt("memory"); !m.empty()) request.memory = parse_size(m, "memory");
+    request.checkpoint = opt("checkpoint"), request.checkpoint_every = opt("checkpoint_every");
+    request.resume = opt("resume");
+    RenderPlan plan = plan_render(p, request);
     std::atomic<bool> cancel{false};
-    Runtime rt(threads, &cancel);
-    Image img;
-    RenderStats stats;
-    run_released(
-        [&] {
-            try {
-                img = p.renderer->render(rt, stats);
-            } catch (const InputError& e) {
-                // As the CLI: refused during the render, blamed on the renderer.
-                throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
-            }
-        },
-        cancel, [&rt] { return rt.done(); }, p.renderer->work_units(), progress);
+    std::atomic<std::uint64_t> done{0};
+    RenderHooks hooks;
+    hooks.cancel = &cancel;
+    hooks.done = &done;
+    RenderResult r;
+    run_released([&] { r = run_render(plan, hooks); }, cancel, [&done] { return done.load(); },
+                 plan_work_units(plan), progress);
     std::vector<std::string> warnings = p.warnings;
-    if (std::string w = check_drawn(p, stats); !w.empty()) warnings.push_back(std::move(w));
-    if (!output.empty()) write_image(img, output, p.bit_depth, p.recipe);
-    py::array_t<float> pixels(std::vector<py::ssize_t>{img.height, img.width, img.channels});
-    std::copy(img.pixels.begin(), img.pixels.end(), pixels.mutable_data());
+    for (auto& w : r.warnings) warnings.push_back(std::move(w));
+    py::object image = py::none();
+    if (pixels) {
+        const Image& img = r.image;
+        py::array_t<float> a(std::vector<py::ssize_t>{img.height, img.width, img.channels});
+        std::copy(img.pixels.begin(), img.pixels.end(), a.mutable_data());
+        image = std::move(a);
+    }
     py::dict st;
-    st["samples"] = stats.samples;
-    st["restarts"] = stats.restarts;
-    st["bad_values"] = stats.bad_values;
-    st["unit"] = stats.unit;
-    if (stats.drawn != RenderStats::unknown_count) st["drawn"] = stats.drawn;
-    st["threads"] = threads;
+    st["samples"] = r.stats.samples;
+    st["restarts"] = r.stats.restarts;
+    st["bad_values"] = r.stats.bad_values;
+    st["unit"] = r.stats.unit;
+    if (r.stats.drawn != RenderStats::unknown_count) st["drawn"] = r.stats.drawn;
+    st["threads"] = plan.threads;
+    if (!plan.checkpoints.path.empty()) st["checkpoints"] = r.checkpoints_written;
     st["simd"] = std::string(simd::active_target());
-    return py::make_tuple(pixels, p.recipe, st, warnings, p.bit_depth);
+    if (!r.stats.how.empty()) st["how"] = r.stats.how;
+    return py::make_tuple(image, p.recipe, st, warnings, p.bit_depth);
 }
 
 /// Float pixels (height, width, channels) as an 8- or 16-bit image file stores them.

@@ -48,7 +48,7 @@ def _config(config):
 
 
 def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None, allow_python=False,
-           **overrides):
+           pixels=True, memory=None, checkpoint=None, checkpoint_every=None, resume=None, **overrides):
     """Render a config and return ``(image, recipe)``.
 
     config     a config file (or an image fixpoint wrote: its recipe), YAML text, or a dict.
@@ -58,7 +58,13 @@ def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None
     threads    worker threads (0: all the machine has); the image does not depend on it.
     progress   called with the fraction done (0 to 1), from this thread, about ten times a
                second; an exception it raises stops the render and is raised here.
-    output     also write the image there, with its recipe, as ``fixpoint render -o`` does.
+    output     also write the image there, with its recipe, as ``fixpoint render -o`` does
+               (``output.tiled`` of the config included).
+    pixels     False: only write ``output`` and return ``(None, recipe)``; an image too large
+               for memory then renders in strips, as ``fixpoint render`` streams one.
+    memory, checkpoint, checkpoint_every, resume
+               as the CLI's --memory ("8G"), --checkpoint FILE, --checkpoint-every ("5m") and
+               --resume FILE: the same render job, the same checks and bytes.
     dtype      None: the pixels as the image file stores them (uint8, or uint16 for
                ``output.bit_depth: 16``), equal to the PNG's; "float32": linear floats.
     allow_python  run the Python of a python-scheme in an image's recipe (refused by
@@ -72,17 +78,20 @@ def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None
     if dtype not in (None, "float32"):
         raise ValueError(f"dtype: expected None or 'float32', got {dtype!r}")
     try:
-        pixels, recipe, stats, warns, bit_depth = _fixpoint.render(
+        job = {k: os.fspath(v) if isinstance(v, os.PathLike) else str(v)
+               for k, v in [("memory", memory), ("checkpoint", checkpoint),
+                            ("checkpoint_every", checkpoint_every), ("resume", resume)] if v is not None}
+        image, recipe, stats, warns, bit_depth = _fixpoint.render(
             text, is_text, assignments, int(threads), progress, os.fspath(output) if output else "",
-            bool(allow_python))
+            bool(allow_python), bool(pixels), job)
     finally:
         _warn()
     for w in warns:
         _warnings.warn(w, RuntimeWarning, stacklevel=2)
     render.last_stats = stats
-    if dtype == "float32":
-        return pixels, recipe
-    return _fixpoint.quantise(pixels, bit_depth), recipe
+    if image is None or dtype == "float32":
+        return image, recipe
+    return _fixpoint.quantise(image, bit_depth), recipe
 
 
 render.last_stats = None

@@ -73,7 +73,7 @@ int open_temp_beside(const fs::path& target, fs::path& tmp) {
 
 static void check_image_module(const std::string& path);
 
-void check_output(const std::string& path) {
+void check_output(const std::string& path, bool folder_may_be_made) {
     // A NUL ends the name the system sees: "x.sh\0.png" would pass the checks below as a PNG
     // and write "x.sh". Control characters are refused with it: no file name needs them.
     for (const char ch : path)
@@ -83,9 +83,20 @@ void check_output(const std::string& path) {
     const fs::path target(path);
     std::error_code ec;
     if (fs::is_directory(target, ec)) throw InputError("cannot write '" + path + "': it is a folder");
-    const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-    if (!fs::is_directory(dir, ec))
-        throw InputError("cannot write '" + path + "': folder '" + dir.string() + "' does not exist");
+    fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    if (!fs::is_directory(dir, ec)) {
+        if (!folder_may_be_made)
+            throw InputError("cannot write '" + path + "': folder '" + dir.string() + "' does not exist");
+        // The folder is made later: the nearest one above it that exists must take it.
+        while (!dir.empty() && !fs::exists(fs::symlink_status(dir, ec))) dir = dir.parent_path();
+        if (dir.empty()) dir = ".";
+        if (!fs::is_directory(dir, ec))
+            throw InputError("cannot write '" + path + "': '" + dir.string() + "' is not a folder");
+        if (::access(dir.c_str(), W_OK | X_OK) != 0)
+            throw InputError("cannot write '" + path + "': cannot make a folder in '" + dir.string() +
+                             "': " + std::strerror(errno));
+        return;
+    }
     // Probe with a temporary file as the real write will make.
     fs::path probe;
     const int fd = open_temp_beside(target, probe);
@@ -184,6 +195,18 @@ void write_image(const Image& img, const std::string& path, int bit_depth, const
     const std::vector<unsigned char> bytes =
         image_api().encode(img, path, f, bit_depth, recipe, resolution, tiles);
     write_bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size(), path, cancel);
+}
+
+std::string encode_image(const Image& img, Format format, int bit_depth, const std::string& recipe,
+                         const Resolution& resolution, Tiled tiled) {
+    if (is_vector(format)) throw InternalError("encode_image: a raster format");
+    const std::string name = format == Format::Png   ? "image.png"
+                             : format == Format::Exr ? "image.exr"
+                                                     : "image.tif";
+    const bool tiles = tiled_file(name, img.width, img.height, tiled);
+    const std::vector<unsigned char> bytes =
+        image_api().encode(img, name, format, bit_depth, recipe, resolution, tiles);
+    return {bytes.begin(), bytes.end()};
 }
 
 struct StreamedImage::Impl {

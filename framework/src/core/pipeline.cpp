@@ -126,6 +126,7 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
     if (!p.renderer) throw InternalError("renderer plugin built an object that is not a Renderer");
     p.renderer_mark = r->mark;
     p.renderer_type = typed->plugin->desc->name;
+    p.renderer_plugin = typed->plugin;
 
     // The plugins the render uses, each "VERSION HASH": recorded in the recipe, and compared
     // with those a recipe (or a config copied from one) was made with.
@@ -183,6 +184,10 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
     }
     p.identity = emit_yaml(recipe);
     return p;
+}
+
+CheckpointHeader checkpoint_header(const Pipeline& p) {
+    return CheckpointHeader{FIXPOINT_VERSION, p.renderer_type, p.identity, p.points};
 }
 
 void check_memory(const Pipeline& p, unsigned threads) {

@@ -179,4 +179,11 @@ std::uint64_t fingerprint(const std::string& text) {
     return h;
 }
 
+void agree_checks(const std::string& recipes) {
+    if (size() <= 1 || phase() != Phase::checking) return;
+    const Verdict v = agree(0, "", fingerprint(recipes));
+    set_phase(v.code ? Phase::free : Phase::rendering);
+    if (v.code) throw Refused{v};
+}
+
 } // namespace fp::host::ranks

@@ -31,9 +31,12 @@ struct Runtime::Impl {
     explicit Impl(unsigned n) : limit(tbb::global_control::max_allowed_parallelism, n), arena(int(n)) {}
 };
 
-Runtime::Runtime(unsigned threads, const std::atomic<bool>* cancel, bool distributed)
-    : threads_(threads ? threads : 1), cancel_(cancel), distributed_(distributed && ranks::size() > 1),
-      impl_(std::make_unique<Impl>(threads_)) {}
+Runtime::Runtime(unsigned threads, const std::atomic<bool>* cancel, bool distributed, bool serial)
+    : threads_(serial    ? 1
+               : threads ? threads
+                         : 1),
+      cancel_(cancel), distributed_(distributed && ranks::size() > 1),
+      impl_(serial ? nullptr : std::make_unique<Impl>(threads_)) {}
 
 unsigned Runtime::rank() const { return distributed_ ? ranks::rank() : 0; }
 unsigned Runtime::ranks() const { return distributed_ ? ranks::size() : 1; }
@@ -70,6 +73,10 @@ void Runtime::write_checkpoint(const std::function<void(CheckpointSink&)>& body)
 }
 
 void Runtime::parallel_for(std::size_t n, const std::function<void(std::size_t, unsigned)>& task) {
+    if (!impl_) {
+        for (std::size_t i = 0; i < n; ++i) task(i, 0);
+        return;
+    }
     impl_->arena.execute([&] {
         // Grain 1: tasks are coarse (a block of chains, a tile); which worker runs which
         // task does not change the result, because renderers merge exactly.

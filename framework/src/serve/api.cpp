@@ -11,6 +11,7 @@
 #include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/host/core/yaml_edit.hpp>
 #include <fixpoint/host/job/draft.hpp>
+#include <fixpoint/host/job/render_job.hpp>
 #include <fixpoint/text.hpp>
 #include <fixpoint/version.hpp>
 
@@ -91,29 +92,26 @@ void api_plugins(const Context& c, const httplib::Request&, httplib::Response& r
     send_json(res, 200, v);
 }
 
-// The output as `fixpoint render` chooses it: `named`, else the config's output.path, else
-// the config's name with .png (in the served folder, as the CLI writes in its own), checked
-// as the CLI checks it (check_output_path runs it for /api/check and /api/preview too).
-static std::string render_output(const Context& c, const Pipeline& p, const std::string& path,
-                                 std::string out, bool force) {
-    const Mark* mark = nullptr;
-    if (out.empty() && !p.output_path.empty()) out = p.output_path, mark = &p.output_mark;
-    if (out.empty() && !path.empty()) out = fs::path(path).stem().string() + ".png";
-    if (out.empty())
+// The request of a render to a file, as `fixpoint render` makes one: the output named, else the
+// config's output.path, else the config's name with .png (in the served folder, as the CLI
+// writes in its own), inside the root, replacing a file only with "force". (check_output_path
+// plans it for /api/check and /api/preview too.)
+static RenderRequest render_request(const Context& c, const Pipeline& p, const std::string& path,
+                                    const std::string& out, bool force) {
+    if (out.empty() && p.output_path.empty() && path.empty())
         throw HttpError{400, "render: name the output (field 'output'): the text has no output.path"};
-    c.inside(out, "output", mark ? mark->str() : "");
-    try {
-        std::error_code ec;
-        if (!path.empty() && fs::equivalent(out, path, ec))
-            throw InputError("cannot write " + quote(out, 200) + ": it is the config being rendered");
-        check_output(out);
-        if (!force && fs::exists(fs::symlink_status(out, ec)))
-            throw InputError(quote(out, 200) + " exists: render with \"force\": true to replace it");
-    } catch (const InputError& e) {
-        if (mark) throw InputError(mark->str() + ": output.path: " + e.what());
-        throw;
-    }
-    return out;
+    RenderRequest r;
+    r.output = out;
+    r.default_file = true;
+    r.named_replaces = false;
+    r.force = force;
+    r.replace_hint = "render with \"force\": true to replace it";
+    r.source = path;
+    r.threads = c.threads;
+    r.check_path = [&c](const std::string& file, const Mark* mark) {
+        c.inside(file, "output", mark ? mark->str() : "");
+    };
+    return r;
 }
 
 // The config's output.path checked as "render" will check it (its existence aside), so that
@@ -122,7 +120,7 @@ static std::string render_output(const Context& c, const Pipeline& p, const std:
 static void check_output_path(const Context& c, const Pipeline& p, const std::string& path) {
     if (p.output_path.empty()) return;
     try {
-        check_vector_output(p, render_output(c, p, path, "", true));
+        (void)plan_render(p, render_request(c, p, path, "", true));
     } catch (const HttpError& e) {
         throw InputError(e.message);
     }
@@ -203,17 +201,21 @@ void api_preview(const Context& c, const httplib::Request& req, httplib::Respons
     const CNode root = parse_config(text, source_name(path));
     Pipeline full = load_checked(c, root);
     check_output_path(c, full, path);
-    // Every stage is built (and so checked) before the job starts: a draft is the same
-    // recipe with --set assignments, loaded as render --draft would load it.
-    std::vector<Pipeline> stages;
+    // Every stage is built and planned (and so checked) before the job starts: a draft is the
+    // same recipe with --set assignments, loaded as render --draft would load it; each stage's
+    // PNG is encoded in memory.
+    RenderRequest request;
+    request.encode = Format::Png;
+    request.threads = c.threads;
+    std::vector<RenderPlan> stages;
     for (const int f : preview_factors(full.renderer->width(), full.renderer->height())) {
         if (f == 1) {
-            stages.push_back(full);
+            stages.push_back(plan_render(full, request));
             continue;
         }
         CNode draft = root;
         for (const auto& s : draft_overrides(full, f)) apply_override(draft, s);
-        stages.push_back(load_pipeline(*c.reg, std::move(draft)));
+        stages.push_back(plan_render(load_pipeline(*c.reg, std::move(draft)), request));
     }
     const int n = int(stages.size());
     // The region the full picture shows (also where the text gives none: mfs fits the points'
@@ -292,11 +294,9 @@ void api_save(const Context& c, const httplib::Request& req, httplib::Response& 
 void api_render(const Context& c, const httplib::Request& req, httplib::Response& res) {
     const Json body = parse_body(req);
     const std::string text = field(body, "text", true), path = request_path(c, body);
-    std::string out = field(body, "output", false);
-    const bool force = flag(body, "force");
+    const std::string out = field(body, "output", false);
     const Pipeline p = load_checked(c, parse_config(text, source_name(path)));
-    out = render_output(c, p, path, out, force);
-    const bool vector = check_vector_output(p, out);
+    RenderPlan plan = plan_render(p, render_request(c, p, path, out, flag(body, "force")));
     // A render takes every render thread (and the memory of a full image): two at once would
     // halve each, and a page could start any number. Taken once the text has passed its
     // checks, so that a refused request never turns away one that would render.
@@ -305,38 +305,16 @@ void api_render(const Context& c, const httplib::Request& req, httplib::Response
 
     // Rendered on this request's thread, as `fixpoint render` would, stopped by the server's
     // stop flag (Ctrl-C) only: the preview goes on beside it.
-    Runtime rt(c.threads, c.stop);
-    RenderStats stats;
-    const auto t0 = std::chrono::steady_clock::now();
-    Image img;
-    std::string doc;
-    try {
-        if (vector)
-            doc = p.renderer->render_vector(
-                rt, stats, format_for(out) == Format::Svg ? VectorFormat::Svg : VectorFormat::Pdf, p.recipe);
-        else
-            img = p.renderer->render(rt, stats);
-    } catch (const InputError& e) {
-        throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
-    }
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (c.stop->load()) throw Cancelled();
-    const std::string warning = check_drawn(p, stats);
-    if (vector)
-        write_bytes(doc, out);
-    else
-        write_image(img, out, p.bit_depth, p.recipe);
-    char summary[512];
-    std::snprintf(summary, sizeof summary, "%s: %llu %s in %.2f s, %llu restarted chain%s", out.c_str(),
-                  static_cast<unsigned long long>(stats.samples), stats.unit.c_str(), secs,
-                  static_cast<unsigned long long>(stats.restarts), stats.restarts == 1 ? "" : "s");
+    RenderHooks hooks;
+    hooks.cancel = c.stop;
+    const RenderResult r = run_render(plan, hooks);
     Json v = ok();
-    v["output"] = out;
-    v["seconds"] = secs;
-    v["summary"] = std::string(summary);
+    v["output"] = plan.output;
+    v["seconds"] = r.seconds;
+    v["summary"] = summary_line(plan, r);
     Json warnings = Json::array();
     for (const auto& w : p.warnings) warnings.push_back(w);
-    if (!warning.empty()) warnings.push_back(warning);
+    for (const auto& w : r.warnings) warnings.push_back(w);
     v["warnings"] = warnings;
     send_json(res, 200, v);
 }

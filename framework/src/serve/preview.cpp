@@ -18,15 +18,9 @@ namespace {
 // may still be fetching); an older id answers "cancelled".
 constexpr std::size_t kept_jobs = 2;
 
-std::string read_all(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    if (!in) throw InternalError("cannot read the preview file " + p.string());
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 } // namespace
 
-Previewer::Previewer(unsigned threads, fs::path scratch)
-    : threads_(threads), scratch_(std::move(scratch)), worker_([this] { run(); }) {}
+Previewer::Previewer() : worker_([this] { run(); }) {}
 
 Previewer::~Previewer() {
     shutdown();
@@ -41,7 +35,7 @@ void Previewer::shutdown() {
     frame_cv_.notify_all();
 }
 
-std::uint64_t Previewer::start(std::vector<Pipeline> stages) {
+std::uint64_t Previewer::start(std::vector<RenderPlan> stages) {
     auto job = std::make_shared<Job>();
     job->stages = std::move(stages);
     std::lock_guard<std::mutex> lock(mu_);
@@ -119,7 +113,6 @@ void Previewer::run() {
 }
 
 void Previewer::render(Job& job) {
-    const fs::path file = scratch_ / ("stage-" + std::to_string(job.id) + ".png");
     auto finish = [&](Job::State s, std::string error = {}) {
         std::lock_guard<std::mutex> lock(mu_);
         job.state = s;
@@ -127,28 +120,16 @@ void Previewer::render(Job& job) {
         frame_cv_.notify_all();
     };
     try {
-        for (const Pipeline& p : job.stages) {
+        RenderHooks hooks;
+        hooks.cancel = &job.cancel;
+        for (RenderPlan& plan : job.stages) {
             if (job.cancel.load()) return finish(Job::State::Cancelled);
-            Runtime rt(threads_, &job.cancel);
-            RenderStats stats;
-            Image img;
-            const auto t0 = std::chrono::steady_clock::now();
-            try {
-                img = p.renderer->render(rt, stats);
-            } catch (const InputError& e) {
-                // As the CLI: refused during the render, blamed on the renderer.
-                throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
-            }
-            const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            if (job.cancel.load()) return finish(Job::State::Cancelled);
-            check_drawn(p, stats);
-            write_image(img, file.string(), p.bit_depth, p.recipe);
+            RenderResult r = run_render(plan, hooks);
             auto frame = std::make_shared<Frame>();
-            frame->png = read_all(file);
-            fs::remove(file);
-            frame->width = img.width, frame->height = img.height;
-            frame->samples_per_pixel = samples_per_pixel(stats, img.width, img.height);
-            frame->seconds = secs;
+            frame->png = std::move(r.bytes);
+            frame->width = r.width, frame->height = r.height;
+            frame->samples_per_pixel = samples_per_pixel(r.stats, frame->width, frame->height);
+            frame->seconds = r.seconds;
             std::lock_guard<std::mutex> lock(mu_);
             job.frames.push_back(std::move(frame));
             frame_cv_.notify_all();

@@ -1,16 +1,15 @@
 // The preview of `fixpoint serve`: one worker thread renders the stages of one job at a time
-// (drafts, then the full render) and keeps each stage's PNG for /api/frame. A new job cancels
-// the running one through its Runtime's cancel flag.
+// (drafts, then the full render) through the render job, which encodes each stage's PNG in
+// memory for /api/frame. A new job cancels the running one through the render's cancel flag.
 #pragma once
 
-#include <fixpoint/host/core/pipeline.hpp>
+#include <fixpoint/host/job/render_job.hpp>
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
-#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -19,7 +18,7 @@
 
 namespace fp::host::serve_detail {
 
-/// One finished stage: the PNG's bytes, as write_image writes them, and its caption.
+/// One finished stage: the PNG's bytes, as write_image would write them, and its caption.
 struct Frame {
     std::string png;
     int width = 0, height = 0;
@@ -28,15 +27,14 @@ struct Frame {
 
 class Previewer {
 public:
-    /// `threads` render threads; stage files are written in `scratch` (a private folder).
-    Previewer(unsigned threads, std::filesystem::path scratch);
+    Previewer();
     ~Previewer();
     Previewer(const Previewer&) = delete;
     Previewer& operator=(const Previewer&) = delete;
 
-    /// Start a job rendering `stages` in order (the last one the full render); the job running
-    /// or waiting is cancelled. Returns the job's id (1, 2, ...).
-    std::uint64_t start(std::vector<Pipeline> stages);
+    /// Start a job rendering `stages` in order (the last one the full render), each planned to
+    /// encode a PNG; the job running or waiting is cancelled. Returns the job's id (1, 2, ...).
+    std::uint64_t start(std::vector<RenderPlan> stages);
 
     enum class Wait { Frame, Timeout, Cancelled, Failed, Unknown };
     struct Answer {
@@ -55,7 +53,7 @@ public:
 private:
     struct Job {
         std::uint64_t id = 0;
-        std::vector<Pipeline> stages;
+        std::vector<RenderPlan> stages;
         std::vector<std::shared_ptr<const Frame>> frames;
         enum class State { Waiting, Running, Done, Failed, Cancelled } state = State::Waiting;
         std::string error;
@@ -65,8 +63,6 @@ private:
     void run();
     void render(Job& job);
 
-    unsigned threads_;
-    std::filesystem::path scratch_;
     std::mutex mu_;
     std::condition_variable work_cv_, frame_cv_;
     std::deque<std::shared_ptr<Job>> jobs_; ///< the newest last; only a few kept

@@ -164,7 +164,7 @@ int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& s
     }
     Scratch scratch;
     c.scratch = scratch.path();
-    Previewer preview(c.threads, c.scratch);
+    Previewer preview;
     c.preview = &preview;
 
     httplib::Server srv;

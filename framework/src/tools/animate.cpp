@@ -44,25 +44,19 @@
 // same recipe is skipped (said in the log); a file there with another recipe is refused unless
 // --force. Frames are written one by one, each atomically, so an interrupted run is continued
 // by running it again.
+#include "video.hpp"
+
 #include <fixpoint/errors.hpp>
 #include <fixpoint/host/core/image_io.hpp>
-#include <fixpoint/host/core/runtime.hpp>
+#include <fixpoint/host/job/render_job.hpp>
 #include <fixpoint/host/tools/animate.hpp>
 #include <fixpoint/text.hpp>
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
-#include <fcntl.h>
 #include <filesystem>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-extern char** environ;
 
 namespace fp::host {
 
@@ -400,129 +394,6 @@ Animation prepare(const Registry& reg, const CNode& root) {
     return a;
 }
 
-std::string find_on_path(const std::string& name) {
-    const char* path = std::getenv("PATH");
-    std::string dirs = path ? path : "/usr/bin:/bin";
-    std::size_t start = 0;
-    while (start <= dirs.size()) {
-        std::size_t end = dirs.find(':', start);
-        if (end == std::string::npos) end = dirs.size();
-        const std::string dir = dirs.substr(start, end - start);
-        const std::string f = (dir.empty() ? std::string(".") : dir) + "/" + name;
-        if (::access(f.c_str(), X_OK) == 0 && !fs::is_directory(f)) return f;
-        start = end + 1;
-    }
-    return "";
-}
-
-// ffmpeg's arguments for the video's container (from its extension).
-std::vector<std::string> codec_args(const std::string& ext) {
-    if (ext == ".gif")
-        return {"-vf", "split[a][b];[a]palettegen=stats_mode=full[p];[b][p]paletteuse", "-loop", "0"};
-    // H.264 in 4:2:0 needs an even width and height: a lone last row or column is padded.
-    std::vector<std::string> v = {"-vf",    "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt",
-                                  "yuv420p"};
-    if (ext == ".mp4" || ext == ".mov") v.insert(v.end(), {"-movflags", "+faststart"});
-    return v;
-}
-
-std::string lower_ext(const std::string& path) {
-    std::string e = fs::path(path).extension().string();
-    for (auto& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return e;
-}
-
-void check_video(const std::string& video, const std::string& config, bool force) {
-    const std::string e = lower_ext(video);
-    if (e != ".mp4" && e != ".mkv" && e != ".mov" && e != ".gif")
-        throw InputError("--video " + quote(video, 200) + ": expected a .mp4, .mkv, .mov or .gif file");
-    std::error_code ec;
-    if (fs::equivalent(video, config, ec))
-        throw InputError("--video: cannot write " + quote(video, 200) + ": it is the config being animated");
-    if (fs::is_directory(video, ec))
-        throw InputError("--video: cannot write " + quote(video, 200) + ": it is a folder");
-    const fs::path dir =
-        fs::path(video).parent_path().empty() ? fs::path(".") : fs::path(video).parent_path();
-    if (!fs::is_directory(dir, ec))
-        throw InputError("--video: cannot write " + quote(video, 200) + ": folder '" + dir.string() +
-                         "' does not exist");
-    if (!force && fs::exists(fs::symlink_status(video, ec)))
-        throw InputError("--video: " + quote(video, 200) + " exists: add --force to replace it");
-    if (find_on_path("ffmpeg").empty())
-        throw InputError("--video: ffmpeg not found on PATH (Debian: apt-get install ffmpeg)");
-}
-
-// Run ffmpeg on frames first .. first + count - 1 of the pattern, into a temporary file beside
-// the video that is renamed into place when ffmpeg succeeds.
-void make_video(const Pattern& pat, long first, long count, double fps, const std::string& video,
-                const std::atomic<bool>* interrupted) {
-    const std::string ffmpeg = find_on_path("ffmpeg");
-    if (ffmpeg.empty())
-        throw InputError("--video: ffmpeg not found on PATH (Debian: apt-get install ffmpeg)");
-    const fs::path target(video);
-    const fs::path tmp = target.parent_path() / ("." + target.stem().string() + ".partial-" +
-                                                 std::to_string(::getpid()) + target.extension().string());
-    std::vector<std::string> args = {
-        ffmpeg, "-nostdin",   "-hide_banner",   "-loglevel",          "error",
-        "-y",   "-framerate", number_text(fps), "-start_number",      std::to_string(first),
-        "-i",   pat.text,     "-frames:v",      std::to_string(count)};
-    for (auto& s : codec_args(lower_ext(video))) args.push_back(std::move(s));
-    args.push_back(tmp.string());
-    std::vector<char*> argv;
-    for (auto& s : args) argv.push_back(s.data());
-    argv.push_back(nullptr);
-
-    int pipefd[2];
-    if (::pipe(pipefd) != 0)
-        throw InputError(std::string("--video: cannot run ffmpeg: ") + std::strerror(errno));
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_adddup2(&fa, pipefd[1], 2);
-    posix_spawn_file_actions_addclose(&fa, pipefd[0]);
-    posix_spawn_file_actions_addclose(&fa, pipefd[1]);
-    pid_t pid = 0;
-    const int rc = posix_spawn(&pid, ffmpeg.c_str(), &fa, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&fa);
-    ::close(pipefd[1]);
-    if (rc != 0) {
-        ::close(pipefd[0]);
-        throw InputError("--video: cannot run " + ffmpeg + ": " + std::strerror(rc));
-    }
-    std::string err;
-    char buf[4096];
-    for (ssize_t n; (n = ::read(pipefd[0], buf, sizeof buf)) != 0;) {
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            break;
-        }
-        err.append(buf, std::size_t(n));
-        if (err.size() > 65536) err.erase(0, err.size() - 65536);
-    }
-    ::close(pipefd[0]);
-    int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    std::error_code ec;
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
-        fs::rename(tmp, target, ec);
-        if (!ec) return;
-        fs::remove(tmp, ec);
-        throw InputError("--video: cannot write " + quote(video, 200) + ": " + ec.message());
-    }
-    fs::remove(tmp, ec);
-    if (interrupted && interrupted->load()) throw Cancelled();
-    // The last line ffmpeg printed says why.
-    while (!err.empty() && (err.back() == '\n' || err.back() == '\r' || err.back() == ' ')) err.pop_back();
-    const auto nl = err.find_last_of("\r\n");
-    const std::string last = nl == std::string::npos ? err : err.substr(nl + 1);
-    throw InputError("--video: ffmpeg failed (" +
-                     (WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
-                                        : "signal " + std::to_string(WTERMSIG(status))) +
-                     ")" + (last.empty() ? std::string() : ": " + excerpt(last, 300)));
-}
-
 } // namespace
 
 const char* animate_help() {
@@ -581,8 +452,8 @@ std::string validate_animation(const Registry& reg, const std::string& config,
            std::to_string(a.keys.size()) + " key" + (a.keys.size() == 1 ? "" : "s") + ")";
 }
 
-int animate(const Registry& reg, const AnimateOptions& o, const FrameRenderer& render,
-            const std::atomic<bool>* interrupted) {
+int animate(const Registry& reg, const AnimateOptions& o, const RenderHooks& hooks) {
+    const std::atomic<bool>* interrupted = hooks.cancel;
     const auto info = [&](const std::string& s) {
         if (!o.quiet && o.info) o.info(s);
     };
@@ -609,8 +480,19 @@ int animate(const Registry& reg, const AnimateOptions& o, const FrameRenderer& r
         throw InputError("-o " + quote(o.pattern, 200) + ": frames are written as .png, .exr or .tif images");
     if (!o.video.empty()) check_video(o.video, o.config, o.force);
 
-    // Every frame: its config checked, its memory, its file (skipped, refused or to write).
+    // Every frame: its config checked, its render planned (memory, tiles, its file), or its file
+    // skipped (there with this recipe) or refused (another recipe, unless --force). A frame's
+    // folder is made by the job just before the frame is written.
     std::vector<bool> skip(std::size_t(last - first + 1), false);
+    const auto request = [&](const std::string& out) {
+        RenderRequest r;
+        r.output = out;
+        r.force = true; // (an existing frame file is decided here: skipped, refused or replaced)
+        r.make_folder = true;
+        r.source = o.config;
+        r.threads = o.threads;
+        return r;
+    };
     bool warned = false;
     for (long k = 0; k < a.frames; ++k) {
         const Pipeline p = frame_pipeline(reg, root, a, k);
@@ -618,9 +500,7 @@ int animate(const Registry& reg, const AnimateOptions& o, const FrameRenderer& r
             for (const auto& w : p.warnings) o.warn("warning: " + w);
         warned = true;
         if (k < first || k > last) continue;
-        check_memory(p, o.threads);
         const std::string out = pat.path(k);
-        check_tiled(p, out);
         std::error_code ec;
         if (fs::equivalent(out, o.config, ec))
             throw InputError("cannot write " + quote(out, 200) + ": it is the config being animated");
@@ -636,18 +516,9 @@ int animate(const Registry& reg, const AnimateOptions& o, const FrameRenderer& r
                 throw InputError(quote(out, 200) + " exists and is not frame " + std::to_string(k) +
                                  " of this animation (another recipe): add --force to replace it");
         }
+        if (!skip[std::size_t(k - first)]) (void)plan_render(p, request(out));
         if (interrupted && interrupted->load()) throw Cancelled();
     }
-    // The frames' folders are made once everything else has been checked.
-    for (long k = first; k <= last; ++k) {
-        const fs::path dir = fs::path(pat.path(k)).parent_path();
-        std::error_code ec;
-        if (dir.empty() || fs::is_directory(dir, ec)) continue;
-        fs::create_directories(dir, ec);
-        if (ec) throw InputError("-o: cannot make the folder '" + dir.string() + "': " + ec.message());
-    }
-    for (long k = first; k <= last; ++k)
-        if (!skip[std::size_t(k - first)]) check_output(pat.path(k));
 
     long rendered = 0, skipped = 0;
     double total = 0;
@@ -658,22 +529,21 @@ int animate(const Registry& reg, const AnimateOptions& o, const FrameRenderer& r
             info(out + ": frame " + std::to_string(k) + " is there with this recipe: skipped");
             continue;
         }
-        const Pipeline p = frame_pipeline(reg, root, a, k);
-        RenderStats stats;
-        double secs = 0;
-        const Image img = render(p, stats, secs);
-        write_image(img, out, p.bit_depth, p.recipe, {}, p.tiled);
+        RenderPlan plan = plan_render(frame_pipeline(reg, root, a, k), request(out));
+        const RenderResult r = run_render(plan, hooks);
+        if (o.warn)
+            for (const auto& w : r.warnings) o.warn("warning: " + w);
         ++rendered;
-        total += secs;
+        total += r.seconds;
         info(out + ": frame " + std::to_string(k) + " of " + std::to_string(first) + ".." +
-             std::to_string(last) + ", " + std::to_string(stats.samples) + " " + stats.unit + " in " +
-             number_text(std::round(secs * 100) / 100) + " s");
+             std::to_string(last) + ", " + std::to_string(r.stats.samples) + " " + r.stats.unit + " in " +
+             number_text(std::round(r.seconds * 100) / 100) + " s");
     }
     info(std::to_string(rendered) + " frame" + (rendered == 1 ? "" : "s") + " rendered in " +
          number_text(std::round(total * 100) / 100) + " s, " + std::to_string(skipped) + " skipped (" +
          pat.path(first) + " ... " + pat.path(last) + ")");
     if (!o.video.empty()) {
-        make_video(pat, first, last - first + 1, a.fps, o.video, interrupted);
+        make_video(pat.text, first, last - first + 1, a.fps, o.video, interrupted);
         info(o.video + ": " + std::to_string(last - first + 1) + " frames at " + number_text(a.fps) + " fps");
     }
     return 0;

@@ -7,8 +7,8 @@
 #include <fixpoint/errors.hpp>
 #include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/host/core/pipeline.hpp>
-#include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/host/job/draft.hpp>
+#include <fixpoint/host/job/render_job.hpp>
 #include <fixpoint/host/tools/watch.hpp>
 #include <fixpoint/text.hpp>
 
@@ -51,10 +51,15 @@ int watch(const Registry& reg, const WatchOptions& o, const std::atomic<bool>& s
     std::error_code ec;
     if (fs::equivalent(o.out, o.config, ec))
         throw InputError("cannot write " + quote(o.out, 200) + ": it is the config being watched");
-    check_output(o.out);
-    if (is_vector(format_for(o.out)))
-        throw InputError("cannot write " + quote(o.out, 200) +
-                         ": watch writes images (.png, .exr, .tif), not SVG or PDF");
+    // Each pass is a render of the job's to OUT, replaced at each save.
+    RenderRequest request;
+    request.output = o.out;
+    request.source = o.config;
+    request.raster_only = "cannot write {}: watch writes images (.png, .exr, .tif), not SVG or PDF";
+    request.threads = o.threads;
+    request.may_stream = false; // (a version too large to hold is refused; the last good image stays)
+    // Checked now, before the config is first read (it may not load yet).
+    check_output_request(request, o.out);
     if (std::string why; !contents(o.config, &why))
         throw InputError(why.empty() ? quote(o.config, 200) + ": cannot read it" : why);
 
@@ -92,29 +97,17 @@ int watch(const Registry& reg, const WatchOptions& o, const std::atomic<bool>& s
             passes.emplace_back(load_pipeline(reg, std::move(small)), "draft");
         }
         passes.emplace_back(full, "full");
-        // Every pass checked before the first writes: a version refused for its full image
-        // leaves the last good image, not its draft.
-        for (const auto& pass : passes) {
-            check_memory(pass.first, o.threads);
-            check_tiled(pass.first, o.out);
-        }
-        for (const auto& [p, what] : passes) {
-            Runtime rt(o.threads, &cancel);
-            RenderStats stats;
-            const auto t0 = std::chrono::steady_clock::now();
-            Image img;
-            try {
-                img = p.renderer->render(rt, stats);
-            } catch (const InputError& e) {
-                throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
-            }
-            if (cancel.load()) return false;
-            check_drawn(p, stats);
-            write_image(img, o.out, p.bit_depth, p.recipe, {}, p.tiled);
-            const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            o.info(o.out + ": " + what + " " + std::to_string(img.width) + "x" + std::to_string(img.height) +
-                   ", " + std::to_string(stats.samples) + " " + stats.unit + " in " + format_seconds(secs) +
-                   " s");
+        // Every pass planned (and so checked) before the first writes: a version refused for its
+        // full image leaves the last good image, not its draft.
+        std::vector<std::pair<RenderPlan, const char*>> plans;
+        for (const auto& [p, what] : passes) plans.emplace_back(plan_render(p, request), what);
+        RenderHooks hooks;
+        hooks.cancel = &cancel;
+        for (auto& [plan, what] : plans) {
+            const RenderResult r = run_render(plan, hooks);
+            o.info(o.out + ": " + what + " " + std::to_string(r.width) + "x" + std::to_string(r.height) +
+                   ", " + std::to_string(r.stats.samples) + " " + r.stats.unit + " in " +
+                   format_seconds(r.seconds) + " s");
         }
         return true;
     };

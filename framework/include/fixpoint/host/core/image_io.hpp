@@ -37,8 +37,9 @@ bool is_recipe_image(const std::string& path);
 Format format_for(const std::string& path);
 
 /// Check, before rendering, that `path` has a known format and that its folder takes a new
-/// file. Throws fp::InputError.
-void check_output(const std::string& path);
+/// file (with `folder_may_be_made`, a missing folder is fine where the nearest folder above it
+/// that exists takes a new one: it is made before the write). Throws fp::InputError.
+void check_output(const std::string& path, bool folder_may_be_made = false);
 
 /// The print resolution an image declares, in pixels per inch (0: none declared).
 struct Resolution {
@@ -66,6 +67,11 @@ bool tiled_file(const std::string& path, int width, int height, Tiled tiled);
 void write_image(const Image& img, const std::string& path, int bit_depth, const std::string& recipe,
                  const Resolution& resolution = {}, Tiled tiled = Tiled::Auto,
                  const std::atomic<bool>* cancel = nullptr);
+
+/// The bytes of the file write_image would write (PNG, EXR or TIFF), for a front end that sends
+/// them rather than keeping a file (serve's preview).
+std::string encode_image(const Image& img, Format format, int bit_depth, const std::string& recipe,
+                         const Resolution& resolution = {}, Tiled tiled = Tiled::Auto);
 
 /// A write of the output that failed (a full disk): raised by a StreamedImage from inside a
 /// render, and reported as it is, not as the renderer's.

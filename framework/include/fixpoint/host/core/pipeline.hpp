@@ -9,6 +9,7 @@
 #pragma once
 
 #include <fixpoint/host/core/build.hpp>
+#include <fixpoint/host/core/checkpoint.hpp>
 #include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/render.hpp>
 
@@ -23,8 +24,11 @@ struct Pipeline {
     std::shared_ptr<const Renderer> renderer;
     Mark renderer_mark;
     std::string renderer_type; ///< the renderer plugin's name
-    std::string output_path;   ///< from the config; empty when not given
-    Mark output_mark;          ///< where output.path stands (for messages about it)
+    /// The renderer's plugin: what its descriptor declares (parameter roles, abilities) is
+    /// asked of it, never its name. (The registry outlives every pipeline.)
+    const PluginEntry* renderer_plugin = nullptr;
+    std::string output_path; ///< from the config; empty when not given
+    Mark output_mark;        ///< where output.path stands (for messages about it)
     int bit_depth = 8;
     Tiled tiled = Tiled::Auto; ///< output.tiled
     Mark tiled_mark;           ///< where it stands (when given)
@@ -51,6 +55,9 @@ CNode load_config(const std::string& path, bool allow_code);
 Pipeline load_pipeline(const Registry& reg, const std::string& path, const std::vector<std::string>& sets,
                        const std::string& vary = "", bool allow_code = false);
 Pipeline load_pipeline(const Registry& reg, CNode root);
+
+/// What a checkpoint of this pipeline's render records of it, and a resumed one must match.
+CheckpointHeader checkpoint_header(const Pipeline& p);
 
 /// Refuse, before it starts, a render that needs more memory than the machine has available
 /// with `threads` workers (fp::InputError at the renderer).

@@ -48,6 +48,19 @@ struct Verdict {
 };
 Verdict agree(int code, const std::string& message, std::uint64_t fingerprint = 0);
 
+/// Thrown by agree_checks on every rank when a rank failed its checks or would render another
+/// recipe: rank 0 prints the verdict's line, every rank exits with its code.
+struct Refused {
+    Verdict verdict;
+};
+
+/// Under mpirun, once every check before a render has passed on this rank (phase checking):
+/// agree with the others on the verdict and on the fingerprint of `recipes` (what this rank
+/// will render), then enter the render phase; a rank that failed makes every rank stop here
+/// with its error line (ranks::Refused), before any rank starts the work and its collective
+/// calls. Nothing to do on one process or outside the checking phase.
+void agree_checks(const std::string& recipes);
+
 /// The fingerprint of a render's text for agree (FNV-1a, 64 bits: an identity, not a
 /// security measure).
 std::uint64_t fingerprint(const std::string& text);

@@ -16,13 +16,15 @@ class Runtime : public RenderContext {
 public:
     /// `cancel` (may be null) is polled by renderers; a signal handler sets it. `distributed`:
     /// the render is split over the MPI ranks (host/ranks.hpp), as `fixpoint render` under
-    /// mpirun does; otherwise this process renders alone.
-    Runtime(unsigned threads, const std::atomic<bool>* cancel, bool distributed = false);
+    /// mpirun does; otherwise this process renders alone. `serial`: every task on the calling
+    /// thread, no thread pool (and no change to oneTBB's global parallelism), for renders run
+    /// side by side on threads of their own (explore's drafts).
+    Runtime(unsigned threads, const std::atomic<bool>* cancel, bool distributed = false, bool serial = false);
     ~Runtime() override;
 
     unsigned workers() const override { return threads_; }
     void parallel_for(std::size_t n, const std::function<void(std::size_t, unsigned)>& task) override;
-    void progress(std::uint64_t units) override { done_.fetch_add(units, std::memory_order_relaxed); }
+    void progress(std::uint64_t units) override { progress_->fetch_add(units, std::memory_order_relaxed); }
     bool cancelled() const override { return cancel_ && cancel_->load(std::memory_order_relaxed); }
 
     unsigned rank() const override;
@@ -34,7 +36,9 @@ public:
     /// The budget renderers see (check_memory's answer); unset: no limit.
     void set_memory_budget(std::uint64_t bytes) { budget_ = bytes; }
 
-    std::uint64_t done() const { return done_.load(std::memory_order_relaxed); }
+    std::uint64_t done() const { return progress_->load(std::memory_order_relaxed); }
+    /// Count the work done in `counter` (polled by the caller from another thread) from now on.
+    void count_progress_in(std::atomic<std::uint64_t>* counter) { progress_ = counter ? counter : &done_; }
 
     // Checkpoints (host/checkpoint.hpp): written to `path` every `every_s` seconds and when the
     // render ends, with `header`; `resume`: the checkpoint the render continues from (null: from
@@ -54,6 +58,7 @@ private:
     const std::atomic<bool>* cancel_;
     bool distributed_;
     std::atomic<std::uint64_t> done_{0};
+    std::atomic<std::uint64_t>* progress_ = &done_;
     std::uint64_t budget_ = UINT64_MAX;
     std::string checkpoint_path_;
     double checkpoint_every_ = 0;

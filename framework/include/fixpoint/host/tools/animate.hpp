@@ -13,6 +13,7 @@
 
 #include <fixpoint/host/core/config.hpp>
 #include <fixpoint/host/core/pipeline.hpp>
+#include <fixpoint/host/job/render_job.hpp>
 
 #include <atomic>
 #include <functional>
@@ -67,13 +68,11 @@ struct AnimateOptions {
     std::function<void(const std::string&)> info, warn;
 };
 
-/// Render one pipeline to an image (the CLI's, with its progress bar and interruption).
-using FrameRenderer = std::function<Image(const Pipeline&, RenderStats&, double&)>;
-
-/// `fixpoint animate`. Checks everything (every frame's config, every frame's file, the video)
-/// before the first render. Returns the exit code; throws fp::InputError for bad input.
-int animate(const Registry& reg, const AnimateOptions& o, const FrameRenderer& render,
-            const std::atomic<bool>* interrupted);
+/// `fixpoint animate`. Checks everything (every frame's config and render, every frame's file,
+/// the video) before the first render; each frame is rendered and written by the render job with
+/// `hooks` (the cancel flag, the progress bar). Returns the exit code; throws fp::InputError for
+/// bad input, fp::Cancelled when cancelled (the frames written are kept).
+int animate(const Registry& reg, const AnimateOptions& o, const RenderHooks& hooks);
 
 /// The format and the promises, for `fixpoint animate --help`.
 const char* animate_help();

@@ -1,0 +1,243 @@
+// The render family: render (one image, or a --vary collection), validate, animate, watch.
+// Every render goes through the host's render job (host/job/render_job.hpp); this file only
+// turns the command line into requests.
+#include "cli.hpp"
+
+#include <fixpoint/host/core/ranks.hpp>
+#include <fixpoint/host/core/runtime.hpp>
+#include <fixpoint/host/job/collection.hpp>
+#include <fixpoint/host/job/draft.hpp>
+#include <fixpoint/host/tools/animate.hpp>
+#include <fixpoint/host/tools/watch.hpp>
+
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+
+using namespace fp::host;
+
+namespace fp::cli {
+
+namespace {
+
+// --draft: `sets` and the assignments that make the draft of the pipeline they give
+// (host/job/draft.hpp).
+std::vector<std::string> with_draft(std::vector<std::string> sets, const Pipeline& full) {
+    for (auto& s : draft_overrides(full, draft_factor)) sets.push_back(std::move(s));
+    return sets;
+}
+
+// The request of `render -o OUT ...`: the default file (the config's output.path or its name),
+// replaced only when named with -o or with --force.
+RenderRequest render_request(const Options& o) {
+    RenderRequest r;
+    r.output = o.out;
+    r.default_file = true;
+    r.force = o.force;
+    r.draft_name = o.draft;
+    r.source = o.config;
+    r.threads = o.threads;
+    r.memory = o.memory.empty() ? 0 : parse_size(o.memory, "--memory");
+    r.distributed = true;
+    r.print = o.print;
+    r.checkpoint = o.checkpoint, r.checkpoint_every = o.checkpoint_every, r.resume = o.resume;
+    return r;
+}
+
+int cmd_collection(const Options& o, bool validate_only) {
+    const Registry reg = make_registry(o);
+    CollectionRequest c;
+    c.config = o.config, c.sets = o.sets, c.vary = o.vary, c.columns = o.columns;
+    c.allow_code = o.allow_python, c.draft = o.draft, c.validate_only = validate_only;
+    c.sheet = render_request(o);
+    c.sheet.memory = 0;
+    if (!o.quiet) c.info = [](const std::string& l) { spdlog::info("{}", l); };
+    c.warn = [](const std::string& w) { spdlog::warn("warning: {}", w); };
+    run_collection(reg, c, render_hooks(o.quiet || ranks::rank() != 0));
+    return 0;
+}
+
+int cmd_render(const Options& o, bool validate_only) {
+    install_sigint();
+    // Under mpirun: the checks below run on every rank and are agreed before the render.
+    // (validate runs on rank 0 alone.)
+    if (ranks::size() > 1 && !validate_only) ranks::set_phase(ranks::Phase::checking);
+    if (!o.vary.empty() && o.print.any())
+        throw InputError("--tile, --repeat, --dpi and --print-size make one image: not with --vary");
+    if (!o.vary.empty() && !o.memory.empty())
+        throw InputError(
+            "--memory bounds one render (in strips): not with --vary, whose children render whole");
+    if (!o.vary.empty() && (!o.checkpoint.empty() || !o.resume.empty()))
+        throw InputError("--checkpoint and --resume keep one render: not with --vary");
+    if (!o.vary.empty()) return cmd_collection(o, validate_only);
+    if (o.draft && (o.print.dpi > 0 || !o.print.print_size.empty()))
+        throw InputError("--draft: a quick small image: not with --dpi or --print-size");
+    const Registry reg = make_registry(o);
+    Pipeline p = load_for_print(reg, o.config, o.sets, o.print, o.allow_python);
+    if (o.draft) p = load_for_print(reg, o.config, with_draft(o.sets, p), o.print, o.allow_python);
+    told(p);
+    RenderPlan plan = plan_render(p, render_request(o), &interrupted());
+    if (validate_only) {
+        // The animation's frames are checked before "valid" is said of anything.
+        const std::string animation = validate_animation(reg, o.config, o.sets, &interrupted());
+        if (!o.quiet) {
+            spdlog::info("{}: valid: a {}x{} render to {}", o.config, p.renderer->width(),
+                         p.renderer->height(), plan.output);
+            if (!animation.empty()) spdlog::info("{}: valid: {}", o.config, animation);
+        }
+        return 0;
+    }
+    const RenderResult r = run_render(plan, render_hooks(o.quiet));
+    if (!r.wrote) return 0; // a rank other than 0: rank 0 writes
+    tell(r.warnings);
+    if (!o.quiet) spdlog::info("{}", summary_line(plan, r));
+    return 0;
+}
+
+// animate: host/tools/animate.hpp; each frame rendered by the job as render renders one.
+int cmd_animate(const Options& o, AnimateOptions ao) {
+    install_sigint();
+    const Registry reg = make_registry(o);
+    ao.config = o.config, ao.sets = o.sets, ao.quiet = o.quiet, ao.force = o.force;
+    ao.threads = threads_of(o);
+    ao.info = [](const std::string& s) { spdlog::info("{}", s); };
+    ao.warn = [](const std::string& s) { spdlog::warn("{}", s); };
+    try {
+        return animate(reg, ao, render_hooks(o.quiet));
+    } catch (const Cancelled&) {
+        std::fprintf(stderr, "fixpoint: interrupted; the frames written are kept: run again to continue\n");
+        return 130;
+    }
+}
+
+// watch: the lines go to stderr like render's; an error keeps the last good image.
+int cmd_watch(const Options& o) {
+    install_sigint();
+    WatchOptions w;
+    w.config = o.config;
+    w.out = o.out;
+    w.sets = o.sets;
+    w.threads = threads_of(o);
+    w.no_draft = o.no_draft;
+    const bool quiet = o.quiet;
+    w.info = [quiet](const std::string& l) {
+        if (!quiet) spdlog::info("{}", l);
+    };
+    w.error = [](const std::string& l) { spdlog::error("{}", l); };
+    return watch(make_registry(o), w, interrupted());
+}
+
+} // namespace
+
+void add_render_commands(CLI::App& app, Options& o, std::vector<Command>& table) {
+    auto* render = app.add_subcommand("render", "Render a pipeline to an image");
+    render
+        ->add_option("config", o.config,
+                     "Pipeline file (YAML), or an image fixpoint wrote: its recipe is rendered (without "
+                     "its output.path)")
+        ->required();
+    render->add_option("-o,--output", o.out,
+                       "Output image (.png, .exr, .tif; .svg or .pdf for renderers with vector output); "
+                       "default: the config's output.path or <config>.png");
+    render->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
+    render
+        ->add_option("--threads", o.threads,
+                     "Worker threads (default: all cores); the image does not depend on it")
+        ->check(CLI::Range(1u, 4096u));
+    render->add_option("--memory", o.memory,
+                       "Memory the render may take, such as 8G or 512M (default: what the machine has "
+                       "available); a chaos-game image over it renders in strips, with the same bytes");
+    render->add_option("--checkpoint", o.checkpoint,
+                       "Save the render's state to FILE every --checkpoint-every and when it ends, so that "
+                       "--resume FILE continues it after a crash or a kill (chaos-game, orbit-trap)");
+    render->add_option("--checkpoint-every", o.checkpoint_every,
+                       "Time between checkpoints, such as 30s, 5m or 1h (default: 5m)");
+    render->add_option("--resume", o.resume,
+                       "Continue the render saved in FILE (the same bytes as one uninterrupted render), or a "
+                       "finished one to more points with --set renderer.points=N; checkpoints go on in FILE "
+                       "unless --checkpoint names another");
+    render->add_flag("-q,--quiet", o.quiet, "No progress bar, no summary");
+    render->add_flag("--allow-python", o.allow_python,
+                     "Run the Python of a python-scheme in a recipe read from an image (refused by default: "
+                     "an image may come from anywhere)");
+    render->add_flag("--force", o.force,
+                     "Replace an existing output that was not named with -o (the config's output.path or "
+                     "the default name)");
+    render->add_flag("--draft", o.draft,
+                     "A quick draft of the same recipe: width and height / 4, points / 16 (orbit-trap: 1 "
+                     "sample per pixel); written to <output>-draft.png unless -o names the file");
+    render->add_option("--vary", o.vary,
+                       "Render a collection: one child per value (path.to.param=V1,V2,... or A..B), each to "
+                       "OUT-<k>.png, and a contact sheet with captions to OUT");
+    render->add_option("--columns", o.columns, "Columns of the contact sheet (default: about square)")
+        ->check(CLI::Range(1, 1000));
+    render->add_flag("--tile", o.print.tile,
+                     "Render one period of a periodic pattern (orbit-trap with a wallpaper map, Picard), so "
+                     "that copies join without a seam: the smallest rectangle of periods centred on the "
+                     "area's centre, at the config's width, the height following (square pixels)");
+    render->add_option("--repeat", o.print.repeat,
+                       "With --tile: write the tile repeated NxM times (3x3), to see it join");
+    render
+        ->add_option("--dpi", o.print.dpi,
+                     "Print resolution in pixels per inch, written into the image (TIFF and PNG); with "
+                     "--print-size it sets the size in pixels")
+        ->check(CLI::PositiveNumber);
+    render->add_option("--print-size", o.print.print_size,
+                       "Physical size, WIDTH or WIDTHxHEIGHT in mm, cm or in (30cm, 30cmx20cm): with --dpi "
+                       "the size in pixels, alone the resolution written (pixels / size); a 16-bit TIFF "
+                       "for print: -o out.tif --set output.bit_depth=16");
+    table.push_back({render, [&o] { return cmd_render(o, false); }});
+
+    auto* validate = app.add_subcommand("validate", "Check everything a render would check; render nothing");
+    validate->add_option("config", o.config, "Pipeline file (YAML)")->required();
+    validate->add_option("-o,--output", o.out, "Output image to check");
+    validate->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
+    validate->add_option("--threads", o.threads, "Threads to check memory for")->check(CLI::Range(1u, 4096u));
+    validate->add_option("--memory", o.memory, "Memory to check the render against (as render --memory)");
+    validate->add_flag("-q,--quiet", o.quiet, "Print nothing when valid");
+    validate->add_flag("--force", o.force, "Check as render --force would");
+    validate->add_flag("--allow-python", o.allow_python,
+                       "Run the Python of a python-scheme in a recipe read from an image (refused by "
+                       "default: an image may come from anywhere)");
+    validate->add_option("--vary", o.vary, "Check every child of a collection (as render --vary)");
+    table.push_back({validate, [&o] { return cmd_render(o, true); }});
+
+    AnimateOptions& ao = o.animate;
+    auto* animate_cmd = app.add_subcommand(
+        "animate", "Render the frames of a config's animation: section, and a video with ffmpeg");
+    animate_cmd->footer(animate_help());
+    animate_cmd->add_option("config", o.config, "Pipeline file (YAML) with an animation: section")
+        ->required();
+    animate_cmd->add_option("-o,--output", ao.pattern,
+                            "The frames' files, with one frame number: frames/%04d.png (.png, .exr, .tif); "
+                            "the folder is made");
+    animate_cmd->add_option("--frames", ao.frames, "Only frames A..B (or one frame K); default: all");
+    animate_cmd->add_option("--video", ao.video,
+                            "Assemble the frames (of --frames) into a video with ffmpeg: .mp4, .mkv, .mov "
+                            "(H.264) or .gif");
+    animate_cmd->add_option("--set", o.sets,
+                            "Override a value before the animation's: path.to.param=value (repeatable; "
+                            "--set animation.frames=3 too)");
+    animate_cmd->add_option("--threads", o.threads, "Worker threads (default: all cores)")
+        ->check(CLI::Range(1u, 4096u));
+    animate_cmd->add_flag("--list", ao.list,
+                          "Check every frame and print each frame's values as --set takes them; render "
+                          "nothing");
+    animate_cmd->add_flag("-q,--quiet", o.quiet, "No progress bar, no log");
+    animate_cmd->add_flag("--force", o.force,
+                          "Replace frame files made with another recipe, and an existing video");
+    table.push_back({animate_cmd, [&o] { return cmd_animate(o, o.animate); }});
+
+    auto* watch_cmd = app.add_subcommand(
+        "watch", "Render a config again each time it is saved: a draft, then the full image (Ctrl-C stops)");
+    watch_cmd->add_option("config", o.config, "Pipeline file (YAML)")->required();
+    watch_cmd->add_option("-o,--output", o.out, "The image written (replaced at each save)")->required();
+    watch_cmd->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
+    watch_cmd->add_option("--threads", o.threads, "Worker threads (default: all cores)")
+        ->check(CLI::Range(1u, 4096u));
+    watch_cmd->add_flag("--no-draft", o.no_draft, "The full image only, no draft first");
+    watch_cmd->add_flag("-q,--quiet", o.quiet, "Print only errors");
+    table.push_back({watch_cmd, [&o] { return cmd_watch(o); }});
+}
+
+} // namespace fp::cli

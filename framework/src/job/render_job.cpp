@@ -1,0 +1,341 @@
+// The render job (fixpoint/host/job/render_job.hpp): plan_render's checks, in the order the
+// header gives them.
+#include <fixpoint/host/core/progress.hpp>
+#include <fixpoint/host/core/ranks.hpp>
+#include <fixpoint/host/core/runtime.hpp>
+#include <fixpoint/host/job/render_job.hpp>
+#include <fixpoint/simd.hpp>
+#include <fixpoint/text.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace fp::host {
+
+std::string draft_name(const std::string& path) {
+    const fs::path p(path);
+    return (p.parent_path() / (p.stem().string() + "-draft" + p.extension().string())).string();
+}
+
+// ---------------------------------------------------------------- the output
+RequestOutput request_output(const Pipeline& p, const RenderRequest& r) {
+    if (!r.output.empty()) return {r.output, r.output_mark};
+    if (!r.default_file) return {};
+    RequestOutput o;
+    if (!p.output_path.empty()) {
+        o.path = p.output_path;
+        o.mark = p.output_mark;
+    } else if (!r.source.empty()) {
+        o.path = fs::path(r.source).stem().string() + ".png";
+    } else {
+        return {};
+    }
+    if (r.draft_name) o.path = draft_name(o.path);
+    return o;
+}
+
+// The promises about existing files: the config itself is never written over; another existing
+// file only when named (where the front end lets a name replace it) or with force. Errors about
+// a path from the config point at output.path.
+void check_output_request(const RenderRequest& r, const std::string& out, const std::optional<Mark>& mark) {
+    try {
+        if (r.check_path) r.check_path(out, mark ? &*mark : nullptr);
+        std::error_code ec;
+        if (!r.source.empty() && fs::equivalent(out, r.source, ec))
+            throw InputError("cannot write " + quote(out, 200) + ": it is the config being rendered");
+        check_output(out, r.make_folder);
+        if (!r.raster_only.empty() && is_vector(format_for(out))) {
+            std::string m = r.raster_only;
+            if (const auto at = m.find("{}"); at != std::string::npos) m.replace(at, 2, quote(out, 200));
+            throw InputError(m);
+        }
+        const bool named = !r.output.empty() && r.named_replaces;
+        if (!named && !r.force && fs::exists(fs::symlink_status(out, ec)))
+            throw InputError(quote(out, 200) + " exists: " + r.replace_hint);
+    } catch (const InputError& e) {
+        if (mark) throw InputError(mark->str() + ": output.path: " + e.what());
+        throw;
+    }
+}
+
+namespace {
+
+// Raster or vector, and the tiles of a raster file.
+void check_format(RenderPlan& plan) {
+    const Pipeline& p = plan.pipeline;
+    const RenderRequest& r = plan.request;
+    if (r.encode) {
+        plan.format = *r.encode;
+        plan.vector = is_vector(plan.format);
+        if (plan.vector) throw InternalError("the render job encodes raster images only");
+        return;
+    }
+    if (plan.output.empty()) return;
+    plan.format = format_for(plan.output);
+    plan.vector = check_vector_output(p, plan.output);
+    if (!plan.vector) check_tiled(p, plan.output);
+}
+
+// --repeat: the repeated image is made after the render, beside the tile.
+void check_repeat(RenderPlan& plan) {
+    const PrintRequest& print = plan.request.print;
+    plan.repeat = parse_repeat(print);
+    if (plan.repeat.across * plan.repeat.down == 1) return;
+    const Renderer& R = *plan.pipeline.renderer;
+    const std::uint64_t repeated = std::uint64_t(R.width()) * std::uint64_t(plan.repeat.across) *
+                                   std::uint64_t(R.height()) * std::uint64_t(plan.repeat.down) * 3 *
+                                   sizeof(float);
+    const std::uint64_t need = R.memory_bytes(plan.threads) + repeated, have = available_memory();
+    if (need > have)
+        throw InputError("--repeat " + print.repeat + ": the tile and its repeated image need " +
+                         format_bytes(need) + " of memory; this machine has " + format_bytes(have) +
+                         " available");
+}
+
+// The memory: whole, or streamed in strips where the output allows it (a raster file that is
+// not repeated, with nothing that needs the whole image in memory).
+void check_memory_plan(RenderPlan& plan) {
+    const RenderRequest& r = plan.request;
+    const Pipeline& p = plan.pipeline;
+    const bool can_stream = r.may_stream && !plan.output.empty() && !plan.vector && !r.keep_image &&
+                            !r.encode && plan.repeat.across * plan.repeat.down == 1 && !r.serial;
+    const std::uint64_t held = can_stream ? StreamedImage::held_bytes(plan.output, p.renderer->width(),
+                                                                      p.renderer->height(), p.tiled)
+                                          : 0;
+    plan.memory = check_memory_within(p, plan.threads, r.memory, can_stream, held);
+    if (plan.vector) plan.memory.stream = false;
+}
+
+// ---------------------------------------------------------------- checkpoints
+// The same file, spelled differently or not there yet: compared as absolute paths with . and ..
+// resolved.
+bool same_file(const std::string& a, const std::string& b) {
+    std::error_code ec;
+    if (fs::equivalent(a, b, ec)) return true;
+    const fs::path ca = fs::weakly_canonical(fs::absolute(a), ec);
+    if (ec || ca.empty()) return a == b; // (undecidable: only the same spelling)
+    return ca == fs::weakly_canonical(fs::absolute(b), ec) && !ec;
+}
+
+// --checkpoint, --checkpoint-every, --resume: checked before the render (the checkpoint to resume
+// read whole and compared with the recipe); an empty plan without them.
+void check_checkpoints(RenderPlan& plan) {
+    const RenderRequest& r = plan.request;
+    const Pipeline& p = plan.pipeline;
+    CheckpointPlan& ck = plan.checkpoints;
+    if (r.checkpoint.empty() && r.resume.empty()) {
+        if (!r.checkpoint_every.empty())
+            throw InputError("--checkpoint-every: checkpoints go to a file: add --checkpoint FILE");
+        return;
+    }
+    const std::string opt = r.resume.empty() ? "--checkpoint" : "--resume";
+    if (ranks::size() > 1)
+        throw InputError(opt + ": checkpoints are kept of a render on one process, not under mpirun");
+    if (!p.renderer->keeps_checkpoints() || plan.vector)
+        throw InputError(p.renderer_mark.str() + ": renderer: " + p.renderer_type +
+                         (plan.vector ? " draws this picture without points" : " keeps no checkpoints") +
+                         " (" + opt + "; chaos-game and orbit-trap renders keep them)");
+    if (plan.memory.stream)
+        throw InputError(opt + ": this render is beyond the memory budget and streams in strips; checkpoints "
+                               "are kept of a render that fits (see --memory)");
+    ck.every_s = r.checkpoint_every.empty() ? 300 : parse_duration(r.checkpoint_every, "--checkpoint-every");
+    // With --resume alone, the checkpoints go on in the file resumed.
+    ck.path = r.checkpoint.empty() ? r.resume : r.checkpoint;
+    ck.header = checkpoint_header(p);
+    for (const auto& [name, other] :
+         {std::pair{"the output", plan.output}, std::pair{"the config", r.source}})
+        if (!other.empty() && same_file(ck.path, other))
+            throw InputError(opt + ": " + quote(ck.path, 200) + " is " + name +
+                             ": a checkpoint needs a file of its own");
+    std::error_code ec;
+    if (!r.resume.empty()) {
+        ck.resume = std::make_unique<CheckpointFile>(r.resume);
+        ck.resume->check_against(ck.header);
+    } else if (!r.force && fs::exists(fs::symlink_status(ck.path, ec))) {
+        throw InputError("--checkpoint: " + quote(ck.path, 200) +
+                         " exists: continue it with --resume, or add --force to start over");
+    }
+    // A checkpoint that cannot be written is better found now than after the first period.
+    const fs::path dir = fs::path(ck.path).parent_path();
+    if (!dir.empty() && !fs::is_directory(dir, ec))
+        throw InputError(opt + ": cannot write " + quote(ck.path, 200) + ": no folder " +
+                         quote(dir.string(), 200));
+    if (::access(dir.empty() ? "." : dir.c_str(), W_OK) != 0)
+        throw InputError(opt + ": cannot write " + quote(ck.path, 200) + ": " + std::strerror(errno));
+}
+
+} // namespace
+
+RenderPlan plan_render(const Pipeline& pipeline, RenderRequest request, const std::atomic<bool>* cancel) {
+    RenderPlan plan;
+    plan.pipeline = pipeline;
+    plan.request = std::move(request);
+    const RenderRequest& r = plan.request;
+    plan.threads = r.serial ? 1 : r.threads ? r.threads : hardware_threads();
+    RequestOutput out = request_output(plan.pipeline, r);
+    plan.output = std::move(out.path);
+    plan.output_mark = std::move(out.mark);
+    if (!plan.output.empty()) check_output_request(plan.request, plan.output, plan.output_mark);
+    check_format(plan);
+    check_repeat(plan);
+    // (Of the tile, not of its repeated image: --print-size is the tile's.)
+    if (!plan.output.empty())
+        plan.resolution =
+            print_resolution(r.print, plan.pipeline.renderer->width(), plan.pipeline.renderer->height());
+    check_memory_plan(plan);
+    check_checkpoints(plan);
+    if (cancel && cancel->load()) throw Cancelled(); // during the checks above
+    if (r.distributed) ranks::agree_checks(plan.pipeline.recipe);
+    return plan;
+}
+
+} // namespace fp::host
+
+// ---------------------------------------------------------------- the render
+namespace fp::host {
+
+namespace {
+
+/// The rows of a rank other than 0 in a streamed render: rank 0 writes the image.
+class DiscardedRows final : public RowSink {
+public:
+    void rows(int, int, const float*) override {}
+};
+
+/// A plugin's refusal during the render (one that can only tell at run time) is blamed on the
+/// renderer, the one place known; a failed write of the output (WriteError, from a streamed
+/// image) keeps its own words, and so does everything else.
+template <class Body>
+void blamed(const Pipeline& p, Body&& body) {
+    try {
+        body();
+    } catch (const WriteError&) {
+        throw;
+    } catch (const InputError& e) {
+        throw InputError(p.renderer_mark.str() + ": renderer: " + e.what());
+    }
+}
+
+/// The folder of a file the request lets the job make, made just before the file is written.
+void make_folder_of(const std::string& path) {
+    const fs::path dir = fs::path(path).parent_path();
+    std::error_code ec;
+    if (dir.empty() || fs::is_directory(dir, ec)) return;
+    fs::create_directories(dir, ec);
+    if (ec) throw InputError("cannot make the folder " + quote(dir.string(), 200) + ": " + ec.message());
+}
+
+/// The recipe a file carries: a repeated tile says so (its recipe renders one tile).
+std::string file_recipe(const RenderPlan& plan) {
+    if (plan.repeat.across * plan.repeat.down == 1) return plan.pipeline.recipe;
+    return "# the tile repeated " + plan.request.print.repeat + " (--repeat); the recipe renders one tile\n" +
+           plan.pipeline.recipe;
+}
+
+} // namespace
+
+std::uint64_t plan_work_units(const RenderPlan& plan) {
+    const std::uint64_t units = plan.pipeline.renderer->work_units();
+    const unsigned n = plan.request.distributed ? ranks::size() : 1;
+    return n > 1 ? (units + n - 1) / n : units;
+}
+
+RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
+    const Pipeline& p = plan.pipeline;
+    const RenderRequest& r = plan.request;
+    const Renderer& R = *p.renderer;
+    Runtime rt(plan.threads, hooks.cancel, r.distributed, r.serial);
+    rt.set_memory_budget(plan.memory.budget);
+    if (hooks.done) rt.count_progress_in(hooks.done);
+    CheckpointPlan& ck = plan.checkpoints;
+    if (!ck.path.empty()) rt.set_checkpoints(ck.path, ck.every_s, ck.header, std::move(ck.resume));
+
+    // A streamed image: rank 0 encodes the rows as they come, into a file that takes the
+    // output's name only once it is whole; the other ranks' rows go nowhere.
+    std::unique_ptr<StreamedImage> streamed;
+    DiscardedRows discarded;
+    if (plan.memory.stream && rt.rank() == 0) {
+        if (r.make_folder) make_folder_of(plan.output);
+        streamed = std::make_unique<StreamedImage>(plan.output, R.width(), R.height(), p.bit_depth, p.recipe,
+                                                   plan.resolution, p.tiled);
+        if (hooks.partial) hooks.partial(streamed->temporary_path());
+    }
+
+    RenderResult res;
+    Image img;
+    std::string doc;
+    const auto t0 = std::chrono::steady_clock::now();
+    {
+        ProgressBar bar(
+            plan_work_units(plan), [&rt] { return rt.done(); }, hooks.progress_bar && rt.rank() == 0);
+        blamed(p, [&] {
+            if (plan.vector)
+                doc = R.render_vector(rt, res.stats,
+                                      plan.format == Format::Svg ? VectorFormat::Svg : VectorFormat::Pdf,
+                                      p.recipe);
+            else if (plan.memory.stream)
+                R.render_rows(rt, res.stats, streamed ? static_cast<RowSink&>(*streamed) : discarded);
+            else
+                img = R.render(rt, res.stats);
+        });
+        res.checkpoints_written = rt.checkpoints_written();
+    }
+    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (rt.cancelled()) throw Cancelled();
+    if (rt.rank() != 0) return res; // rank 0 holds the image and writes
+    res.width = plan.vector || plan.memory.stream ? R.width() : img.width;
+    res.height = plan.vector || plan.memory.stream ? R.height() : img.height;
+    if (!r.allow_empty)
+        if (std::string w = check_drawn(p, res.stats); !w.empty()) res.warnings.push_back(std::move(w));
+    // The other ranks are done: rank 0's errors from here on are its own.
+    if (rt.ranks() > 1) ranks::set_phase(ranks::Phase::free);
+
+    if (streamed) {
+        if (hooks.partial) hooks.partial("");
+        streamed->finish();
+        res.wrote = true;
+        return res;
+    }
+    if (r.encode) res.bytes = encode_image(img, plan.format, p.bit_depth, p.recipe, plan.resolution, p.tiled);
+    if (!plan.output.empty() && !r.defer_write) {
+        if (r.make_folder) make_folder_of(plan.output);
+        FileSet file(hooks.cancel); // (a Ctrl-C while it is encoded and written: no file)
+        if (plan.vector)
+            file.bytes(doc, plan.output);
+        else
+            file.image(repeat_image(img, plan.repeat), plan.output, p.bit_depth, file_recipe(plan), p.tiled,
+                       plan.resolution);
+        file.commit();
+        res.wrote = true;
+    }
+    if (r.keep_image) res.image = std::move(img);
+    return res;
+}
+
+std::string summary_line(const RenderPlan& plan, const RenderResult& r) {
+    const RenderStats& st = r.stats;
+    const auto plural = [](std::uint64_t n, const char* one) {
+        return std::to_string(n) + " " + one + (n == 1 ? "" : "s");
+    };
+    char rate[160];
+    std::snprintf(rate, sizeof rate, "%.2f s (%.3g %s/s, ", r.seconds,
+                  double(st.samples) / std::max(r.seconds, 1e-9), st.unit.c_str());
+    const unsigned nr = plan.request.distributed ? ranks::size() : 1;
+    std::string line = (plan.output.empty() ? std::string("render") : plan.output) + ": " +
+                       std::to_string(st.samples) + " " + st.unit + " in " + rate +
+                       (nr > 1 ? std::to_string(nr) + " ranks x " : "") + plural(plan.threads, "thread") +
+                       ", " + simd::active_target() + "), " + plural(st.restarts, "restarted chain") + ", " +
+                       plural(st.bad_values, "bad value") + (st.how.empty() ? "" : ", " + st.how);
+    if (!plan.checkpoints.path.empty())
+        line += "; " + plural(r.checkpoints_written, "checkpoint") + " to " + plan.checkpoints.path;
+    return line;
+}
+
+} // namespace fp::host
