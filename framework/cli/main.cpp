@@ -20,6 +20,7 @@
 #include <fixpoint/host/runtime.hpp>
 #include <fixpoint/host/serve.hpp>
 #include <fixpoint/host/symmetry.hpp>
+#include <fixpoint/host/tools/describe.hpp>
 #include <fixpoint/host/watch.hpp>
 #include <fixpoint/host/where.hpp>
 #include <fixpoint/simd.hpp>
@@ -153,7 +154,8 @@ struct Options {
     double tolerance = SymmetryOptions{}.tolerance, threshold = SymmetryOptions{}.threshold;
     int smooth = SymmetryOptions{}.smooth;
     bool json = false;
-    PrintRequest print; // --tile, --repeat, --dpi, --print-size
+    bool markdown = false; // describe --markdown
+    PrintRequest print;    // --tile, --repeat, --dpi, --print-size
 };
 
 Registry make_registry(const Options& o) {
@@ -799,7 +801,13 @@ int cmd_plugins(const Options& o) {
 }
 
 int cmd_describe(const Options& o) {
+    if (o.name.empty() && !o.markdown) throw InputError("fixpoint: name is required (see fixpoint --help)");
     const Registry reg = make_registry(o);
+    if (o.markdown) { // the reference of docs/plugins.md (describe.cpp)
+        std::fputs((o.name.empty() ? markdown_reference(reg) : markdown_plugin(reg.get(o.name), 1)).c_str(),
+                   stdout);
+        return 0;
+    }
     const PluginEntry* e = &reg.get(o.name);
     const auto& d = *e->desc;
     std::printf("%s (%s, version %s)\n  %s\n  file: %s\n", d.name, std::string(kind_name(d.kind)).c_str(),
@@ -1250,7 +1258,8 @@ int main(int argc, char** argv) {
                       "List every plugin file with its plugin or why it was refused (exit 1 if any was)");
 
     auto* describe = app.add_subcommand("describe", "Show a plugin's parameters");
-    describe->add_option("name", o.name, "Plugin name")->required();
+    describe->add_option("name", o.name, "Plugin name (with --markdown: every plugin when none)");
+    describe->add_flag("--markdown", o.markdown, "Markdown, as docs/plugins.md is");
 
     auto* eval = app.add_subcommand("eval", "Apply a transform to points read from stdin ('x y' per line)");
     eval->add_option("transform", o.transform,
