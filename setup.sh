@@ -48,6 +48,9 @@ sanitize=
 [ "$mode" = test ] && packages+=(python3-pytest python3-pil)
 # The preview page's tests in a real browser: headless Chromium driven by Selenium.
 [ "$mode" = test ] && packages+=(chromium chromium-driver python3-selenium)
+# The linters, run by CTest (tests/lint/): clang-tidy on the changed C++ files, ESLint on web/,
+# flake8 on the Python (docs/testing.md).
+[ "$mode" = test ] && packages+=(clang-tidy eslint flake8)
 if [ "$mode" = test ] && [ -z "$quick" ]; then
     sanitize=1
     # The sanitizer build: clang 14 with its runtimes (ASan, UBSan, libFuzzer).

@@ -683,7 +683,7 @@ function flowOf(entries, at) {
   return `{${parts.join(', ')}}`;
 }
 
-function listHead(e, entries, at) {
+function listHead(e, entries) {
   const add = el('button', { type: 'button', className: 'small', textContent: 'add' });
   add.dataset.path = e.path;
   add.title = `append a copy of the last item of ${e.name}`;
@@ -730,7 +730,7 @@ function controlFor(e, entries, at, lists) {
     case 'plugin':
       return [selectControl(e, e.choices || [], (n) => `{type: ${n}}`), e.depth > 0 ? 'head sub' : 'head'];
     case 'list':
-      return [listHead(e, entries, at), 'head'];
+      return [listHead(e, entries), 'head'];
     case 'point':
       return [pointControl(e), ''];
     case 'string':

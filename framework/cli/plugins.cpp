@@ -3,6 +3,7 @@
 #include "cli.hpp"
 
 #include <fixpoint/host/conformance/conformance.hpp>
+#include <fixpoint/host/tools/describe.hpp>
 #include <fixpoint/text.hpp>
 
 #include <algorithm>
@@ -75,7 +76,13 @@ int cmd_plugins(const Options& o) {
 }
 
 int cmd_describe(const Options& o) {
+    if (o.name.empty() && !o.markdown) throw InputError("fixpoint: name is required (see fixpoint --help)");
     const Registry reg = make_registry(o);
+    if (o.markdown) { // the reference of docs/plugins.md (host/tools/describe.hpp)
+        std::fputs((o.name.empty() ? markdown_reference(reg) : markdown_plugin(reg.get(o.name), 1)).c_str(),
+                   stdout);
+        return 0;
+    }
     const PluginEntry* e = &reg.get(o.name);
     const auto& d = *e->desc;
     std::printf("%s (%s, version %s)\n  %s\n  file: %s\n", d.name, std::string(kind_name(d.kind)).c_str(),
@@ -138,7 +145,8 @@ void add_plugin_commands(CLI::App& app, Options& o, std::vector<Command>& table)
     table.push_back({plugins, [&o] { return cmd_plugins(o); }});
 
     auto* describe = app.add_subcommand("describe", "Show a plugin's parameters");
-    describe->add_option("name", o.name, "Plugin name")->required();
+    describe->add_option("name", o.name, "Plugin name (with --markdown: every plugin when none)");
+    describe->add_flag("--markdown", o.markdown, "Markdown, as docs/plugins.md is");
     table.push_back({describe, [&o] { return cmd_describe(o); }});
 
     auto* conformance = app.add_subcommand("conformance", "Run the plugin conformance suite");

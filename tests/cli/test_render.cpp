@@ -433,9 +433,9 @@ TEST(Collection, BadVaryIsRefusedBeforeRendering) {
 
 namespace {
 
-// The README's example config is what users copy first: it must stay valid.
-TEST(Readme, ExampleConfigValidates) {
-    const std::string readme = read_file(fp::test::source_dir() + "/README.md");
+// The example config of docs/configs.md is what users copy first: it must stay valid.
+TEST(Docs, ExampleConfigValidates) {
+    const std::string readme = read_file(fp::test::source_dir() + "/docs/configs.md");
     const auto begin = readme.find("# Three circles and a star");
     ASSERT_NE(begin, std::string::npos);
     const auto end = readme.find("```", begin);

@@ -44,3 +44,23 @@ def test_the_python_guide_runs_and_prints_what_it_says(tmp_path):
         os.chdir(cwd)
     assert (tmp_path / "mann-alpha.png").stat().st_size > 10000
     assert (tmp_path / "m-iteration.png").stat().st_size > 10000
+
+
+def test_the_front_pages_python_runs(tmp_path):
+    """README.md's Python block (its five minutes) runs as it stands, from the repository's
+    root, and gives what its comments say."""
+    found = blocks((SOURCE / "README.md").read_text())
+    assert len(found) == 1
+    os.symlink(SOURCE / "configs", tmp_path / "configs")
+    cwd = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        ns = {}
+        exec(compile(found[0], "README.md", "exec"), ns)
+    finally:
+        os.chdir(cwd)
+    assert ns["image"].shape == (1024, 1024, 3)
+    assert "type: chaos-game" in ns["recipe"]
+    # The unit circle and Mann's alpha = 0.5 are the defaults: docs/python.md's first point.
+    assert ns["pts"].shape == (1, 2)
+    assert abs(ns["pts"][0][0] - 1.00030488) < 1e-8 and ns["pts"][0][1] == 0

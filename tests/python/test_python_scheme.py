@@ -5,7 +5,7 @@ import pytest
 from PIL import Image
 
 import fixpoint
-from conftest import MANN_CONFIG, MANN_PY, run_cli
+from conftest import MANN_CONFIG, run_cli
 
 SMALL = {"renderer__width": 200, "renderer__height": 200, "renderer__points": 300000}
 
