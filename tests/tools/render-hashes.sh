@@ -72,7 +72,7 @@ for c in $ot; do
         render "$name-1thread" "$cfg" $(small "$cfg") --threads 1
         render "$name-strips" "$cfg" --set renderer.width=300 --set renderer.height=300 --memory 1M
         for red in none centred floor hexagonal; do
-            render "$name-$red" "$cfg" $(small "$cfg") --set renderer.reduction=$red
+            render "$name-reduction-$red" "$cfg" $(small "$cfg") --set renderer.reduction=$red
         done
     }
 done

@@ -181,9 +181,12 @@ private:
             // Last colours: the step's plotted points (the dummy bin holds the others), each the
             // colour of its map, which the step left in `prev` (map rule only: see setup_fused).
             if (Colour && g_.last_) {
+                // (Locals: the stores into the last writes could alias members, read per lane.)
                 const uint32_t* prev = c_.prev.get();
+                const std::array<uint16_t, 3>* map_q = g_.map_q_.data();
+                const uint32_t last_map = none_ - 1;
                 write_last_colours(hist_.last.get(), out_, nb_, n, c_.chain.get(), bv_.dummy,
-                                   [&](size_t i) { return g_.map_q_[std::min(prev[i], none_ - 1)]; });
+                                   [&](size_t i) { return map_q[std::min(prev[i], last_map)]; });
             }
         }
         steps = ran;

@@ -227,8 +227,9 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
 }
 
 void ChaosGame::sum_workers(fp::RenderContext& ctx, fp::RenderStats& stats, std::vector<WorkerHist>& hists,
-                            fp::Histogram& total, const std::vector<LastWrite>& folded_last, uint32_t rows,
-                            bool hits8, bool last, std::vector<LastWrite>& rank_last) const {
+                            fp::Histogram& total, const std::vector<LastWrite>& folded_last,
+                            const uint32_t rows, const bool hits8, const bool last,
+                            std::vector<LastWrite>& rank_last) const {
     const size_t px = size_t(frame_.width) * size_t(rows);
     const auto poll = [&ctx] {
         if (ctx.cancelled()) throw fp::Cancelled();
