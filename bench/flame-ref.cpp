@@ -122,7 +122,7 @@ Ifs make_ifs(const std::string& name) {
 }
 
 /// The 16-byte bins {hits, r, g, b} in 2 MiB pages where the kernel grants them, as fixpoint's
-/// worker histograms are (plugins/renderers/chaos-game/state.hpp): 16 MiB of bins in 4 KiB
+/// worker histograms are (plugins/renderers/chaos-game/histogram.hpp): 16 MiB of bins in 4 KiB
 /// pages would make most deposits a TLB miss as well as a cache miss, and measure the pages,
 /// not the kernel.
 struct Bins {

@@ -57,8 +57,7 @@
 // control points; `only` naming an address the path does not produce; placement addresses
 // naming maps that do not exist; a split whose pieces do not fit. Renders are sequential and
 // a pure function of the recipe (threads change nothing).
-#include "mfs_address.hpp"
-#include "mfs_draw.hpp"
+#include "mfs/renderer.hpp"
 #include "palette.hpp"
 
 #include <fixpoint/fixpoint.hpp>
@@ -73,15 +72,10 @@
 #include <string>
 #include <vector>
 
+namespace fp_mfs {
 namespace {
 
-using fp_mfs::Address;
-using std::size_t;
-using std::uint32_t;
-using std::uint64_t;
-
 constexpr double max_polygons = 5e7;
-constexpr uint32_t no_first = ~uint32_t(0);
 
 std::string bytes_text(double b) {
     const char* units[] = {"bytes", "KB", "MB", "GB", "TB", "PB", "EB"};
@@ -98,87 +92,7 @@ std::string count_text(double c) {
     return buf;
 }
 
-/// Polygons of one generation: n vertices each, and the address of each (len indices).
-struct Gen {
-    fp_render::Buffer<double> x, y; // written in full before they are read
-    fp_render::Buffer<uint32_t> addr;
-    size_t len = 0;
-};
-
-class Mfs final : public fp::Renderer {
-public:
-    explicit Mfs(const fp::ParamBag& p);
-
-    int width() const override { return frame_.width; }
-    int height() const override { return frame_.height; }
-    // (The view given, or the points' box the constructor fitted.)
-    std::optional<fp::Box> region() const override { return frame_.region; }
-    uint64_t memory_bytes(unsigned) const override {
-        return uint64_t(total_ * bytes_per_polygon() + double(frame_.width) * double(frame_.height) * 16.0);
-    }
-    uint64_t work_units() const override { return uint64_t(total_); }
-    fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
-    // Beyond the memory budget: the polygons stay whole (they are the scene), the picture is
-    // drawn band by band, each band a surface of its own with the scene moved up by its first
-    // row (a whole number of pixels: the same coverage, the same bytes).
-    bool streams_rows() const override { return true; }
-    uint64_t memory_within(unsigned, uint64_t budget) const override {
-        return scene_bytes() + uint64_t(band_rows(budget)) * row_bytes();
-    }
-    void render_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink) const override;
-    bool has_vector_output() const override { return true; }
-    std::string render_vector(fp::RenderContext& ctx, fp::RenderStats& stats, fp::VectorFormat format,
-                              const std::string& recipe) const override;
-    std::vector<std::string> polygon_addresses(std::int64_t level) const override;
-
-    size_t vertex_count() const { return n_; }
-    double total() const { return total_; }
-    /// Append the structure started from `start` (n points) to `out`: its own polygons, then
-    /// its placements. `depth` is the level of `start` in the top structure, `first` the first
-    /// index of its address there (no_first at the top).
-    void generate(const std::vector<fp::Vec2>& start, size_t depth, uint32_t first,
-                  std::vector<fp_mfs::Layer>& out, fp::RenderContext* ctx,
-                  std::vector<fp_mfs::Label>* labels) const;
-
-private:
-    struct Placement {
-        std::vector<Address> at;
-        std::vector<std::vector<uint32_t>> pieces;
-        std::shared_ptr<const Mfs> mfs;
-    };
-
-    double bytes_per_polygon() const { return double(n_) * 16.0 * 3.0 + 12.0 + 4.0 * double(path_.size()); }
-    uint64_t scene_bytes() const { return uint64_t(total_ * bytes_per_polygon()); }
-    /// A row of a band: its Cairo surface (4 bytes a pixel) and its floats (12).
-    uint64_t row_bytes() const { return uint64_t(frame_.width) * 16; }
-    /// Rows per band within `budget`: at least one.
-    int band_rows(uint64_t budget) const {
-        const uint64_t left = budget > scene_bytes() ? budget - scene_bytes() : 0;
-        return int(std::clamp<uint64_t>(left / row_bytes(), 1, uint64_t(frame_.height)));
-    }
-    Gen grow(const std::vector<fp::Vec2>& start, size_t levels, bool filters, fp::RenderContext* ctx) const;
-    std::vector<fp::Vec2> polygon_at(const std::vector<fp::Vec2>& start, const Address& a) const;
-    fp::Rgb colour_of(const uint32_t* addr, size_t len, size_t depth, uint32_t first) const;
-    fp_mfs::Scene scene(fp::RenderContext& ctx, fp::RenderStats& stats) const;
-
-    fp::Frame frame_; ///< width, height, view (region: given, or the points' box), background
-    size_t n_ = 0;
-    std::vector<std::shared_ptr<const fp::VertexMap>> maps_;
-    std::vector<std::vector<uint32_t>> systems_;
-    std::vector<uint32_t> path_;
-    std::vector<fp::Vec2> points_;
-    std::vector<size_t> order_;
-    std::vector<Placement> placements_;
-    std::vector<Address> placed_; ///< placement and `hide` addresses, sorted (the target drops them)
-    bool draw_target_ = true, labels_ = false;
-    fp_mfs::DrawMode mode_ = fp_mfs::DrawMode::Fill;
-    std::string colour_by_ = "fixed";
-    fp::Rgb colour_, mark_colour_;
-    double line_width_ = 1, label_size_ = 14;
-    Address only_;
-    std::vector<Address> highlight_;
-    double total_ = 0;
-};
+} // namespace
 
 Mfs::Mfs(const fp::ParamBag& p) {
     frame_ = fp::Frame::read(p);
@@ -271,9 +185,7 @@ Mfs::Mfs(const fp::ParamBag& p) {
     // Drawing.
     draw_target_ = p.boolean("draw_target");
     const std::string& draw = p.string("draw");
-    mode_ = draw == "outline"  ? fp_mfs::DrawMode::Outline
-            : draw == "points" ? fp_mfs::DrawMode::Points
-                               : fp_mfs::DrawMode::Fill;
+    mode_ = draw == "outline" ? DrawMode::Outline : draw == "points" ? DrawMode::Points : DrawMode::Fill;
     colour_by_ = p.string("colour_by");
     colour_ = p.colour("colour");
     mark_colour_ = p.colour("mark_colour");
@@ -281,25 +193,23 @@ Mfs::Mfs(const fp::ParamBag& p) {
     labels_ = p.boolean("labels");
     label_size_ = p.real("label_size");
     if (p.has("only")) {
-        const auto a = fp_mfs::parse_addresses(p.string("only"), maps_.size(), "only");
+        const auto a = parse_addresses(p.string("only"), maps_.size(), "only");
         if (a.size() != 1) throw fp::ParamError("only", "give one address");
         only_ = a[0];
         if (only_.size() > path_.size())
-            throw fp::ParamError("only", "address " + fp_mfs::address_text(only_) +
-                                             " does not exist: the path has " + std::to_string(path_.size()) +
-                                             " levels");
+            throw fp::ParamError("only", "address " + address_text(only_) + " does not exist: the path has " +
+                                             std::to_string(path_.size()) + " levels");
         for (size_t l = 0; l < only_.size(); ++l) {
             const auto& ifs = systems_[path_[l]];
             if (std::find(ifs.begin(), ifs.end(), only_[l]) == ifs.end())
-                throw fp::ParamError(
-                    "only", "address " + fp_mfs::address_text(only_) + " does not exist at level " +
-                                std::to_string(l + 1) + ": IFS " + std::to_string(path_[l]) + " (path[" +
-                                std::to_string(l) + "]) has no f" + std::to_string(only_[l] + 1));
+                throw fp::ParamError("only", "address " + address_text(only_) + " does not exist at level " +
+                                                 std::to_string(l + 1) + ": IFS " + std::to_string(path_[l]) +
+                                                 " (path[" + std::to_string(l) + "]) has no f" +
+                                                 std::to_string(only_[l] + 1));
         }
     }
-    if (p.has("highlight"))
-        highlight_ = fp_mfs::parse_addresses(p.string("highlight"), maps_.size(), "highlight");
-    if (p.has("hide")) placed_ = fp_mfs::parse_addresses(p.string("hide"), maps_.size(), "hide");
+    if (p.has("highlight")) highlight_ = parse_addresses(p.string("highlight"), maps_.size(), "highlight");
+    if (p.has("hide")) placed_ = parse_addresses(p.string("hide"), maps_.size(), "hide");
     // Placements.
     double count = 1, level_count = 1;
     for (size_t l = 0; l < path_.size(); ++l) count *= double(systems_[path_[l]].size());
@@ -319,11 +229,11 @@ Mfs::Mfs(const fp::ParamBag& p) {
             if (!P.mfs)
                 throw fp::ParamError("placements",
                                      where + " is no mfs structure: only mfs structures are placed");
-            P.at = fp_mfs::parse_addresses(pl[i].extras->string("at"), maps_.size(), "placements");
+            P.at = parse_addresses(pl[i].extras->string("at"), maps_.size(), "placements");
             const size_t m = P.mfs->vertex_count();
             if (pl[i].extras->has("split")) {
-                P.pieces = fp_mfs::parse_groups(pl[i].extras->string("split"), ' ', "placements",
-                                                "a split such as \"0 1 2; 3 2 1\"");
+                P.pieces = parse_groups(pl[i].extras->string("split"), ' ', "placements",
+                                        "a split such as \"0 1 2; 3 2 1\"");
             } else if (m == n_) {
                 P.pieces.emplace_back();
                 for (uint32_t k = 0; k < n_; ++k) P.pieces[0].push_back(k);
@@ -376,222 +286,10 @@ Mfs::Mfs(const fp::ParamBag& p) {
     }
 }
 
-Gen Mfs::grow(const std::vector<fp::Vec2>& start, size_t levels, bool filters, fp::RenderContext* ctx) const {
-    Gen g;
-    for (const auto& q : start) g.x.push_back(q.x), g.y.push_back(q.y);
-    // Parents are subdivided a block at a time (one call per map and block): the scratch stays
-    // small, and a cancel is seen within a block's work however large a level grows.
-    constexpr size_t block = 65536;
-    fp_render::Buffer<double> tx, ty;
-    auto poll = [ctx] {
-        if (ctx && ctx->cancelled()) throw fp::Cancelled();
-    };
-    for (size_t l = 0; l < levels; ++l) {
-        poll();
-        const auto& ifs = systems_[path_[l]];
-        const size_t m = g.x.size() / n_, s = ifs.size(), len = l + 1;
-        Gen h;
-        h.len = len;
-        h.x.resize(m * s * n_), h.y.resize(m * s * n_), h.addr.resize(m * s * len);
-        tx.resize(std::min(m, block) * n_), ty.resize(std::min(m, block) * n_);
-        for (size_t q0 = 0; q0 < m; q0 += block) {
-            poll();
-            const size_t q1 = std::min(m, q0 + block), k = (q1 - q0) * n_;
-            for (size_t t = 0; t < s; ++t) {
-                maps_[ifs[t]]->subdivide({g.x.data() + q0 * n_, g.y.data() + q0 * n_, k},
-                                         {tx.data(), ty.data(), k});
-                for (size_t q = q0; q < q1; ++q) {
-                    const size_t c = q * s + t;
-                    std::copy_n(&tx[(q - q0) * n_], n_, &h.x[c * n_]);
-                    std::copy_n(&ty[(q - q0) * n_], n_, &h.y[c * n_]);
-                    std::copy_n(g.addr.data() + q * l, l, &h.addr[c * len]);
-                    h.addr[c * len + l] = ifs[t];
-                }
-            }
-        }
-        if (filters && (!placed_.empty() || len <= only_.size())) {
-            size_t k = 0;
-            for (size_t c = 0; c < m * s; ++c) {
-                if (c % block == 0) poll();
-                const uint32_t* a = &h.addr[c * len];
-                bool keep = len > only_.size() || a[l] == only_[l];
-                if (keep && !placed_.empty())
-                    keep = !std::binary_search(placed_.begin(), placed_.end(), Address(a, a + len));
-                if (!keep) continue;
-                if (k != c) {
-                    std::copy_n(&h.x[c * n_], n_, &h.x[k * n_]);
-                    std::copy_n(&h.y[c * n_], n_, &h.y[k * n_]);
-                    std::copy_n(a, len, &h.addr[k * len]);
-                }
-                ++k;
-            }
-            h.x.resize(k * n_), h.y.resize(k * n_), h.addr.resize(k * len);
-        }
-        if (ctx && l + 1 == levels) ctx->progress(h.x.size() / n_); // work_units counts last levels
-        g = std::move(h);
-    }
-    return g;
-}
+} // namespace fp_mfs
 
-std::vector<fp::Vec2> Mfs::polygon_at(const std::vector<fp::Vec2>& start, const Address& a) const {
-    std::vector<double> x(n_), y(n_), cx(n_), cy(n_);
-    for (size_t i = 0; i < n_; ++i) x[i] = start[i].x, y[i] = start[i].y;
-    for (uint32_t j : a) {
-        maps_[j]->subdivide({x.data(), y.data(), n_}, {cx.data(), cy.data(), n_});
-        x.swap(cx), y.swap(cy);
-    }
-    std::vector<fp::Vec2> v(n_);
-    for (size_t i = 0; i < n_; ++i) v[i] = {x[i], y[i]};
-    return v;
-}
+namespace {
 
-fp::Rgb Mfs::colour_of(const uint32_t* addr, size_t len, size_t depth, uint32_t first) const {
-    if (colour_by_ == "level") return fp_render::palette_colour(depth + len);
-    if (colour_by_ == "ifs") return fp_render::palette_colour(len ? path_[len - 1] : 0);
-    if (colour_by_ == "map") return len ? fp_render::palette_colour(addr[len - 1]) : colour_;
-    if (colour_by_ == "address") {
-        const uint32_t f = first != no_first ? first : len ? addr[0] : no_first;
-        return f == no_first ? colour_ : fp_render::palette_colour(f);
-    }
-    return colour_;
-}
-
-void Mfs::generate(const std::vector<fp::Vec2>& start, size_t depth, uint32_t first,
-                   std::vector<fp_mfs::Layer>& out, fp::RenderContext* ctx,
-                   std::vector<fp_mfs::Label>* labels) const {
-    if (draw_target_) {
-        Gen g = grow(start, path_.size(), true, ctx);
-        fp_mfs::Layer L;
-        L.n = n_;
-        L.order = order_;
-        const size_t m = g.x.size() / n_;
-        L.colour.resize(m);
-        for (size_t c = 0; c < m; ++c) L.colour[c] = colour_of(&g.addr[c * g.len], g.len, depth, first);
-        if (labels)
-            for (size_t c = 0; c < m; ++c) {
-                double sx = 0, sy = 0;
-                for (size_t k = 0; k < n_; ++k) sx += g.x[c * n_ + k], sy += g.y[c * n_ + k];
-                labels->push_back(
-                    {sx / double(n_), sy / double(n_), fp_mfs::address_text(&g.addr[c * g.len], g.len)});
-            }
-        L.x = std::move(g.x), L.y = std::move(g.y);
-        out.push_back(std::move(L));
-    }
-    for (const auto& P : placements_)
-        for (const auto& a : P.at) {
-            // `only` keeps the placements under its address (or holding it).
-            const size_t common = std::min(a.size(), only_.size());
-            if (!std::equal(a.begin(), a.begin() + std::ptrdiff_t(common), only_.begin())) continue;
-            const auto poly = polygon_at(start, a);
-            const uint32_t f = first != no_first ? first : a.empty() ? no_first : a[0];
-            for (const auto& piece : P.pieces) {
-                std::vector<fp::Vec2> s;
-                for (uint32_t v : piece) s.push_back(poly[v]);
-                P.mfs->generate(s, depth + a.size(), f, out, ctx, nullptr);
-            }
-        }
-}
-
-fp_mfs::Scene Mfs::scene(fp::RenderContext& ctx, fp::RenderStats& stats) const {
-    fp_mfs::Scene sc;
-    sc.width = frame_.width, sc.height = frame_.height, sc.view = frame_.region,
-    sc.background = frame_.background, sc.mode = mode_;
-    sc.line_width = line_width_, sc.mark_colour = mark_colour_, sc.label_size = label_size_;
-    sc.ctx = &ctx;
-    generate(points_, 0, no_first, sc.layers, &ctx, labels_ ? &sc.labels : nullptr);
-    if (labels_ && !highlight_.empty()) sc.labels.clear(); // label the highlighted places instead
-    for (const auto& a : highlight_) {
-        fp_mfs::Layer L;
-        L.n = n_, L.order = order_;
-        for (const auto& q : polygon_at(points_, a)) L.x.push_back(q.x), L.y.push_back(q.y);
-        L.colour.push_back(mark_colour_);
-        if (labels_) {
-            double sx = 0, sy = 0;
-            for (size_t k = 0; k < n_; ++k) sx += L.x[k], sy += L.y[k];
-            sc.labels.push_back({sx / double(n_), sy / double(n_), fp_mfs::address_text(a)});
-        }
-        sc.highlights.push_back(std::move(L));
-    }
-    uint64_t polys = 0, inside = 0;
-    for (const auto& L : sc.layers) {
-        polys += L.count();
-        for (size_t c = 0; c < L.count(); ++c) {
-            bool in = false;
-            for (size_t k = 0; k < L.n && !in; ++k) {
-                const double x = L.x[c * L.n + k], y = L.y[c * L.n + k];
-                in = x >= frame_.region.xmin && x <= frame_.region.xmax && y >= frame_.region.ymin &&
-                     y <= frame_.region.ymax;
-            }
-            inside += in;
-        }
-    }
-    stats.samples = polys;
-    stats.drawn = inside;
-    stats.unit = "polygons";
-    if (ctx.cancelled()) throw fp::Cancelled();
-    return sc;
-}
-
-fp::Image Mfs::render(fp::RenderContext& ctx, fp::RenderStats& stats) const {
-    const fp_mfs::Scene sc = scene(ctx, stats);
-    fp::Image img;
-    img.width = frame_.width, img.height = frame_.height, img.channels = 3;
-    img.pixels = fp_mfs::raster(sc);
-    return img;
-}
-
-void Mfs::render_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink) const {
-    const fp_mfs::Scene sc = scene(ctx, stats);
-    const int rows = band_rows(ctx.memory_budget()), H = frame_.height;
-    for (int y0 = 0; y0 < H; y0 += rows) {
-        if (ctx.cancelled()) throw fp::Cancelled();
-        const int n = std::min(rows, H - y0);
-        const std::vector<float> px = fp_render::cairo_raster(frame_.width, n, [&](cairo_t* cr) {
-            cairo_translate(cr, 0, -double(y0));
-            fp_mfs::draw_scene(cr, sc);
-        });
-        if (ctx.rank() == 0) sink.rows(y0, n, px.data());
-    }
-    const int bands = (H + rows - 1) / rows;
-    stats.how =
-        "in " + std::to_string(bands) + " bands of " + std::to_string(rows) + (rows == 1 ? " row" : " rows");
-}
-
-std::string Mfs::render_vector(fp::RenderContext& ctx, fp::RenderStats& stats, fp::VectorFormat format,
-                               const std::string& recipe) const {
-    const fp_mfs::Scene sc = scene(ctx, stats);
-    std::string doc = fp_mfs::vector_document(sc, format == fp::VectorFormat::Pdf, recipe);
-    if (doc.empty()) throw fp::InternalError("Cairo could not write the vector document");
-    return doc;
-}
-
-std::vector<std::string> Mfs::polygon_addresses(std::int64_t level) const {
-    const size_t k = level < 0 ? path_.size() : size_t(level);
-    if (k > path_.size())
-        throw fp::ParamError("path", "level " + std::to_string(k) + " does not exist: the path has " +
-                                         std::to_string(path_.size()) +
-                                         (path_.size() == 1 ? " level (0 to " : " levels (0 to ") +
-                                         std::to_string(path_.size()) + ")");
-    Gen g = grow(points_, k, false, nullptr);
-    std::vector<std::string> lines;
-    const size_t m = g.x.size() / n_;
-    for (size_t c = 0; c < m; ++c) {
-        if (!only_.empty() &&
-            !std::equal(only_.begin(), only_.begin() + std::ptrdiff_t(std::min(k, only_.size())),
-                        &g.addr[c * g.len]))
-            continue;
-        std::string line = fp_mfs::address_text(&g.addr[c * g.len], g.len);
-        for (size_t i = 0; i < n_; ++i) {
-            char buf[80];
-            std::snprintf(buf, sizeof buf, " (%.6g, %.6g)", g.x[c * n_ + i], g.y[c * n_ + i]);
-            line += buf;
-        }
-        lines.push_back(std::move(line));
-    }
-    return lines;
-}
-
-// ---------------------------------------------------------------- schema
 constexpr fp::ParamSpec map_item_params[] = {
     fp::param::reals("systems", "the IFSs this map belongs to (0, 1, ...: the paper's F_0, F_1)")
         .def("[0]")
@@ -650,8 +348,8 @@ constexpr fp::ParamSpec params[] = {
 } // namespace
 
 FIXPOINT_PLUGIN(
-    fp::describe<Mfs>(fp::Kind::Renderer, "mfs",
-                      "nonuniform multiple function systems of subdivision maps (paper 05)", params)
+    fp::describe<fp_mfs::Mfs>(fp::Kind::Renderer, "mfs",
+                              "nonuniform multiple function systems of subdivision maps (paper 05)", params)
         .with_example("{width: 64, height: 64, path: [0, 0], maps: ["
                       "{type: subdivision, points: [[0, 0], [1, 0], [0.5, 0.75]], S: [2, 0, 0, 1, 1, 0, 1, "
                       "0, 1], divisor: 2}, "

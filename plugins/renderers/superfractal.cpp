@@ -32,14 +32,6 @@
 // algorithm at depth k. Source points are taken deterministically; the RNG only chooses IFSs
 // and buffers, and draws the start points.
 //
-// Probabilities
-// -------------
-// Each list must have one entry per IFS (ifs_probabilities) or per buffer
-// (buffer_probabilities); absent, the probabilities are equal. Entries must be >= 0 (the
-// schema's range) and sum to 1 within 1e-6; otherwise the recipe is refused, not normalised:
-// the paper requires p_1 + p_2 = 1, and a plugin cannot warn, so a silent normalisation would
-// hide a missing or mistyped entry. Sums within the tolerance are divided by their sum. An
-// entry of 0 is allowed: that IFS or buffer is never chosen.
 //
 // Bad values
 // ----------
@@ -58,32 +50,8 @@
 // history. Points start with the mean colour of the maps. A child's point takes its parent
 // point's colour into the update, so with flame colours pass from parents to children.
 //
-// Colour stealing (Barnsley, "Superfractals", 2006; "Ergodic theory, fractal tops and colour
-// stealing", 2003; paper 03, Sec. V, proposes it for GM superfractals but gives no details)
-// ------------------------------------------------------------------------------------------
-// With `picture`, a second IFS, the colour IFS, runs in lockstep with the fractal: each map
-// f_j has a colour map g_j on the picture square [0, 1]^2 (its `colour_map`, affine
-// [a, b, c, d, e, f]: u' = a u + b v + e, v' = c u + d v + f), and each buffer point carries
-// a colour point (u, v) beside (x, y). When a share of a new buffer is f_j of source points,
-// its colour points are g_j of the same source points' colour points: the same IFS, map and
-// source buffer choices, the same source point. A child's point thus inherits its colour
-// point from the parent point it came from, and after the steps (u, v) is the colour IFS's
-// point with the fractal point's address. The child is deposited with the colour of the
-// picture at (u, v) (nearest pixel; the square clamped to the picture), and the colourer only
-// resolves the histogram: each pixel shows the mean colour of its points, shaded as the
-// colourer says; its update() is not called. Colour points start at (1/2, 1/2) (a contraction
-// forgets it; a colour map that keeps v, as the default, reads the picture's middle row).
-// The default colour map of map t (from 0) of an IFS of m maps is ((u + t) / m, v): u is the
-// point's address as a base-m fraction, Barnsley's "fractal homeomorphism" onto an interval;
-// for curves made of just-touching pieces (F and G of paper 03, eq. (2)) the colour then runs
-// continuously along every child. `picture` is `hues` (built in, 512 x 512: the hue wheel along
-// u, deep to light along v) or a PNG file, relative to the working folder and read with Cairo
-// (the image's recipe names the file, not its pixels). The colour IFS draws nothing from the
-// random streams: a render with a picture has the geometry of the render without, pixel for
-// pixel, and colour points are copied with their points when bad values are repaired.
-// Barnsley's colour-stealing pictures colour each pixel by the point of the highest address
-// through it (the "fractal top"); the histogram gives the mean of the colours of the points
-// that fall in the pixel instead, which differs only where pieces overlap.
+//
+// Colour stealing (`picture`): superfractal/picture.hpp.
 //
 // Buffers: point samples, not sets
 // --------------------------------
@@ -150,235 +118,22 @@
 // ("ifs_probabilities[1]: must be >= 0, got -0.5"), zero buffers ("buffers: must be in
 // [1, 65536], got 0"), a colour map of the wrong length ("maps[0].colour_map: expected 6
 // numbers, got 5").
-#include "cairo_out.hpp"
 #include "palette.hpp"
-#include "uninitialised.hpp"
+#include "superfractal/choices.hpp"
+#include "superfractal/picture.hpp"
+#include "superfractal/renderer.hpp"
 
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
-#include <utility>
 #include <vector>
 
-namespace {
-
-using std::size_t;
-using std::uint32_t;
-using std::uint64_t;
-
-/// Points per task: a few hundred microseconds of work for cheap maps, few tasks per buffer.
-constexpr size_t chunk_points = 16384;
-/// Points per map call inside a task: gathered, mapped, coloured and checked while in L1.
-constexpr size_t batch_points = 512;
-/// Tolerance on the sum of the probabilities.
-constexpr double sum_tolerance = 1e-6;
-
-/// Shortest decimal that reads back as v (for messages).
-std::string real_text(double v) {
-    char buf[32];
-    for (int prec = 1; prec <= 17; ++prec) {
-        std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-        if (std::strtod(buf, nullptr) == v) break;
-    }
-    return buf;
-}
-
-/// The probabilities `name` (one per item, `what` naming the items), checked and divided by
-/// their sum; equal when absent. Returned as cumulative sums.
-std::vector<double> cumulative_probabilities(const fp::ParamBag& p, const char* name, size_t n,
-                                             const char* what) {
-    std::vector<double> v(n, 1.0 / double(n));
-    if (p.has(name)) {
-        v = p.reals(name);
-        if (v.size() != n)
-            throw fp::ParamError(name, "expected " + std::to_string(n) +
-                                           (n == 1 ? " probability" : " probabilities") + " (one per " +
-                                           what + "), got " + std::to_string(v.size()));
-        double sum = 0;
-        for (double x : v) sum += x;
-        if (!(std::fabs(sum - 1.0) <= sum_tolerance))
-            throw fp::ParamError(name,
-                                 "the probabilities sum to " + real_text(sum) +
-                                     ", not 1: give probabilities that sum to 1 (they are not normalised)");
-        for (double& x : v) x /= sum;
-    }
-    std::vector<double> cum(n);
-    double acc = 0;
-    for (size_t k = 0; k < n; ++k) cum[k] = acc += v[k];
-    return cum;
-}
-
-/// Index k drawn with probability cum[k] - cum[k - 1]: the first k with u < cum[k] (a binary
-/// search: thousands of buffers are fine). An entry of probability 0 is never drawn;
-/// `fallback` (the last entry of positive probability) takes the case u >= cum.back() that
-/// rounding could leave.
-uint32_t draw(fp::Rng& rng, const std::vector<double>& cum, uint32_t fallback) {
-    const double u = fp::uniform_double(rng);
-    const auto it = std::upper_bound(cum.begin(), cum.end(), u);
-    return it == cum.end() ? fallback : uint32_t(it - cum.begin());
-}
-
-uint32_t last_positive(const std::vector<double>& cum) {
-    for (size_t k = cum.size(); k-- > 0;)
-        if (cum[k] > (k ? cum[k - 1] : 0.0)) return uint32_t(k);
-    return uint32_t(cum.size() - 1);
-}
-
-/// One generation of buffers: B * N points, buffer b at [b * N, (b + 1) * N).
-struct Generation {
-    // Not zeroed: the start tasks or a step write every element before it is read.
-    fp_render::Buffer<double> x, y;
-    fp_render::Buffer<float> r, g, b; ///< empty when the colourer needs no colour or colours are stolen
-    fp_render::Buffer<double> u, v;   ///< the colour IFS's points; empty without colour stealing
-};
-
-/// The picture colours are stolen from: 8-bit RGB, top row first. The point (u, v) of the
-/// picture square [0, 1]^2 (v up) reads the pixel of column min(floor(u w), w - 1), row
-/// min(floor((1 - v) h), h - 1), u and v clamped to [0, 1] first (NaN to 0).
-struct Picture {
-    int w = 0, h = 0;
-    std::vector<unsigned char> rgb;
-
-    fp::Rgb at(double u, double v) const {
-        const double uc = u > 0.0 ? (u < 1.0 ? u : 1.0) : 0.0, vc = v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0;
-        const int col = std::min(int(uc * double(w)), w - 1),
-                  row = std::min(int((1.0 - vc) * double(h)), h - 1);
-        const unsigned char* p = rgb.data() + 3 * (size_t(row) * size_t(w) + size_t(col));
-        return fp::Rgb{float(p[0]) / 255.0f, float(p[1]) / 255.0f, float(p[2]) / 255.0f};
-    }
-};
-
-/// The built-in picture `hues`, 512 x 512: the hue wheel along u (red at u = 0 and 1, then
-/// yellow, green, cyan, blue, magenta), from deep (v = 0: value 0.45, saturation 1) to light
-/// (v = 1: value 1, saturation 0.55).
-Picture hues_picture() {
-    Picture pic;
-    pic.w = pic.h = 512;
-    pic.rgb.resize(size_t(pic.w) * size_t(pic.h) * 3);
-    for (int row = 0; row < pic.h; ++row) {
-        const double v = 1.0 - (double(row) + 0.5) / double(pic.h);
-        const double val = 0.45 + 0.55 * v, sat = 1.0 - 0.45 * v;
-        for (int col = 0; col < pic.w; ++col) {
-            const double h6 = 6.0 * (double(col) + 0.5) / double(pic.w);
-            const int sector = std::min(int(h6), 5);
-            const double f = h6 - double(sector);
-            const double p = val * (1 - sat), q = val * (1 - sat * f), t = val * (1 - sat * (1 - f));
-            double c[3];
-            switch (sector) {
-            case 0: c[0] = val, c[1] = t, c[2] = p; break;
-            case 1: c[0] = q, c[1] = val, c[2] = p; break;
-            case 2: c[0] = p, c[1] = val, c[2] = t; break;
-            case 3: c[0] = p, c[1] = q, c[2] = val; break;
-            case 4: c[0] = t, c[1] = p, c[2] = val; break;
-            default: c[0] = val, c[1] = p, c[2] = q; break;
-            }
-            unsigned char* out = pic.rgb.data() + 3 * (size_t(row) * size_t(pic.w) + size_t(col));
-            for (int k = 0; k < 3; ++k) out[k] = (unsigned char)(std::lround(c[k] * 255.0));
-        }
-    }
-    return pic;
-}
-
-/// A PNG file read with Cairo, composited over black (its alpha, if any, is dropped so).
-Picture png_picture(const std::string& file) {
-    using fp_render::CairoContext;
-    using fp_render::CairoSurface;
-    auto refuse = [&](const std::string& why) {
-        throw fp::ParamError("picture", "cannot read the picture \"" + fp::excerpt(file, 200) + "\": " + why +
-                                            " (give a PNG file, relative to the working folder, or hues)");
-    };
-    {
-        // Cairo tells a missing file apart, but reports any file that is not a PNG as "out of
-        // memory": look at the signature first.
-        // A FIFO or a device would block the open (or the read) for ever: a picture is a file.
-        std::error_code ec;
-        const auto st = std::filesystem::status(file, ec);
-        if (!std::filesystem::exists(st)) refuse("no such file");
-        if (!std::filesystem::is_regular_file(st)) refuse("it is not a regular file");
-        std::ifstream in(file, std::ios::binary);
-        if (!in) refuse("it cannot be opened");
-        char sig[8] = {};
-        in.read(sig, 8);
-        if (in.gcount() != 8 || std::memcmp(sig, "\x89PNG\r\n\x1a\n", 8) != 0) refuse("it is not a PNG file");
-    }
-    const CairoSurface png(cairo_image_surface_create_from_png(file.c_str()));
-    if (const cairo_status_t st = cairo_surface_status(png.get()); st != CAIRO_STATUS_SUCCESS)
-        refuse(std::string("Cairo cannot decode it (") + cairo_status_to_string(st) + ")");
-    Picture pic;
-    pic.w = cairo_image_surface_get_width(png.get());
-    pic.h = cairo_image_surface_get_height(png.get());
-    const CairoSurface rgb(cairo_image_surface_create(CAIRO_FORMAT_RGB24, pic.w, pic.h));
-    {
-        const CairoContext cr(cairo_create(rgb.get()));
-        cairo_set_source_rgb(cr.get(), 0, 0, 0);
-        cairo_paint(cr.get());
-        cairo_set_source_surface(cr.get(), png.get(), 0, 0);
-        cairo_paint(cr.get());
-    }
-    cairo_surface_flush(rgb.get());
-    const unsigned char* data = cairo_image_surface_get_data(rgb.get());
-    const int stride = cairo_image_surface_get_stride(rgb.get());
-    pic.rgb.resize(size_t(pic.w) * size_t(pic.h) * 3);
-    for (int r = 0; r < pic.h; ++r) {
-        const auto* row = reinterpret_cast<const std::uint32_t*>(data + size_t(r) * size_t(stride));
-        for (int c = 0; c < pic.w; ++c) {
-            unsigned char* out = pic.rgb.data() + 3 * (size_t(r) * size_t(pic.w) + size_t(c));
-            out[0] = (unsigned char)((row[c] >> 16) & 0xff);
-            out[1] = (unsigned char)((row[c] >> 8) & 0xff);
-            out[2] = (unsigned char)(row[c] & 0xff);
-        }
-    }
-    return pic;
-}
-
-class Superfractal final : public fp::Renderer {
-public:
-    explicit Superfractal(const fp::ParamBag& p);
-
-    int width() const override { return frame_.width; }
-    int height() const override { return frame_.height; }
-    std::optional<fp::Box> region() const override {
-        return frame_.has_region ? std::optional(frame_.region) : std::nullopt;
-    }
-    uint64_t memory_bytes(unsigned workers) const override;
-    uint64_t work_units() const override { return (steps_ + 1) * buffers_ * points_; }
-    fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
-
-private:
-    void fill_start(Generation& g, size_t b, size_t begin, size_t end, uint64_t stream) const;
-    uint64_t step_chunk(const Generation& cur, Generation& next, size_t b, size_t begin, size_t end,
-                        uint32_t ifs, const uint32_t* src) const;
-    uint64_t repair(Generation& g, size_t b, uint64_t stream) const;
-
-    fp::Frame frame_;                                      ///< width, height, view (region), background
-    double sxmin_ = 0, sxmax_ = 1, symin_ = 0, symax_ = 1; ///< start box
-    uint64_t seed_ = 1, steps_ = 30, points_ = 100000, buffers_ = 2, child_ = 0;
-    bool colour_ = true; ///< the colourer reads the colour sums
-    bool steal_ = false; ///< colour stealing: points carry (u, v) of the colour IFS, not a colour
-    bool rgb_ = true;    ///< points carry a colour (colour_ and not steal_)
-    fp::Rgb initial_colour_;
-    Picture picture_;
-    std::vector<std::array<double, 6>> colour_maps_; ///< per map: [a, b, c, d, e, f] of its colour map
-
-    std::vector<std::shared_ptr<const fp::Transform>> maps_;
-    std::vector<fp::Rgb> colours_;
-    std::vector<std::vector<uint32_t>> ifs_; ///< IFS i: indices in maps_ of its maps, in order
-    size_t max_maps_ = 1;                    ///< most maps in one IFS
-    std::vector<double> ifs_cum_, buffer_cum_;
-    uint32_t ifs_fallback_ = 0, buffer_fallback_ = 0;
-    std::shared_ptr<const fp::Colourer> colourer_;
-};
+namespace fp_superfractal {
 
 Superfractal::Superfractal(const fp::ParamBag& p) {
     frame_ = fp::Frame::read(p);
@@ -495,278 +250,10 @@ uint64_t Superfractal::memory_bytes(unsigned) const {
     return buffers + hist + image + picture_.rgb.size();
 }
 
-void Superfractal::fill_start(Generation& g, size_t b, size_t begin, size_t end, uint64_t stream) const {
-    fp::Rng rng = fp::chain_stream(seed_, stream);
-    const size_t base = b * size_t(points_);
-    for (size_t i = begin; i < end; ++i) {
-        const double u = fp::uniform_double(rng), w = fp::uniform_double(rng);
-        g.x[base + i] = sxmin_ + (sxmax_ - sxmin_) * u;
-        g.y[base + i] = symin_ + (symax_ - symin_) * w;
-    }
-    if (steal_) {
-        std::fill(g.u.begin() + std::ptrdiff_t(base + begin), g.u.begin() + std::ptrdiff_t(base + end), 0.5);
-        std::fill(g.v.begin() + std::ptrdiff_t(base + begin), g.v.begin() + std::ptrdiff_t(base + end), 0.5);
-    }
-    if (rgb_) {
-        std::fill(g.r.begin() + std::ptrdiff_t(base + begin), g.r.begin() + std::ptrdiff_t(base + end),
-                  initial_colour_.r);
-        std::fill(g.g.begin() + std::ptrdiff_t(base + begin), g.g.begin() + std::ptrdiff_t(base + end),
-                  initial_colour_.g);
-        std::fill(g.b.begin() + std::ptrdiff_t(base + begin), g.b.begin() + std::ptrdiff_t(base + end),
-                  initial_colour_.b);
-    }
-}
+} // namespace fp_superfractal
 
-// New buffer b, points [begin, end): for each share j of IFS `ifs` overlapping the range, the
-// source points j + m t of buffer src[j], in batches of batch_points that stay in L1: gather,
-// one Transform::apply call, the colours and one Colourer::update call, the finiteness count.
-// Returns the number of non-finite points made.
-uint64_t Superfractal::step_chunk(const Generation& cur, Generation& next, size_t b, size_t begin, size_t end,
-                                  uint32_t ifs, const uint32_t* src) const {
-    const std::vector<uint32_t>& maps = ifs_[ifs];
-    const size_t n = size_t(points_), m = maps.size();
-    const size_t q = n / m, rem = n % m;
-    const size_t base = b * n;
-    uint32_t map_index[batch_points];
-    uint64_t bad = 0;
-    for (size_t j = 0; j < m; ++j) {
-        const size_t off = j * q + std::min(j, rem), nj = q + (j < rem ? 1 : 0);
-        const size_t lo = std::max(begin, off), hi = std::min(end, off + nj);
-        if (lo >= hi) continue;
-        const size_t sbase = size_t(src[j]) * n;
-        std::fill(map_index, map_index + batch_points, maps[j]);
-        for (size_t b0 = lo; b0 < hi; b0 += batch_points) {
-            const size_t b1 = std::min(hi, b0 + batch_points), len = b1 - b0;
-            double* __restrict x = next.x.data() + base + b0;
-            double* __restrict y = next.y.data() + base + b0;
-            const double* __restrict cx = cur.x.data();
-            const double* __restrict cy = cur.y.data();
-            const size_t s0 = sbase + j + m * (b0 - off); // source of point b0 + i: s0 + m i
-            for (size_t i = 0; i < len; ++i) {
-                const size_t s = s0 + m * i;
-                x[i] = cx[s];
-                y[i] = cy[s];
-            }
-            maps_[maps[j]]->apply(fp::Points<double>{x, y, len}, nullptr);
-            if (steal_) {
-                // The colour IFS in lockstep: the same map number, the same source point.
-                const std::array<double, 6>& cm = colour_maps_[maps[j]];
-                double* __restrict u = next.u.data() + base + b0;
-                double* __restrict v = next.v.data() + base + b0;
-                const double* __restrict cu = cur.u.data();
-                const double* __restrict cv = cur.v.data();
-                for (size_t i = 0; i < len; ++i) {
-                    const size_t s = s0 + m * i;
-                    const double u0 = cu[s], v0 = cv[s];
-                    u[i] = cm[0] * u0 + cm[1] * v0 + cm[4];
-                    v[i] = cm[2] * u0 + cm[3] * v0 + cm[5];
-                }
-            }
-            if (rgb_) {
-                float* __restrict r = next.r.data() + base + b0;
-                float* __restrict g = next.g.data() + base + b0;
-                float* __restrict bl = next.b.data() + base + b0;
-                for (size_t i = 0; i < len; ++i) {
-                    const size_t s = s0 + m * i;
-                    r[i] = cur.r[s];
-                    g[i] = cur.g[s];
-                    bl[i] = cur.b[s];
-                }
-                colourer_->update(map_index, fp::ColourState{r, g, bl, len}, colours_.data(), nullptr);
-            }
-            for (size_t i = 0; i < len; ++i) bad += (std::isfinite(x[i]) && std::isfinite(y[i])) ? 0u : 1u;
-        }
-    }
-    return bad;
-}
+namespace {
 
-// Replace the non-finite points of buffer b by the previous finite point (the first finite
-// one for those before it); redraw the whole buffer from the start box when none is finite.
-// Returns the points redrawn.
-uint64_t Superfractal::repair(Generation& g, size_t b, uint64_t stream) const {
-    const size_t n = size_t(points_), base = b * n;
-    auto finite = [&](size_t i) { return std::isfinite(g.x[base + i]) && std::isfinite(g.y[base + i]); };
-    size_t first = 0;
-    while (first < n && !finite(first)) ++first;
-    if (first == n) {
-        fill_start(g, b, 0, n, stream);
-        return n;
-    }
-    auto copy = [&](size_t to, size_t from) {
-        g.x[base + to] = g.x[base + from];
-        g.y[base + to] = g.y[base + from];
-        if (steal_) {
-            g.u[base + to] = g.u[base + from];
-            g.v[base + to] = g.v[base + from];
-        }
-        if (rgb_) {
-            g.r[base + to] = g.r[base + from];
-            g.g[base + to] = g.g[base + from];
-            g.b[base + to] = g.b[base + from];
-        }
-    };
-    for (size_t i = 0; i < first; ++i) copy(i, first);
-    for (size_t i = first + 1; i < n; ++i)
-        if (!finite(i)) copy(i, i - 1);
-    return 0;
-}
-
-fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) const {
-    stats = fp::RenderStats{};
-    const size_t n = size_t(points_), nb = size_t(buffers_);
-    const size_t chunks = (n + chunk_points - 1) / chunk_points;
-    const size_t tasks = nb * chunks;
-
-    Generation gen[2];
-    for (auto& g : gen) {
-        g.x.resize(nb * n);
-        g.y.resize(nb * n);
-        if (rgb_) {
-            g.r.resize(nb * n);
-            g.g.resize(nb * n);
-            g.b.resize(nb * n);
-        }
-        if (steal_) {
-            g.u.resize(nb * n);
-            g.v.resize(nb * n);
-        }
-    }
-
-    // Over several ranks (MPI), rank r computes tasks r, r + N, ... of every generation, the
-    // rest of it left +0 (all bits zero), and every rank gets the whole generation back by a
-    // bitwise or (RenderContext::combine) before the next step reads it. Each task's points
-    // depend on the recipe alone, so the generations are the same bytes on any rank count.
-    const size_t rank = ctx.rank(), ranks = std::max(1u, ctx.ranks());
-    const size_t mine = tasks > rank ? (tasks - rank + ranks - 1) / ranks : 0;
-    const auto clear = [&](Generation& g) {
-        if (ranks == 1) return;
-        for (auto* a : {&g.x, &g.y, &g.u, &g.v}) std::fill(a->begin(), a->end(), 0.0);
-        for (auto* a : {&g.r, &g.g, &g.b}) std::fill(a->begin(), a->end(), 0.0f);
-    };
-    const auto share = [&](Generation& g) {
-        if (ranks == 1) return;
-        for (auto* a : {&g.x, &g.y, &g.u, &g.v})
-            ctx.combine(a->data(), a->size() * sizeof(double), sizeof(uint64_t), fp::fold::bit_or<uint64_t>,
-                        true);
-        for (auto* a : {&g.r, &g.g, &g.b})
-            ctx.combine(a->data(), a->size() * sizeof(float), sizeof(uint32_t), fp::fold::bit_or<uint32_t>,
-                        true);
-    };
-    static_assert(sizeof(double) == sizeof(uint64_t) && sizeof(float) == sizeof(uint32_t));
-
-    // Start sets: random points of the start box.
-    clear(gen[0]);
-    ctx.parallel_for(mine, [&](size_t i, unsigned) {
-        if (ctx.cancelled()) throw fp::Cancelled();
-        const size_t t = rank + i * ranks;
-        const size_t b = t / chunks, c = t % chunks;
-        const size_t begin = c * chunk_points, end = std::min(n, begin + chunk_points);
-        fill_start(gen[0], b, begin, end, 1 + t);
-        ctx.progress(end - begin);
-    });
-    share(gen[0]);
-
-    fp::Rng choices = fp::chain_stream(seed_, 0);
-    std::vector<uint32_t> ifs_choice(nb), src(nb * max_maps_);
-    std::vector<uint64_t> bad(tasks);
-    std::vector<uint64_t> redrawn(nb);
-    for (uint64_t s = 0; s < steps_; ++s) {
-        if (ctx.cancelled()) throw fp::Cancelled();
-        const Generation& cur = gen[s % 2];
-        Generation& next = gen[(s + 1) % 2];
-        for (size_t b = 0; b < nb; ++b) {
-            ifs_choice[b] = draw(choices, ifs_cum_, ifs_fallback_);
-            for (size_t j = 0; j < ifs_[ifs_choice[b]].size(); ++j)
-                src[b * max_maps_ + j] = draw(choices, buffer_cum_, buffer_fallback_);
-        }
-        clear(next);
-        std::fill(bad.begin(), bad.end(), 0);
-        ctx.parallel_for(mine, [&](size_t i, unsigned) {
-            if (ctx.cancelled()) throw fp::Cancelled();
-            const size_t t = rank + i * ranks;
-            const size_t b = t / chunks, c = t % chunks;
-            const size_t begin = c * chunk_points, end = std::min(n, begin + chunk_points);
-            bad[t] = step_chunk(cur, next, b, begin, end, ifs_choice[b], src.data() + b * max_maps_);
-            ctx.progress(end - begin);
-        });
-        share(next);
-        if (ranks > 1) ctx.combine(bad.data(), bad.size() * 8, 8, fp::fold::sum<uint64_t>, true);
-        uint64_t bad_step = 0;
-        for (uint64_t x : bad) bad_step += x;
-        if (bad_step == 0) continue;
-        stats.bad_values += bad_step;
-        std::fill(redrawn.begin(), redrawn.end(), 0);
-        ctx.parallel_for(nb, [&](size_t b, unsigned) {
-            if (ctx.cancelled()) throw fp::Cancelled();
-            uint64_t any = 0;
-            for (size_t c = 0; c < chunks; ++c) any += bad[b * chunks + c];
-            if (any) redrawn[b] = repair(next, b, 1 + tasks + s * nb + b);
-        });
-        for (uint64_t x : redrawn) stats.restarts += x;
-    }
-    if (ctx.cancelled()) throw fp::Cancelled();
-    // (Every rank holds the last generation; rank 0 plots it, a small part of the work.)
-    if (rank != 0) return fp::Image{};
-
-    // The child: buffer `child` of the last generation, into one integer histogram.
-    const Generation& last = gen[steps_ % 2];
-    // A colourer that reads hit counts alone gets them alone (fp::Histogram::hits): a quarter
-    // of the memory, and of the work of filling, summarising and shading the bins.
-    const bool hits_only = colourer_->reads_hits_only();
-    fp::Histogram hist;
-    if (hits_only) {
-        hist.width = frame_.width;
-        hist.height = frame_.height;
-        hist.hits.assign(size_t(frame_.width) * size_t(frame_.height), 0);
-    } else {
-        hist.resize(frame_.width, frame_.height);
-    }
-    const double scx = double(frame_.width) / (frame_.region.xmax - frame_.region.xmin),
-                 scy = double(frame_.height) / (frame_.region.ymax - frame_.region.ymin);
-    const size_t base = size_t(child_) * n;
-    const auto quant = fp::quantise_colour;
-    uint64_t drawn = 0;
-    for (size_t i = 0; i < n; ++i) {
-        if (i % (size_t(1) << 20) == 0 && ctx.cancelled()) throw fp::Cancelled();
-        const double x = last.x[base + i], y = last.y[base + i];
-        if (!(x >= frame_.region.xmin && x < frame_.region.xmax && y > frame_.region.ymin &&
-              y <= frame_.region.ymax))
-            continue;
-        const auto ix = std::min(uint32_t((x - frame_.region.xmin) * scx), uint32_t(frame_.width - 1));
-        const auto iy = std::min(uint32_t((frame_.region.ymax - y) * scy), uint32_t(frame_.height - 1));
-        const size_t at = size_t(iy) * size_t(frame_.width) + ix;
-        ++drawn;
-        if (hits_only) {
-            ++hist.hits[at];
-            continue;
-        }
-        fp::HistBin& bin = hist.bins[at];
-        ++bin.hits;
-        if (steal_) {
-            const fp::Rgb c = picture_.at(last.u[base + i], last.v[base + i]);
-            bin.r += quant(c.r);
-            bin.g += quant(c.g);
-            bin.b += quant(c.b);
-        } else if (colour_) {
-            bin.r += quant(last.r[base + i]);
-            bin.g += quant(last.g[base + i]);
-            bin.b += quant(last.b[base + i]);
-        }
-    }
-    stats.samples = n;
-    stats.drawn = drawn;
-    stats.unit = "points";
-
-    fp::Image img;
-    img.width = frame_.width;
-    img.height = frame_.height;
-    img.channels = 3;
-    img.pixels.assign(size_t(frame_.width) * size_t(frame_.height) * 3, 0.0f);
-    colourer_->resolve_parallel(hist, frame_.background, img.pixels.data(), ctx);
-    return img;
-}
-
-// ---------------------------------------------------------------- schema
 constexpr fp::ParamSpec map_item_params[] = {
     fp::param::integer("ifs", "the IFS the map belongs to (0, 1, ...; the IFSs are the distinct indices, "
                               "each needs at least one map)")
@@ -837,7 +324,7 @@ constexpr fp::ParamSpec params[] = {
 } // namespace
 
 FIXPOINT_PLUGIN(
-    fp::describe<Superfractal>(
+    fp::describe<fp_superfractal::Superfractal>(
         fp::Kind::Renderer, "superfractal",
         "Barnsley's V-variable superfractal algorithm with buffers (paper 03, Sec. III)", params)
         .with_example("{maps: [{type: affine, coefficients: [0.5, 0.375, 0.5, -0.375, -0.0625, 0.5625]}, "

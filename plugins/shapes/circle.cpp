@@ -20,53 +20,27 @@
 // inversion_factor() round to the batch's type: a renderer's fused loop for inversions in
 // circles (chaos-game) computes the same bits from it. Keep the three in step.
 #include <fixpoint/fixpoint.hpp>
+#include <fixpoint/kernels.hpp>
 
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <type_traits>
 #include <vector>
 
-// The batch arithmetic is in the per-target section below (fixpoint/simd-inl.hpp): compiled
-// for every instruction set of the build, dispatched at run time.
+// The inside test and the inversion factor are the SDK's kernels (fixpoint/kernels.hpp); the ray
+// exit from another point is in the per-target section below (fixpoint/simd-inl.hpp), compiled
+// for every instruction set of the build and dispatched at run time.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "circle.cpp"
 #include <hwy/foreach_target.h> // IWYU pragma: keep
 
+#include <fixpoint/kernels-inl.hpp>
 #include <fixpoint/simd-inl.hpp>
 
 HWY_BEFORE_NAMESPACE();
 namespace fp_circle::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 namespace fs = fp::simd::HWY_NAMESPACE;
-
-/// inside: dx * dx + dy * dy < r2, with d = p - c.
-template <class T>
-void inside_t(T cx, T cy, T r2, fp::Points<const T> p, unsigned char* out) {
-    const hn::ScalableTag<T> d;
-    const auto vcx = hn::Set(d, cx), vcy = hn::Set(d, cy), vr2 = hn::Set(d, r2);
-    fs::test_points(d, p, out, [&](auto x, auto y) {
-        const auto dx = hn::Sub(x, vcx), dy = hn::Sub(y, vcy);
-        return hn::Lt(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), vr2);
-    });
-}
-void inside_f(float cx, float cy, float r2, fp::Points<const float> p, unsigned char* out) {
-    inside_t(cx, cy, r2, p, out);
-}
-void inside_d(double cx, double cy, double r2, fp::Points<const double> p, unsigned char* out) {
-    inside_t(cx, cy, r2, p, out);
-}
-
-/// The inversion factor about the centre: r2 / (dx * dx + dy * dy).
-template <class T>
-void factor_t(T r2, fp::Points<const T> dd, T* s) {
-    const hn::ScalableTag<T> d;
-    const auto vr2 = hn::Set(d, r2);
-    fs::eval_points(
-        d, dd, s, [&](auto dx, auto dy) { return hn::Div(vr2, hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy))); });
-}
-void factor_f(float r2, fp::Points<const float> dd, float* s) { factor_t(r2, dd, s); }
-void factor_d(double r2, fp::Points<const double> dd, double* s) { factor_t(r2, dd, s); }
 
 /// The ray exit from o (w = o - c, c0 = w.w - R^2): a = d.d, h = w.d, s = sqrt(h^2 - a c0),
 /// t = (s - h) / a when h <= 0, else -c0 / (h + s); +inf for a zero direction. Both branches
@@ -77,7 +51,7 @@ void ray_t(T wx, T wy, T c0, fp::Points<const T> dd, T* t) {
     const auto vwx = hn::Set(d, wx), vwy = hn::Set(d, wy), vc0 = hn::Set(d, c0), zero = hn::Zero(d);
     const auto inf = hn::Set(d, std::numeric_limits<T>::infinity());
     fs::eval_points(d, dd, t, [&](auto dx, auto dy) {
-        const auto a = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
+        const auto a = fp::kernels::HWY_NAMESPACE::sq_norm(dx, dy);
         const auto h = hn::Add(hn::Mul(vwx, dx), hn::Mul(vwy, dy));
         const auto s = hn::Sqrt(hn::Sub(hn::Mul(h, h), hn::Mul(a, vc0)));
         const auto r =
@@ -95,10 +69,6 @@ HWY_AFTER_NAMESPACE();
 
 #if HWY_ONCE
 namespace fp_circle {
-HWY_EXPORT(inside_f);
-HWY_EXPORT(inside_d);
-HWY_EXPORT(factor_f);
-HWY_EXPORT(factor_d);
 HWY_EXPORT(ray_f);
 HWY_EXPORT(ray_d);
 } // namespace fp_circle
@@ -154,11 +124,12 @@ public:
     }
 
 private:
+    // The SDK's circle kernels (fixpoint/kernels.hpp): the formulas a renderer's fused loop runs.
     void inside_t(fp::Points<const float> p, unsigned char* out) const {
-        HWY_DYNAMIC_DISPATCH(inside_f)(float(c_.x), float(c_.y), float(r2_), p, out);
+        fp::kernels::in_circle(float(c_.x), float(c_.y), float(r2_), p, out);
     }
     void inside_t(fp::Points<const double> p, unsigned char* out) const {
-        HWY_DYNAMIC_DISPATCH(inside_d)(c_.x, c_.y, r2_, p, out);
+        fp::kernels::in_circle(c_.x, c_.y, r2_, p, out);
     }
 
     // w = o - c and c0 are computed once per batch in double and only then rounded to T, so
@@ -180,10 +151,7 @@ private:
             for (std::size_t i = 0; i < d.n; ++i) s[i] *= s[i];
             return;
         }
-        if constexpr (std::is_same_v<T, float>)
-            HWY_DYNAMIC_DISPATCH(factor_f)(float(r2_), d, s);
-        else
-            HWY_DYNAMIC_DISPATCH(factor_d)(r2_, d, s);
+        fp::kernels::inversion_factor(T(r2_), d, s);
     }
 
     fp::Vec2 c_;

@@ -88,16 +88,22 @@ inline double signed_area(const std::vector<fp::Vec2>& v) {
     return a / 2;
 }
 
+/// The bounding box.
+inline fp::Box bounds(const std::vector<fp::Vec2>& v) {
+    fp::Box b{v[0].x, v[0].x, v[0].y, v[0].y};
+    for (const auto& p : v) {
+        b.xmin = std::min(b.xmin, p.x);
+        b.xmax = std::max(b.xmax, p.x);
+        b.ymin = std::min(b.ymin, p.y);
+        b.ymax = std::max(b.ymax, p.y);
+    }
+    return b;
+}
+
 /// Largest side of the bounding box.
 inline double extent(const std::vector<fp::Vec2>& v) {
-    double x0 = v[0].x, x1 = v[0].x, y0 = v[0].y, y1 = v[0].y;
-    for (const auto& p : v) {
-        x0 = std::min(x0, p.x);
-        x1 = std::max(x1, p.x);
-        y0 = std::min(y0, p.y);
-        y1 = std::max(y1, p.y);
-    }
-    return std::max(x1 - x0, y1 - y0);
+    const fp::Box b = bounds(v);
+    return std::max(b.xmax - b.xmin, b.ymax - b.ymin);
 }
 
 } // namespace detail
@@ -142,13 +148,8 @@ inline void validate_polygon(const std::vector<fp::Vec2>& v, const std::string& 
 /// The box both kernel computations start from: the polygon's bounding box grown by `size` on
 /// every side, counter-clockwise.
 inline std::array<fp::Vec2, 4> start_box(const std::vector<fp::Vec2>& v, double size) {
-    double x0 = v[0].x, x1 = v[0].x, y0 = v[0].y, y1 = v[0].y;
-    for (const auto& p : v) {
-        x0 = std::min(x0, p.x);
-        x1 = std::max(x1, p.x);
-        y0 = std::min(y0, p.y);
-        y1 = std::max(y1, p.y);
-    }
+    const fp::Box b = detail::bounds(v);
+    const double x0 = b.xmin, x1 = b.xmax, y0 = b.ymin, y1 = b.ymax;
     return {{{x0 - size, y0 - size}, {x1 + size, y0 - size}, {x1 + size, y1 + size}, {x0 - size, y1 + size}}};
 }
 

@@ -14,53 +14,13 @@
 // to it (`inversion_rules: auto`). is_involution() is true exactly when the double-precision
 // coefficients satisfy A^2 = I and A o + o = 0 exactly (point reflections, mirror lines);
 // schu then takes its cheap form. Per point: 4 multiplications and 4 additions, evaluated in
-// the order written (no FMA contraction).
+// the order written (no FMA contraction), by the SDK's kernel (fixpoint/kernels.hpp).
 #include <fixpoint/fixpoint.hpp>
+#include <fixpoint/kernels.hpp>
 
 #include <vector>
 
-// The batch loops are in the per-target section below (fixpoint/simd-inl.hpp), dispatched
-// at run time; the coefficients travel as an array of doubles, rounded to the batch's type.
-#undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "affine.cpp"
-#include <hwy/foreach_target.h> // IWYU pragma: keep
-
-#include <fixpoint/simd-inl.hpp>
-
-HWY_BEFORE_NAMESPACE();
-namespace fp_affine::HWY_NAMESPACE {
-namespace hn = hwy::HWY_NAMESPACE;
-namespace fs = fp::simd::HWY_NAMESPACE;
-
-/// x' = a x + b y + e, y' = c x + d y + f with k = {a, b, c, d, e, f}, in the order written.
-template <class T>
-void apply_t(const double* k, fp::Points<T> p, fp::Mask mask) {
-    const hn::ScalableTag<T> d;
-    const auto a = hn::Set(d, T(k[0])), b = hn::Set(d, T(k[1])), c = hn::Set(d, T(k[2]));
-    const auto dd = hn::Set(d, T(k[3])), e = hn::Set(d, T(k[4])), f = hn::Set(d, T(k[5]));
-    fs::map_points(d, p, mask, [&](auto& x, auto& y) {
-        const auto nx = hn::Add(hn::Add(hn::Mul(a, x), hn::Mul(b, y)), e);
-        const auto ny = hn::Add(hn::Add(hn::Mul(c, x), hn::Mul(dd, y)), f);
-        x = nx;
-        y = ny;
-    });
-}
-void apply_f(const double* k, fp::Points<float> p, fp::Mask mask) { apply_t(k, p, mask); }
-void apply_d(const double* k, fp::Points<double> p, fp::Mask mask) { apply_t(k, p, mask); }
-
-} // namespace fp_affine::HWY_NAMESPACE
-HWY_AFTER_NAMESPACE();
-
-#if HWY_ONCE
-namespace fp_affine {
-HWY_EXPORT(apply_f);
-HWY_EXPORT(apply_d);
-} // namespace fp_affine
-
 namespace {
-// (HWY_DYNAMIC_DISPATCH names the kernels unqualified; a build with static dispatch only
-// resolves them as N_<target>::name from here.)
-using namespace fp_affine;
 
 class Affine final : public fp::Transform {
 public:
@@ -89,12 +49,9 @@ public:
         k_[0] = a_, k_[1] = b_, k_[2] = c_, k_[3] = d_, k_[4] = e_, k_[5] = f_;
     }
 
-    void apply(fp::Points<float> p, fp::Mask mask) const override {
-        HWY_DYNAMIC_DISPATCH(apply_f)(k_, p, mask);
-    }
-    void apply(fp::Points<double> p, fp::Mask mask) const override {
-        HWY_DYNAMIC_DISPATCH(apply_d)(k_, p, mask);
-    }
+    // The SDK's affine kernel (fixpoint/kernels.hpp): the formula a renderer's fused loop runs.
+    void apply(fp::Points<float> p, fp::Mask mask) const override { fp::kernels::affine(k_, p, mask); }
+    void apply(fp::Points<double> p, fp::Mask mask) const override { fp::kernels::affine(k_, p, mask); }
 
     fp::KnownKernel kernel() const override {
         fp::KnownKernel k;
@@ -136,4 +93,3 @@ FIXPOINT_PLUGIN(
                          "Fig. 5)",
                          params)
         .with_example("{coefficients: [0.5, 0, 0, 0.5, 0.25, 0]}"))
-#endif // HWY_ONCE

@@ -26,58 +26,12 @@
 // without bound for large |y| (GM(0.5, -0.31) from (0, 30) overflows in a few steps); the
 // renderer counts non-finite points and restarts their chains.
 //
-// Per point (the kernels below): two evaluations of f, evaluated in the order written, no
-// FMA contraction. alpha = 0 adds an exact 0, so GM(0, mu) is exactly x' = y + f(x).
+// Per point (the SDK's kernel, fixpoint/kernels.hpp): two evaluations of f, evaluated in the
+// order written, no FMA contraction. alpha = 0 adds an exact 0, so GM(0, mu) is exactly x' = y + f(x).
 #include <fixpoint/fixpoint.hpp>
-
-// The batch loops are in the per-target section below (fixpoint/simd-inl.hpp), dispatched
-// at run time; the coefficients travel as an array of doubles, rounded to the batch's type.
-#undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "gumowski-mira.cpp"
-#include <hwy/foreach_target.h> // IWYU pragma: keep
-
-#include <fixpoint/simd-inl.hpp>
-
-HWY_BEFORE_NAMESPACE();
-namespace fp_gm::HWY_NAMESPACE {
-namespace hn = hwy::HWY_NAMESPACE;
-namespace fs = fp::simd::HWY_NAMESPACE;
-
-/// k = {alpha, mu, 2 (1 - mu)}: f(x) = mu x + 2 (1 - mu) x^2 / (1 + x^2);
-/// x' = y + alpha (1 - 0.05 y y) y + f(x), y' = -x + f(x'), in the order written.
-template <class T>
-void apply_t(const double* k, fp::Points<T> p, fp::Mask mask) {
-    const hn::ScalableTag<T> d;
-    const auto alpha = hn::Set(d, T(k[0])), mu = hn::Set(d, T(k[1])), tomm = hn::Set(d, T(k[2]));
-    const auto one = hn::Set(d, T(1)), sigma = hn::Set(d, T(0.05));
-    const auto f = [&](auto x) {
-        const auto x2 = hn::Mul(x, x);
-        return hn::Add(hn::Mul(mu, x), hn::Div(hn::Mul(tomm, x2), hn::Add(one, x2)));
-    };
-    fs::map_points(d, p, mask, [&](auto& x, auto& y) {
-        const auto damp = hn::Mul(hn::Mul(alpha, hn::Sub(one, hn::Mul(hn::Mul(sigma, y), y))), y);
-        const auto nx = hn::Add(hn::Add(y, damp), f(x));
-        const auto ny = hn::Add(hn::Neg(x), f(nx));
-        x = nx;
-        y = ny;
-    });
-}
-void apply_f(const double* k, fp::Points<float> p, fp::Mask mask) { apply_t(k, p, mask); }
-void apply_d(const double* k, fp::Points<double> p, fp::Mask mask) { apply_t(k, p, mask); }
-
-} // namespace fp_gm::HWY_NAMESPACE
-HWY_AFTER_NAMESPACE();
-
-#if HWY_ONCE
-namespace fp_gm {
-HWY_EXPORT(apply_f);
-HWY_EXPORT(apply_d);
-} // namespace fp_gm
+#include <fixpoint/kernels.hpp>
 
 namespace {
-// (HWY_DYNAMIC_DISPATCH names the kernels unqualified; a build with static dispatch only
-// resolves them as N_<target>::name from here.)
-using namespace fp_gm;
 
 class GumowskiMira final : public fp::Transform {
 public:
@@ -85,11 +39,11 @@ public:
         : alpha_(p.real("alpha")), mu_(p.real("mu")),
           two_one_minus_mu_(2 * (1 - mu_)), k_{alpha_, mu_, two_one_minus_mu_} {}
 
-    void apply(fp::Points<float> p, fp::Mask mask) const override {
-        HWY_DYNAMIC_DISPATCH(apply_f)(k_, p, mask);
-    }
+    // The SDK's Gumowski-Mira kernel (fixpoint/kernels.hpp): the formula a renderer's fused loop
+    // runs.
+    void apply(fp::Points<float> p, fp::Mask mask) const override { fp::kernels::gumowski_mira(k_, p, mask); }
     void apply(fp::Points<double> p, fp::Mask mask) const override {
-        HWY_DYNAMIC_DISPATCH(apply_d)(k_, p, mask);
+        fp::kernels::gumowski_mira(k_, p, mask);
     }
 
     fp::KnownKernel kernel() const override {
@@ -116,4 +70,3 @@ constexpr fp::ParamSpec params[] = {
 FIXPOINT_PLUGIN(fp::describe<GumowskiMira>(fp::Kind::Transform, "gumowski-mira",
                                            "the Gumowski-Mira map GM(alpha, mu), paper 03 eq. (1)", params)
                     .with_example("{alpha: 0.008, mu: -0.7501}"))
-#endif // HWY_ONCE

@@ -16,7 +16,8 @@
 //
 // apply() works in chunks of fp::chunk_size points on the stack: the directions d = p - o,
 // one batched inversion_factor call on the shape per chunk (the only virtual call; it gives
-// t_b^2, exactly R^2 / |d|^2 for a circle about its centre), then p' = o + t_b^2 d.
+// t_b^2, exactly R^2 / |d|^2 for a circle about its centre), then p' = o + t_b^2 d (the SDK's
+// kernels, fixpoint/kernels.hpp).
 // Inactive points get the zero direction and are left unchanged. A point within ~1e-19 of o
 // in float gives an infinite factor: its image is at infinity anyway, and the renderer's
 // bad-value policy restarts the chain.
@@ -26,6 +27,7 @@
 // (d = p - o, s = R^2 / |d|^2 from the circle, p' = o + s d; contains() is the circle's
 // |d|^2 < R^2): a renderer may then run it in its own fused loop with the same bits.
 #include <fixpoint/fixpoint.hpp>
+#include <fixpoint/kernels.hpp>
 
 #include <algorithm>
 #include <bit>
@@ -34,92 +36,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-// The loops around the shape's batch call are in the per-target section below
-// (fixpoint/simd-inl.hpp), dispatched at run time.
-#undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "inversion.cpp"
-#include <hwy/foreach_target.h> // IWYU pragma: keep
-
-#include <fixpoint/simd-inl.hpp>
-
-HWY_BEFORE_NAMESPACE();
-namespace fp_inversion::HWY_NAMESPACE {
-namespace hn = hwy::HWY_NAMESPACE;
-namespace fs = fp::simd::HWY_NAMESPACE;
-
-/// d = p - o for the n points of a chunk (inactive ones: the zero direction); whether any is
-/// active.
-template <class T>
-bool directions_t(T ox, T oy, const T* x, const T* y, const unsigned char* m, T* dx, T* dy, std::size_t n) {
-    const hn::ScalableTag<T> d;
-    const auto vox = hn::Set(d, ox), voy = hn::Set(d, oy);
-    std::copy_n(x, n, dx);
-    std::copy_n(y, n, dy);
-    fs::map_points(d, fp::Points<T>{dx, dy, n}, nullptr, [&](auto& vx, auto& vy) {
-        vx = hn::Sub(vx, vox);
-        vy = hn::Sub(vy, voy);
-    });
-    if (!m) return true;
-    bool any = false;
-    for (std::size_t i = 0; i < n; ++i) {
-        dx[i] = m[i] ? dx[i] : T(0);
-        dy[i] = m[i] ? dy[i] : T(0);
-        any |= m[i] != 0;
-    }
-    return any;
-}
-bool directions_f(float ox, float oy, const float* x, const float* y, const unsigned char* m, float* dx,
-                  float* dy, std::size_t n) {
-    return directions_t(ox, oy, x, y, m, dx, dy, n);
-}
-bool directions_d(double ox, double oy, const double* x, const double* y, const unsigned char* m, double* dx,
-                  double* dy, std::size_t n) {
-    return directions_t(ox, oy, x, y, m, dx, dy, n);
-}
-
-/// p' = o + t (p - o) for the active points (p - o recomputed: the same bits as the chunk's d).
-template <class T>
-void finish_t(T ox, T oy, fp::Points<T> p, const unsigned char* m, const T* t) {
-    const hn::ScalableTag<T> d;
-    const auto vox = hn::Set(d, ox), voy = hn::Set(d, oy);
-    fs::map_points_with(d, p, m, t, [&](auto& x, auto& y, auto s) {
-        x = hn::Add(vox, hn::Mul(s, hn::Sub(x, vox)));
-        y = hn::Add(voy, hn::Mul(s, hn::Sub(y, voy)));
-    });
-}
-void finish_f(float ox, float oy, fp::Points<float> p, const unsigned char* m, const float* t) {
-    finish_t(ox, oy, p, m, t);
-}
-void finish_d(double ox, double oy, fp::Points<double> p, const unsigned char* m, const double* t) {
-    finish_t(ox, oy, p, m, t);
-}
-
-} // namespace fp_inversion::HWY_NAMESPACE
-HWY_AFTER_NAMESPACE();
-
-#if HWY_ONCE
-namespace fp_inversion {
-HWY_EXPORT(directions_f);
-HWY_EXPORT(directions_d);
-HWY_EXPORT(finish_f);
-HWY_EXPORT(finish_d);
-
-inline bool directions(float ox, float oy, const float* x, const float* y, const unsigned char* m, float* dx,
-                       float* dy, std::size_t n) {
-    return HWY_DYNAMIC_DISPATCH(directions_f)(ox, oy, x, y, m, dx, dy, n);
-}
-inline bool directions(double ox, double oy, const double* x, const double* y, const unsigned char* m,
-                       double* dx, double* dy, std::size_t n) {
-    return HWY_DYNAMIC_DISPATCH(directions_d)(ox, oy, x, y, m, dx, dy, n);
-}
-inline void finish(float ox, float oy, fp::Points<float> p, const unsigned char* m, const float* t) {
-    HWY_DYNAMIC_DISPATCH(finish_f)(ox, oy, p, m, t);
-}
-inline void finish(double ox, double oy, fp::Points<double> p, const unsigned char* m, const double* t) {
-    HWY_DYNAMIC_DISPATCH(finish_d)(ox, oy, p, m, t);
-}
-} // namespace fp_inversion
 
 namespace {
 
@@ -178,9 +94,9 @@ private:
             const std::size_t n = std::min(fp::chunk_size, p.n - begin);
             const fp::Points<T> c = p.sub(begin, n);
             const unsigned char* m = mask ? mask + begin : nullptr;
-            if (!fp_inversion::directions(ox, oy, c.x, c.y, m, dx, dy, n)) continue;
+            if (!fp::kernels::directions(ox, oy, fp::Points<const T>{c.x, c.y, n}, m, dx, dy)) continue;
             shape_->inversion_factor(o_, fp::Points<const T>{dx, dy, n}, t);
-            fp_inversion::finish(ox, oy, c, m, t);
+            fp::kernels::scale_from(ox, oy, c, m, t);
         }
     }
 
@@ -194,4 +110,3 @@ FIXPOINT_PLUGIN(
     fp::describe<Inversion>(fp::Kind::Transform, "inversion",
                             "star-shaped set inversion p' = o + t_b^2 (p - o) (paper 01, eq. (4))", params)
         .with_example("{shape: {type: circle, centre: [0, 0], radius: 1}}"))
-#endif // HWY_ONCE

@@ -36,7 +36,7 @@
 //   hexagonal (p3, p3m1, p31m, p6, p6m only) modulo the hexagonal lattice of periods L =
 //            2 pi Z (1, 0) + 2 pi Z (1/2, sqrt 3 / 2) into its Voronoi cell of 0, a hexagon
 //            (inradius pi, circumradius 2 pi / sqrt 3 = 3.63): p minus the nearest point of L
-//            (wallpaper_hexagonal.hpp derives it). Not the paper's; designed here.
+//            (fixpoint/lattice.hpp derives it). Not the paper's; designed here.
 // The square lattice's reduction commutes with the square groups' point groups; for the
 // hexagonal groups it does not commute with the rotations by 60 / 120 degrees (the paper
 // reduces on the square lattice all the same; use `none` to see eq. (7) itself). `hexagonal`
@@ -101,17 +101,9 @@ const char* const entry_names[25] = {"P00", "P01", "P02", "P03", "P04", "P10", "
 const char* const g_names[3] = {"G_v0", "G_v1", "G_v2"};
 const char* const h_names[3] = {"H_v0", "H_v1", "H_v2"};
 
-wp::Reduction reduction_of(const std::string& s) {
-    if (s == "centred") return wp::Reduction::centred;
-    if (s == "floor") return wp::Reduction::floor;
-    if (s == "none") return wp::Reduction::none;
-    if (s == "hexagonal") return wp::Reduction::hexagonal;
-    return wp::Reduction::fmod;
-}
-
 wp::Reduction reduction_of(const fp::ParamBag& p) {
     const std::string& group = p.string("group");
-    const wp::Reduction r = reduction_of(p.string("reduction"));
+    const wp::Reduction r = fp::kernels::reduction_named(p.string("reduction"));
     if (r == wp::Reduction::hexagonal && !wp::is_hexagonal(group))
         throw fp::ParamError("reduction", "hexagonal is for the hexagonal groups (p3, p3m1, p31m, "
                                           "p6, p6m), whose lattice of periods is hexagonal; " +

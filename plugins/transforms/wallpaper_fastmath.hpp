@@ -1,10 +1,10 @@
-// Branch-free sin/cos and "mod 2 pi" for the wallpaper transform's hot loop, in float and double.
+// Branch-free sin/cos for the wallpaper transform's hot loop, in float and double (its "mod 2 pi"
+// is the SDK's: fixpoint/lattice.hpp).
 //
 // Why not libm: a call per point blocks vectorisation (the loop of wallpaper.cpp evaluates
 // sin and cos of x and y for every point of a 256-point chunk); these inline functions use only
 // +, *, fabs, nearbyint, copysign, bit operations (std::bit_cast) and selects, which GCC
-// turns into SIMD instructions (vroundps, vpternlogd, vblendmps, ...). (GCC does not vectorise
-// std::floor and std::trunc without -fno-trapping-math, hence trunc_ and floor_ below.)
+// turns into SIMD instructions (vroundps, vpternlogd, vblendmps, ...).
 //
 // Symmetry, bitwise: the wallpaper maps must commute with x -> -x exactly, so
 //   sincos(-x) = (-sin x, cos x) bit for bit (also for x = -0).
@@ -20,9 +20,6 @@
 // ulp for |x| below 8192 (float) or 2^19 (double); beyond, the reduction loses digits
 // gradually; |x| above 2^20 (float) or 2^40 (double) is taken as that bound, so every finite x
 // gives values in [-1, 1] (so does inf); NaN gives NaN.
-//
-// reduce_*: v mod 2 pi as v - k * 2 pi with 2 pi split in two parts (again k * first part is
-// exact for |k| < 2^15 in float, 2^22 in double), k = trunc / nearbyint / floor of v / 2 pi.
 #pragma once
 
 #include <bit>
@@ -43,10 +40,6 @@ struct TrigConst<float> {
     static constexpr float s1 = -1.6666654611e-1f, s2 = 8.3321608736e-3f, s3 = -1.9515295891e-4f;
     static constexpr float c1 = 4.166664568298827e-2f, c2 = -1.388731625493765e-3f,
                            c3 = 2.443315711809948e-5f;
-    // 2 pi = t1 + t2, t1 = 201 / 32 (8 significant bits)
-    static constexpr float inv_two_pi = 0.159154943091895336f;
-    static constexpr float t1 = 6.28125f, t2 = 1.9353071795864769e-3f;
-    static constexpr float two_pi = 6.28318530717958648f, pi = 3.14159265358979324f;
     static constexpr float magic = 12582912.0f;  // 1.5 * 2^23
     static constexpr float max_arg = 1048576.0f; // 2^20
 };
@@ -63,37 +56,9 @@ struct TrigConst<double> {
     static constexpr double c[6] = {-1.13585365213876817300e-11, 2.08757008419747316778e-9,
                                     -2.75573141792967388112e-7,  2.48015872888517045348e-5,
                                     -1.38888888888730564116e-3,  4.16666666666665929218e-2};
-    // 2 pi = t1 + t2, t1 = floor(2 pi 2^27) / 2^27 (30 significant bits)
-    static constexpr double inv_two_pi = 0.159154943091895336;
-    static constexpr double t1 = 6.283185303211212158203125, t2 = 3.968374318722162e-09;
-    static constexpr double two_pi = 6.28318530717958648, pi = 3.14159265358979324;
     static constexpr double magic = 6755399441055744.0; // 1.5 * 2^52
     static constexpr double max_arg = 1099511627776.0;  // 2^40
 };
-
-/// trunc(v) and floor(v) from nearbyint (which vectorises), exact for every v.
-/// nearbyint(v) in the default rounding mode (to nearest, ties to even), in arithmetic: for
-/// |v| < 2^23 (2^52) the sum |v| + 2^23 is rounded to the nearest integer and the difference
-/// is exact; larger values are integers already. The same bits as std::nearbyint, but inline
-/// on every instruction set (nearbyint is a library call unless the target has a rounding
-/// instruction, and a call keeps the loops from vectorising).
-template <class T>
-[[gnu::always_inline]] inline T round_even_(T v) {
-    constexpr T big = sizeof(T) == 4 ? T(8388608.0) : T(4503599627370496.0);
-    const T a = std::fabs(v);
-    const T r = (a + big) - big;
-    return std::copysign(a < big ? r : a, v);
-}
-template <class T>
-[[gnu::always_inline]] inline T trunc_(T v) {
-    const T a = std::fabs(v), t = round_even_(a);
-    return std::copysign(t > a ? t - T(1) : t, v);
-}
-template <class T>
-[[gnu::always_inline]] inline T floor_(T v) {
-    const T t = round_even_(v);
-    return t > v ? t - T(1) : t;
-}
 
 /// sin(r) and cos(r) for |r| <= pi / 4 (float: Cephes sinf/cosf polynomials).
 [[gnu::always_inline]] inline void sincos_kernel(float r, float& s, float& c) {
@@ -142,36 +107,6 @@ template <class T>
     const U c_flip = ((qi + 1) & 2) << (8 * sizeof(T) - 2);
     s = std::bit_cast<T>(std::bit_cast<U>(sv) ^ s_flip);
     c = std::bit_cast<T>(std::bit_cast<U>(cv) ^ c_flip);
-}
-
-/// C's fmod(v, 2 pi): v - 2 pi trunc(v / 2 pi), in (-2 pi, 2 pi) with the sign of v (up to
-/// rounding next to multiples of 2 pi); odd: reduce_fmod(-v) = -reduce_fmod(v) bitwise.
-/// |v| < 2 pi comes back unchanged (but within an ulp of 2 pi, where v / 2 pi rounds to 1).
-template <class T>
-[[gnu::always_inline]] inline T reduce_fmod(T v) {
-    using K = TrigConst<T>;
-    const T k = trunc_(v * K::inv_two_pi);
-    return (v - k * K::t1) - k * K::t2;
-}
-
-/// Into [-pi, pi): v - 2 pi round(v / 2 pi), moved down by 2 pi at pi (odd except at +-pi).
-template <class T>
-[[gnu::always_inline]] inline T reduce_centred(T v) {
-    using K = TrigConst<T>;
-    const T k = round_even_(v * K::inv_two_pi);
-    const T r = (v - k * K::t1) - k * K::t2;
-    return r >= K::pi ? r - K::two_pi : r;
-}
-
-/// Into [0, 2 pi): v - 2 pi floor(v / 2 pi) (GLSL's mod; not odd: it breaks the mirror
-/// symmetries through 0).
-template <class T>
-[[gnu::always_inline]] inline T reduce_floor(T v) {
-    using K = TrigConst<T>;
-    const T k = floor_(v * K::inv_two_pi);
-    T r = (v - k * K::t1) - k * K::t2;
-    r = r < T(0) ? r + K::two_pi : r;
-    return r >= K::two_pi ? r - K::two_pi : r;
 }
 
 } // namespace fp_wallpaper

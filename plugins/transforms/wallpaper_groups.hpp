@@ -50,7 +50,7 @@
 // "mod [2 pi, 2 pi]" reduces on the square lattice, which R3 does not preserve: with a
 // reduction the hexagonal maps commute with their rotations only modulo 2 pi Z^2 before the
 // reduction, not after (the mirrors (x, -y) and (-x, y) are fine). `reduction: hexagonal`
-// reduces modulo L itself, into the hexagon about 0, and keeps them (wallpaper_hexagonal.hpp).
+// reduces modulo L itself, into the hexagon about 0, and keeps them (fixpoint/lattice.hpp).
 #pragma once
 
 #include <fixpoint/errors.hpp>

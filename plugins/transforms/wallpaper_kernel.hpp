@@ -21,9 +21,9 @@
 
 #include "wallpaper_fastmath.hpp"
 #include "wallpaper_groups.hpp"
-#include "wallpaper_hexagonal.hpp"
 
 #include <fixpoint/batch.hpp>
+#include <fixpoint/lattice.hpp>
 
 #include <algorithm>
 #include <cstddef>
@@ -38,7 +38,8 @@
 
 namespace fp_wallpaper {
 
-enum class Reduction { fmod, centred, floor, none, hexagonal };
+/// "mod 2 pi" (the SDK's lattice reductions, which the orbit-trap renderer applies too).
+using Reduction = fp::kernels::Reduction;
 
 // ------------------------------------------------------------------ coefficient masks
 
@@ -168,7 +169,7 @@ template <class T, class R>
     }
 }
 
-/// The hexagonal reduction (wallpaper_hexagonal.hpp) needs x and y together.
+/// The hexagonal reduction (fixpoint/lattice.hpp) needs x and y together.
 template <class T>
 [[gnu::always_inline]] inline void store_hexagonal(T* x, T* y, const T* fx, const T* fy, fp::Mask m,
                                                    std::size_t n) {
@@ -176,7 +177,7 @@ template <class T>
         FP_WALLPAPER_IVDEP
         for (std::size_t i = 0; i < n; ++i) {
             T a = fx[i], b = fy[i];
-            reduce_hexagonal(a, b);
+            fp::kernels::reduce_hexagonal(a, b);
             x[i] = a, y[i] = b;
         }
         return;
@@ -184,7 +185,7 @@ template <class T>
     FP_WALLPAPER_IVDEP
     for (std::size_t i = 0; i < n; ++i) {
         T a = fx[i], b = fy[i];
-        reduce_hexagonal(a, b);
+        fp::kernels::reduce_hexagonal(a, b);
         x[i] = m[i] ? a : x[i];
         y[i] = m[i] ? b : y[i];
     }
@@ -276,15 +277,18 @@ public:
         switch (reduction_) {
         case Reduction::fmod:
             store(
-                x, y, fx, fy, m, n, [](T v) __attribute__((always_inline)) { return reduce_fmod(v); });
+                x, y, fx, fy, m, n,
+                [](T v) __attribute__((always_inline)) { return fp::kernels::reduce_fmod(v); });
             break;
         case Reduction::centred:
             store(
-                x, y, fx, fy, m, n, [](T v) __attribute__((always_inline)) { return reduce_centred(v); });
+                x, y, fx, fy, m, n,
+                [](T v) __attribute__((always_inline)) { return fp::kernels::reduce_centred(v); });
             break;
         case Reduction::floor:
             store(
-                x, y, fx, fy, m, n, [](T v) __attribute__((always_inline)) { return reduce_floor(v); });
+                x, y, fx, fy, m, n,
+                [](T v) __attribute__((always_inline)) { return fp::kernels::reduce_floor(v); });
             break;
         case Reduction::none:
             store(

@@ -1,5 +1,5 @@
 // Renders beyond the memory budget (`fixpoint render --memory SIZE`), streamed to the output file
-// band by band. chaos-game in strips (chaos-game.cpp's "Strips"): an image whose
+// band by band. chaos-game in strips (chaos-game/plan.cpp's "Strips"): an image whose
 // histogram does not fit the budget is rendered strip by strip, every chain replayed per strip,
 // and must come out as the same bytes as one pass. Checked on every colour path the renderer
 // has: hits only with the fused step (density), colour with the fused step (flame, affine maps),

@@ -12,8 +12,8 @@
 #define HWY_TARGET_INCLUDE "renderers/chaos-game/kernels-inl.hpp"
 #include <hwy/foreach_target.h> // IWYU pragma: keep
 
+#include "renderers/chaos-game/histogram.hpp"
 #include "renderers/chaos-game/kernels-inl.hpp"
-#include "renderers/chaos-game/state.hpp"
 
 namespace fp_chaos {
 HWY_EXPORT(fused_f);

@@ -11,7 +11,7 @@
 //   - a finished render of a third of the points, continued to all of them, gives the bytes of
 //     a render of all of them from the start (the same stats too);
 //   - a payload cut short, or of another size of chains, is refused.
-// orbit-trap (orbit-trap.cpp's "Checkpoints"): stopped between tiles for checkpoints, resumed
+// orbit-trap (orbit-trap/tiles.cpp's "Checkpoints"): stopped between tiles for checkpoints, resumed
 // from them, the same pixels and counts; a payload of another image refused.
 #include <fixpoint/fixpoint.hpp>
 #include <fixpoint/host/core/host.hpp>

@@ -1,4 +1,4 @@
-// The hexagonal reduction (`reduction: hexagonal`, plugins/transforms/wallpaper_hexagonal.hpp):
+// The hexagonal reduction (`reduction: hexagonal`, the SDK's fixpoint/lattice.hpp):
 // p minus its nearest point of the hexagonal lattice of periods of p3 ... p6m, into the hexagon
 // about 0. Tested:
 //   - reductions computed by hand (inside, outside, the tie rule on the boundary);
@@ -72,7 +72,7 @@ std::vector<Vec2> random_points(std::uint64_t seed, std::size_t n, double r) {
 template <class T>
 Vec2 red(Vec2 p) {
     T x = T(p.x), y = T(p.y);
-    wp::reduce_hexagonal(x, y);
+    fp::kernels::reduce_hexagonal(x, y);
     return {double(x), double(y)};
 }
 
@@ -161,7 +161,7 @@ TEST(WallpaperHexagonal, MapIsTheUnreducedMapThenTheReduction) {
             ASSERT_EQ(b[i].y, want.y) << i;
             ASSERT_EQ(double(x[i]), want.x) << i;
             ASSERT_EQ(double(y[i]), want.y) << i;
-            inside += wp::in_cell(x[i], y[i]);
+            inside += fp::kernels::in_cell(x[i], y[i]);
         }
         EXPECT_EQ(inside, pts.size()); // reduced points are in the range (random points: no rim)
         EXPECT_FALSE(

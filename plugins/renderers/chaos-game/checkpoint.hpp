@@ -1,5 +1,6 @@
 // chaos-game's checkpoints (`fixpoint render --checkpoint`, `--resume`): what a render saves
-// and continues from. Only chaos-game.cpp includes it.
+// and continues from (chaos-game/checkpoint.cpp writes and reads it; a chain's own record is
+// chains.hpp's ChainRec).
 //
 // A render is a set of chains, each a pure function of (seed, chain, the steps it has run), and
 // a histogram of exact integer sums over their points. So a render can stop anywhere between
@@ -19,7 +20,7 @@
 // would hold there.
 #pragma once
 
-#include "state.hpp"
+#include "chains.hpp"
 
 #include <fixpoint/fixpoint.hpp>
 
@@ -28,17 +29,6 @@
 #include <vector>
 
 namespace fp_chaos {
-
-/// One chain's state between two steps. 72 bytes, no padding (written as it is).
-struct ChainRec {
-    double x, y;   ///< exact for float chains too
-    uint64_t rs;   ///< pcg32 state (the increment follows from the chain)
-    uint64_t left; ///< points left
-    uint64_t step; ///< the step it runs next (the iteration scheme's n)
-    uint32_t chain, prev, age, idle, active;
-    float cr, cg, cb;
-};
-static_assert(sizeof(ChainRec) == 72, "ChainRec is written as it is");
 
 /// No final state recorded (ChainRec::step of a chain still running).
 constexpr uint64_t not_final = UINT64_MAX;
@@ -79,10 +69,5 @@ struct PayloadHead {
     uint64_t tasks = 0, finals = 0;
 };
 static_assert(sizeof(PayloadHead) == 88, "PayloadHead is written as it is");
-
-/// The points chain `chain` plots of `points` over `chains` chains.
-inline uint64_t points_of(uint64_t chain, uint64_t points, uint64_t chains) {
-    return points / chains + (chain < points % chains ? 1 : 0);
-}
 
 } // namespace fp_chaos

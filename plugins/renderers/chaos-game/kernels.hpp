@@ -1,20 +1,33 @@
-// chaos-game's step stages: the arguments of the vectorised kernels (kernels-inl.hpp, compiled
-// for every instruction set of the build and dispatched at run time by chaos-game.cpp).
-// Everything here is plain data: the kernels see arrays, never a plugin.
+// chaos-game's step stages: the arguments of the vectorised kernels (kernels-inl.hpp, compiled for
+// every instruction set of the build by chaos-game/kernels.cpp) and the functions that dispatch to
+// them at run time. Everything here is plain data: the kernels see arrays, never a plugin.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
+#include <vector>
 
 namespace fp_chaos {
+
+using std::size_t;
+using std::uint32_t;
+using std::uint64_t;
+
+/// Chains per block (the unit of work). 512 keeps a block's state in L1 (about 30 KiB in float)
+/// and gives the per-map segments enough points to amortise their virtual calls. Every block
+/// array holds this many lanes, a multiple of every target's lane count: the kernels read whole
+/// vectors.
+constexpr std::size_t block_size = 512;
 
 /// Entries of the per-map tables (weights, circles): a whole vector of the widest target
 /// (64 float lanes of SVE-2048) so that a table loads as one vector; k above the lane count
 /// of the target at hand selects per map instead of by table lookup (the same values).
 constexpr std::size_t table_size = 64;
 
-/// The most chains of a lean run (chaos-game.cpp's run_block; state.hpp's lean_chains).
+/// The most chains of a lean run (chaos-game/block.cpp; chains.hpp's lean_chains).
 constexpr std::size_t lean_max = 64;
 
 /// The draws of paper 01's rejection loop (kernels-inl.hpp's draw_paper) before the direct draw
@@ -60,7 +73,7 @@ struct BookArgs {
     std::size_t nb;
     T xmin = 0, xmax = 0, ymin = 0, ymax = 0, scx = 0, scy = 0;
     std::uint32_t W = 0, H = 0, dummy = 0, skip = 0, none = 0;
-    /// The rows binned (a strip of the image: chaos-game.cpp's "Strips"): a point whose row is
+    /// The rows binned (a strip of the image: chaos-game/plan.cpp's "Strips"): a point whose row is
     /// outside [row0, row0 + rows) goes to dummy, the others to (row - row0) * W + column.
     /// The defaults: every row.
     std::uint32_t row0 = 0, rows = 0xffffffffu;
@@ -95,11 +108,11 @@ struct GroupArgs {
 };
 
 /// What the fused step computes per map (fp::KnownKernel's kinds) and per chain's colour
-/// (fp::ColourRule; none: hits only; tally: the map rule counted per map, state.hpp's Tallies:
+/// (fp::ColourRule; none: hits only; tally: the map rule counted per map, histogram.hpp's Tallies:
 /// no colour carried, the chosen map deposited).
 enum class LaneKind : std::uint32_t { circle, affine, gumowski_mira };
 enum class LaneColour : std::uint32_t { none, map, average, tally };
-/// Tallies: the most maps, a plane of 16-bit counters each (state.hpp's WorkerHist).
+/// Tallies: the most maps, a plane of 16-bit counters each (histogram.hpp's WorkerHist).
 constexpr std::size_t tally_maps = 8;
 /// A tally's 16-bit counter (the planes' memory is the colour bins', allocated as such).
 typedef std::uint16_t Tally16 __attribute__((may_alias));
@@ -171,7 +184,7 @@ struct FusedArgs {
     BookArgs<T> book;
     std::uint32_t* hits;
     const std::uint32_t* lag;
-    bool steady; ///< the block is in a steady run (see steady.hpp)
+    bool steady; ///< the block is in a steady run (see chains.hpp's steady runs)
     /// The scheme's step at this step index; null: the Picard step p <- T(p).
     const LaneProgram<T>* program = nullptr;
     /// With colour: the worker's bins (4 counters each), the previous step's packed colours
@@ -194,5 +207,65 @@ struct FusedArgs {
     /// result it cannot change.
     bool colours_in_range = false;
 };
+
+// ---------------------------------------------------------------- Walker's alias table
+/// Walker's alias table (Vose's construction) for weights w, with 32-bit thresholds: column c =
+/// floor(u * k), kept when the fraction's 32 bits are below thr[c], else alias[c]. Padded with
+/// zeros to at least table_size entries, so that the draw's table lookups may load whole
+/// vectors. (The rules-off draw, and the rules' draw with unequal weights.)
+inline void walker_table(const std::vector<double>& w, std::vector<uint32_t>& thr,
+                         std::vector<uint32_t>& alias) {
+    const size_t k = w.size();
+    double sum = 0;
+    for (double x : w) sum += x;
+    thr.assign(k, 0xffffffffu);
+    alias.resize(k);
+    std::vector<double> sc(k);
+    std::vector<uint32_t> small, large;
+    for (size_t j = 0; j < k; ++j) {
+        sc[j] = w[j] / sum * double(k);
+        alias[j] = uint32_t(j);
+        (sc[j] < 1.0 ? small : large).push_back(uint32_t(j));
+    }
+    while (!small.empty() && !large.empty()) {
+        const uint32_t s = small.back(), l = large.back();
+        small.pop_back();
+        thr[s] = uint32_t(std::min(4294967295.0, std::floor(sc[s] * 4294967296.0)));
+        alias[s] = l;
+        sc[l] = (sc[l] + sc[s]) - 1.0;
+        if (sc[l] < 1.0) {
+            large.pop_back();
+            small.push_back(l);
+        }
+    }
+    // What is left (rounding) is full: its column keeps itself (thr = max, alias = self).
+    thr.resize(std::max(k, table_size), 0);
+    alias.resize(std::max(k, table_size), 0);
+}
+
+// ---------------------------------------------------------------- the dispatched stages
+// Each calls the kernel compiled for the best instruction set this CPU has (chaos-game/kernels.cpp:
+// Highway's dynamic dispatch, one indirect call per block step).
+/// Choice of a map per chain: paper 01's rules (draw_rules) or Walker's alias table.
+void draw_by_rules(const DrawArgs& a);
+void draw_by_alias(const DrawArgs& a);
+/// Grouping by map and the way back.
+void group(const GroupArgs<float>& a);
+void group(const GroupArgs<double>& a);
+void scatter(const float* gx, const float* gy, const std::uint32_t* gi, std::size_t n, float* x, float* y);
+void scatter(const double* gx, const double* gy, const std::uint32_t* gi, std::size_t n, double* x,
+             double* y);
+/// The bookkeeping of a step (with the packed colours when `colour`).
+Counts bookkeep(const BookArgs<float>& a, bool colour);
+Counts bookkeep(const BookArgs<double>& a, bool colour);
+/// The deposit of packed colours from point `from` on until a bin is due to spill (its index),
+/// nb when done.
+std::size_t deposit_colours(std::uint32_t* bins, const std::uint32_t* idx, const std::uint64_t* dep,
+                            std::size_t from, std::size_t nb, std::uint32_t spill);
+/// The fused step, and a lean run of up to `steps` of them.
+Counts fused(const FusedArgs<float>& a);
+Counts fused(const FusedArgs<double>& a);
+RunCounts fused_run(const FusedArgs<float>& a, std::uint64_t steps);
+RunCounts fused_run(const FusedArgs<double>& a, std::uint64_t steps);
 
 } // namespace fp_chaos

@@ -8,7 +8,7 @@
 // edge, y from ymax at the top edge.
 #pragma once
 
-#include "../cairo_out.hpp"
+#include "cairo_out.hpp"
 
 #include <fixpoint/types.hpp>
 

@@ -73,4 +73,20 @@ struct KnownCircles {
     std::vector<T> cx, cy, key, r;
 };
 
+// ---------------------------------------------------------------- the dispatched passes
+// Each calls the pass compiled for the best instruction set this CPU has (orbit-trap/kernels.cpp).
+/// The tile's start points and reset records (kernels-inl.hpp's tile_starts_t).
+void tile_starts(const TileFrame& f, Scratch<float>& s, size_t p0, size_t np);
+void tile_starts(const TileFrame& f, Scratch<double>& s, size_t p0, size_t np);
+/// The mean of each pixel's samples (kernels-inl.hpp's tile_mean_all).
+void tile_mean(const float* rgb, uint32_t* q, uint64_t* sum, size_t np, size_t ns, float* out);
+/// The caught samples recorded and the others moved to the front; how many are left.
+size_t retire(Scratch<float>& s, size_t live, uint32_t it);
+size_t retire(Scratch<double>& s, size_t live, uint32_t it);
+/// The same fused with the test of known circles (and, with `check`, the reduction's range).
+size_t test_retire(const KnownCircles<float>& c, Scratch<float>& s, size_t live, uint32_t it, Reduction red,
+                   bool check, bool& outside);
+size_t test_retire(const KnownCircles<double>& c, Scratch<double>& s, size_t live, uint32_t it, Reduction red,
+                   bool check, bool& outside);
+
 } // namespace fp_orbit_trap

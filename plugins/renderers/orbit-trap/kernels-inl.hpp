@@ -30,6 +30,8 @@
 #include "batch.hpp"
 #include "reduce.hpp"
 
+#include <fixpoint/check.hpp>
+#include <fixpoint/kernels-inl.hpp>
 #include <fixpoint/simd-inl.hpp>
 
 #include <hwy/highway.h>
@@ -44,6 +46,7 @@ HWY_BEFORE_NAMESPACE();
 namespace fp_orbit_trap::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 namespace fs = fp::simd::HWY_NAMESPACE;
+namespace fk = fp::kernels::HWY_NAMESPACE;
 
 template <class T>
 HWY_INLINE size_t retire_t(Scratch<T>& s, size_t live, uint32_t iteration) {
@@ -53,6 +56,8 @@ HWY_INLINE size_t retire_t(Scratch<T>& s, size_t live, uint32_t iteration) {
     T* HWY_RESTRICT y = s.y.data();
     uint32_t* HWY_RESTRICT ids = s.id.data();
     const std::int32_t* HWY_RESTRICT caught = s.caught.data();
+    // (The arrays are padded to whole blocks of the widest vectors: batch.hpp's Scratch.)
+    FP_DCHECK(live <= s.caught.size() && s.x.size() % block == 0 && live <= s.x.size());
     size_t keep = 0;
     for (size_t i = 0; i < live; i += N) {
         const size_t m = std::min(N, live - i);
@@ -71,6 +76,7 @@ HWY_INLINE size_t retire_t(Scratch<T>& s, size_t live, uint32_t iteration) {
         for (size_t l = 0; l < m; ++l)
             if (caught[i + l] >= 0) {
                 const uint32_t id = ids[i + l];
+                FP_DCHECK(id < s.trap.size());
                 s.trap[id] = caught[i + l];
                 s.ratio_out[id] = float(s.ratio[i + l]);
                 s.iteration[id] = iteration;
@@ -99,14 +105,13 @@ HWY_INLINE size_t test_retire_t(const KnownCircles<T>& c, Scratch<T>& s, size_t 
     T* HWY_RESTRICT y = s.y.data();
     uint32_t* HWY_RESTRICT ids = s.id.data();
     const size_t nc = NC ? NC : c.cx.size();
+    FP_DCHECK(nc == c.cx.size() && s.x.size() % block == 0 && live <= s.x.size());
     const T below_one = std::nextafter(T(1), T(0));
     alignas(HWY_MAX_BYTES) I tr[HWY_MAX_BYTES / sizeof(T)];
     alignas(HWY_MAX_BYTES) T kk[HWY_MAX_BYTES / sizeof(T)];
     const auto lo = hn::Set(d, range.lo), hi = hn::Set(d, range.hi);
-    // The hexagonal reduction's range: fp_wallpaper::in_cell, the same operations lane-wise.
+    // The hexagonal reduction's range: the hexagon (the SDK's in_cell, lane-wise).
     const bool hexagonal = red == Reduction::hexagonal;
-    using HK = fp_wallpaper::HexConst<T>;
-    const auto half = hn::Set(d, T(0.5)), hh = hn::Set(d, HK::h), pi = hn::Set(d, HK::pi);
     size_t keep = 0;
     for (size_t i = 0; i < live; i += N) {
         const size_t m = std::min(N, live - i);
@@ -115,11 +120,7 @@ HWY_INLINE size_t test_retire_t(const KnownCircles<T>& c, Scratch<T>& s, size_t 
         if (check) {
             auto in = hn::And(hn::And(hn::Not(hn::Lt(vx, lo)), hn::Lt(vx, hi)),
                               hn::And(hn::Not(hn::Lt(vy, lo)), hn::Lt(vy, hi)));
-            if (hexagonal) {
-                const auto hx = hn::Mul(vx, half), hy = hn::Mul(vy, hh);
-                in = hn::And(hn::Lt(hn::Abs(vx), pi), hn::And(hn::Lt(hn::Abs(hn::Add(hx, hy)), pi),
-                                                              hn::Lt(hn::Abs(hn::Sub(hx, hy)), pi)));
-            }
+            if (hexagonal) in = fk::in_cell(d, vx, vy);
             if (!hn::AllTrue(d, hn::Or(in, hn::Not(valid)))) {
                 fp_orbit_trap::reduce_xy(x + i, y + i, m, red);
                 outside = true;
@@ -129,8 +130,8 @@ HWY_INLINE size_t test_retire_t(const KnownCircles<T>& c, Scratch<T>& s, size_t 
         auto t = hn::Set(di, I(-1));
         auto k = hn::Zero(d);
         for (size_t j = nc; j-- > 0;) {
-            const auto dx = hn::Sub(vx, hn::Set(d, c.cx[j])), dy = hn::Sub(vy, hn::Set(d, c.cy[j]));
-            const auto kj = hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy));
+            // (The key of the Euclidean metric: |p - c|^2.)
+            const auto kj = fk::offset(vx, vy, hn::Set(d, c.cx[j]), hn::Set(d, c.cy[j])).d2;
             const auto hit = hn::Lt(kj, hn::Set(d, c.key[j]));
             t = hn::IfThenElse(hn::RebindMask(di, hit), hn::Set(di, I(j)), t);
             k = hn::IfThenElse(hit, kj, k);
@@ -150,6 +151,7 @@ HWY_INLINE size_t test_retire_t(const KnownCircles<T>& c, Scratch<T>& s, size_t 
                 if (tr[l] < 0) continue;
                 const uint32_t id = ids[i + l];
                 const auto tj = size_t(tr[l]);
+                FP_DCHECK(id < s.trap.size() && tj < nc);
                 s.trap[id] = std::int32_t(tr[l]);
                 s.ratio_out[id] = float(std::min(std::sqrt(kk[l]) / c.r[tj], below_one));
                 s.iteration[id] = iteration;

@@ -10,8 +10,8 @@
 //   none     no reduction (maps that are not periodic)
 //   hexagonal x and y together, modulo the hexagonal lattice 2 pi Z (1, 0) + 2 pi Z (1/2, sqrt 3 / 2)
 //            of the hexagonal wallpaper groups into its hexagon about 0 (the wallpaper transform's
-//            own `reduction: hexagonal`, the same function: ../../transforms/wallpaper_hexagonal.hpp,
-//            which derives it). Its range is the hexagon (in_cell), not a box: reduce_xy and the
+//            own `reduction: hexagonal`, the same function: fixpoint/lattice.hpp, which
+//            derives it). Its range is the hexagon (in_cell), not a box: reduce_xy and the
 //            fused pass's check test it; points in it stay as they are, bit for bit. Not exact
 //            like the others (the lattice is irrational), but one function of the point, the
 //            same on every instruction set and in both passes.
@@ -26,7 +26,7 @@
 // anyway).
 #pragma once
 
-#include "../../transforms/wallpaper_hexagonal.hpp"
+#include <fixpoint/lattice.hpp>
 
 #include <cmath>
 #include <cstddef>
@@ -35,7 +35,8 @@
 
 namespace fp_orbit_trap {
 
-enum class Reduction { fmod, centred, floor, none, hexagonal };
+/// The reduction's kinds: the wallpaper transform's (the SDK's lattice reductions).
+using Reduction = fp::kernels::Reduction;
 
 template <class T>
 constexpr T period = T(2 * std::numbers::pi);
@@ -179,11 +180,11 @@ inline bool reduce_xy(T* __restrict x, T* __restrict y, std::size_t n, Reduction
         return ox || oy;
     }
     unsigned outside = 0;
-    for (std::size_t i = 0; i < n; ++i) outside += unsigned(!fp_wallpaper::in_cell(x[i], y[i]));
+    for (std::size_t i = 0; i < n; ++i) outside += unsigned(!fp::kernels::in_cell(x[i], y[i]));
     if (outside == 0) return false;
     for (std::size_t i = 0; i < n; ++i) {
         T a = x[i], b = y[i];
-        fp_wallpaper::reduce_hexagonal(a, b);
+        fp::kernels::reduce_hexagonal(a, b);
         x[i] = a, y[i] = b;
     }
     return true;

@@ -1,12 +1,24 @@
-// "mod 2 pi" on the hexagonal lattice: the reduction `hexagonal` of the wallpaper transform (for
-// p3, p3m1, p31m, p6, p6m) and of the orbit-trap renderer, shared by both so that a point the
-// map reduced is one the renderer leaves alone.
+// The lattice reductions of the wallpaper maps (paper 04's "mod 2 pi"), written once for the
+// wallpaper transform (plugins/transforms/wallpaper*) and the orbit-trap renderer, which reduce
+// with the same functions so that a point the map reduced is one the renderer leaves alone.
+// Scalar and branch-free: only +, -, *, fabs, copysign and selects, no call, branch or FMA, so
+// that the loops calling them vectorise on every instruction set with the same bits. The lanes of
+// the hexagon's test, for kernels that hold the points in vectors, are in kernels-inl.hpp.
+//
+// Square lattice 2 pi Z^2 (reduce_fmod, reduce_centred, reduce_floor): v mod 2 pi as
+// v - k * 2 pi with 2 pi split in two parts (k * first part is exact for |k| < 2^15 in float,
+// 2^22 in double), k = trunc / nearbyint / floor of v / 2 pi.
+//
+// Hexagonal lattice L = 2 pi Z (1, 0) + 2 pi Z (1/2, sqrt 3 / 2) (reduce_hexagonal): the
+// reduction `hexagonal` of the wallpaper transform (for p3, p3m1, p31m, p6, p6m) and of the
+// orbit-trap renderer.
 //
 // Why (derivation)
 // ----------------
 // The hexagonal maps of eqs. (7) and (8) are sums of cos / sin(w . p) with every wave vector w an
-// integer combination of v0 = (1, -1/sqrt 3) and v1 = (0, -2/sqrt 3) (wallpaper_groups.hpp). So f
-// is periodic under L = {t : v0 . t, v1 . t in 2 pi Z}, the lattice spanned by
+// integer combination of v0 = (1, -1/sqrt 3) and v1 = (0, -2/sqrt 3)
+// (plugins/transforms/wallpaper_groups.hpp). So f is periodic under L = {t : v0 . t, v1 . t in 2 pi Z}, the
+// lattice spanned by
 //     e0 = 2 pi (1, 0),   e1 = 2 pi (1/2, sqrt 3 / 2)
 // (v0 . e0 = 2 pi, v1 . e0 = 0; v0 . e1 = 0, v1 . e1 = -2 pi), and not under 2 pi (0, 1): the
 // square lattice 2 pi Z^2 of the paper's "mod [2 pi, 2 pi]" is not a lattice of periods of f, and
@@ -63,11 +75,105 @@
 //   - not finite in, not finite out (the renderer counts such samples as bad values).
 #pragma once
 
-#include "wallpaper_fastmath.hpp"
-
 #include <cmath>
+#include <string_view>
 
-namespace fp_wallpaper {
+namespace fp::kernels {
+
+/// "mod 2 pi": the square lattice's reductions of each coordinate (fmod, centred, floor), none,
+/// or the hexagonal lattice's of the point (the wallpaper transform's and orbit-trap's
+/// `reduction`).
+enum class Reduction { fmod, centred, floor, none, hexagonal };
+
+/// The reduction a recipe names (one of "fmod|centred|floor|none|hexagonal", checked by the
+/// parameter's schema; anything else is fmod, the default).
+inline Reduction reduction_named(std::string_view s) {
+    return s == "centred"     ? Reduction::centred
+           : s == "floor"     ? Reduction::floor
+           : s == "none"      ? Reduction::none
+           : s == "hexagonal" ? Reduction::hexagonal
+                              : Reduction::fmod;
+}
+
+// ------------------------------------------------------------------ rounding
+
+/// trunc(v) and floor(v) from nearbyint (which vectorises), exact for every v.
+/// nearbyint(v) in the default rounding mode (to nearest, ties to even), in arithmetic: for
+/// |v| < 2^23 (2^52) the sum |v| + 2^23 is rounded to the nearest integer and the difference
+/// is exact; larger values are integers already. The same bits as std::nearbyint, but inline
+/// on every instruction set (nearbyint is a library call unless the target has a rounding
+/// instruction, and a call keeps the loops from vectorising; GCC does not vectorise std::floor
+/// and std::trunc without -fno-trapping-math).
+template <class T>
+[[gnu::always_inline]] inline T round_even_(T v) {
+    constexpr T big = sizeof(T) == 4 ? T(8388608.0) : T(4503599627370496.0);
+    const T a = std::fabs(v);
+    const T r = (a + big) - big;
+    return std::copysign(a < big ? r : a, v);
+}
+template <class T>
+[[gnu::always_inline]] inline T trunc_(T v) {
+    const T a = std::fabs(v), t = round_even_(a);
+    return std::copysign(t > a ? t - T(1) : t, v);
+}
+template <class T>
+[[gnu::always_inline]] inline T floor_(T v) {
+    const T t = round_even_(v);
+    return t > v ? t - T(1) : t;
+}
+
+// ------------------------------------------------------------------ the square lattice
+
+template <class T>
+struct SquareConst;
+
+template <>
+struct SquareConst<float> {
+    // 2 pi = t1 + t2, t1 = 201 / 32 (8 significant bits)
+    static constexpr float inv_two_pi = 0.159154943091895336f;
+    static constexpr float t1 = 6.28125f, t2 = 1.9353071795864769e-3f;
+    static constexpr float two_pi = 6.28318530717958648f, pi = 3.14159265358979324f;
+};
+
+template <>
+struct SquareConst<double> {
+    // 2 pi = t1 + t2, t1 = floor(2 pi 2^27) / 2^27 (30 significant bits)
+    static constexpr double inv_two_pi = 0.159154943091895336;
+    static constexpr double t1 = 6.283185303211212158203125, t2 = 3.968374318722162e-09;
+    static constexpr double two_pi = 6.28318530717958648, pi = 3.14159265358979324;
+};
+
+/// C's fmod(v, 2 pi): v - 2 pi trunc(v / 2 pi), in (-2 pi, 2 pi) with the sign of v (up to
+/// rounding next to multiples of 2 pi); odd: reduce_fmod(-v) = -reduce_fmod(v) bitwise.
+/// |v| < 2 pi comes back unchanged (but within an ulp of 2 pi, where v / 2 pi rounds to 1).
+template <class T>
+[[gnu::always_inline]] inline T reduce_fmod(T v) {
+    using K = SquareConst<T>;
+    const T k = trunc_(v * K::inv_two_pi);
+    return (v - k * K::t1) - k * K::t2;
+}
+
+/// Into [-pi, pi): v - 2 pi round(v / 2 pi), moved down by 2 pi at pi (odd except at +-pi).
+template <class T>
+[[gnu::always_inline]] inline T reduce_centred(T v) {
+    using K = SquareConst<T>;
+    const T k = round_even_(v * K::inv_two_pi);
+    const T r = (v - k * K::t1) - k * K::t2;
+    return r >= K::pi ? r - K::two_pi : r;
+}
+
+/// Into [0, 2 pi): v - 2 pi floor(v / 2 pi) (GLSL's mod; not odd: it breaks the mirror
+/// symmetries through 0).
+template <class T>
+[[gnu::always_inline]] inline T reduce_floor(T v) {
+    using K = SquareConst<T>;
+    const T k = floor_(v * K::inv_two_pi);
+    T r = (v - k * K::t1) - k * K::t2;
+    r = r < T(0) ? r + K::two_pi : r;
+    return r >= K::two_pi ? r - K::two_pi : r;
+}
+
+// ------------------------------------------------------------------ the hexagonal lattice
 
 template <class T>
 struct HexConst;
@@ -91,7 +197,8 @@ struct HexConst<double> {
 };
 
 /// Whether (x, y) is inside the hexagon H (strictly; NaN: no). Points inside are left alone by
-/// reduce_hexagonal, so this is also the renderer's range check.
+/// reduce_hexagonal, so this is also the orbit-trap renderer's range check (kernels-inl.hpp's
+/// in_cell is the same test on lanes).
 template <class T>
 [[gnu::always_inline]] inline bool in_cell(T x, T y) {
     using K = HexConst<T>;
@@ -130,4 +237,4 @@ template <class T>
     y = in ? y : by;
 }
 
-} // namespace fp_wallpaper
+} // namespace fp::kernels

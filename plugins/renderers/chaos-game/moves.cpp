@@ -1,0 +1,192 @@
+// A block step's moves, as the renderer makes them through the plugins (the generic path; the
+// fused step makes the same ones in its pass): the choice of a map per chain, the grouping of the
+// chains by map around the iteration scheme's step calls, the chains' start points, and the
+// scheme's step as the fused step's program. chaos-game/block.cpp calls them.
+#include "chaos-game/chains.hpp"
+#include "chaos-game/kernels.hpp"
+#include "chaos-game/renderer.hpp"
+
+#include <fixpoint/check.hpp>
+#include <fixpoint/fixpoint.hpp>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+namespace fp_chaos {
+
+// ---------------------------------------------------------------- map choice
+// Rules on: chosen[i] = the map drawn among those allowed for chain i (not its previous map,
+// not a map whose set holds its point) with probability q_j / (sum of allowed q); k when none
+// is allowed or the chain is inactive; restart[i] = 1 for active chains with none allowed.
+// One Transform::contains call per map with a set on the whole block, then the draw
+// (choose-inl.hpp's draw_rules_t and draw_paper: paper 01's loop, reading the drawn map's test
+// from those rows; after rejection_draws rejections the direct draw: one more pcg32 output r,
+// u = floor(r * total / 2^32) in [0, total), chosen = #{j : cum_j <= u}, the first map whose
+// cumulative weight passes u).
+template <class T>
+void ChaosGame::choose_rules(Scratch<T>& s, size_t nb) const {
+    const fp::Points<const T> pts{s.c.x.get(), s.c.y.get(), nb};
+    unsigned char* inside = s.inside.get();
+    for (uint32_t j : region_maps_) maps_[j]->contains(pts, inside + size_t(j) * block_size);
+    DrawArgs a = s.draw_args(nb, uint32_t(maps_.size()));
+    a.inside = inside, a.row = block_size;
+    a.q = q_.data(), a.thr = alias_thr_.data(), a.alias = alias_.data(), a.uniform = uniform_;
+    draw_by_rules(a);
+}
+
+// Rules off: Walker's alias table, one pcg32 output per chain.
+template <class T>
+void ChaosGame::choose_alias(Scratch<T>& s, size_t nb) const {
+    DrawArgs a = s.draw_args(nb, uint32_t(maps_.size()));
+    a.thr = alias_thr_.data(), a.alias = alias_.data();
+    draw_by_alias(a);
+}
+
+// ---------------------------------------------------------------- grouping by map
+// Group the chains by chosen map (chains with chosen = k stay), call the iteration scheme
+// once per map on its points, and put the new points back.
+template <class T>
+void ChaosGame::move_chains(Scratch<T>& s, size_t nb, uint64_t n) const {
+    const size_t k = maps_.size();
+    T* __restrict x = s.c.x.get();
+    T* __restrict y = s.c.y.get();
+    T* __restrict gx = s.gx.get();
+    T* __restrict gy = s.gy.get();
+    const uint32_t* __restrict chosen = s.chosen.get();
+    uint32_t* __restrict cnt = s.cnt.get();
+    if (k <= max_compress_maps) {
+        // Each map's points compressed into its own segment with their chains' indices
+        // (choose-inl.hpp's group_t), one step call per map, then scattered back.
+        const uint32_t* __restrict gi = s.gi.get();
+        group(GroupArgs<T>{x, y, chosen, gx, gy, s.gi.get(), cnt, seg_stride, nb, uint32_t(k)});
+        for (size_t j = 0; j < k; ++j) {
+            const size_t at = j * seg_stride, len = cnt[j];
+            if (!len) continue;
+            iteration_->step(*maps_[j], fp::Points<T>{gx + at, gy + at, len}, nullptr, n);
+            scatter(gx + at, gy + at, gi + at, len, x, y);
+        }
+        return;
+    }
+    // Counting sort into contiguous segments; perm remembers where each point came from.
+    uint32_t* __restrict perm = s.perm.get();
+    for (size_t j = 0; j <= k; ++j) cnt[j] = 0;
+    for (size_t i = 0; i < nb; ++i) {
+        FP_DCHECK(chosen[i] <= k);
+        ++cnt[chosen[i]];
+    }
+    uint32_t start = 0;
+    for (size_t j = 0; j <= k; ++j) {
+        const uint32_t c = cnt[j];
+        cnt[j] = start;
+        start += c;
+    }
+    for (size_t i = 0; i < nb; ++i) {
+        const uint32_t t = cnt[chosen[i]]++;
+        perm[t] = uint32_t(i);
+        gx[t] = x[i];
+        gy[t] = y[i];
+    }
+    // cnt[j] is now the end of map j's segment.
+    for (size_t j = 0; j < k; ++j) {
+        const size_t beg = j == 0 ? 0 : cnt[j - 1], len = cnt[j] - beg;
+        if (len) iteration_->step(*maps_[j], fp::Points<T>{gx + beg, gy + beg, len}, nullptr, n);
+    }
+    const size_t movers = cnt[k - 1];
+    for (size_t t = 0; t < movers; ++t) {
+        x[perm[t]] = gx[t];
+        y[perm[t]] = gy[t];
+    }
+}
+
+// ---------------------------------------------------------------- start points
+// For the m chains list[0..m): a start point. With `start` given, that point; else a uniform
+// point of the start box (the view unless `start_box`) outside every map's set, drawn from
+// the chain's own stream (at most start_tries candidates, the last one taken whatever it is).
+// Batched: one contains call per map with a set per round, over all pending chains.
+template <class T>
+void ChaosGame::new_starts(Scratch<T>& s, const uint32_t* list, size_t m) const {
+    T* x = s.c.x.get();
+    T* y = s.c.y.get();
+    if (has_start_) {
+        for (size_t t = 0; t < m; ++t) x[list[t]] = T(start_.x), y[list[t]] = T(start_.y);
+        return;
+    }
+    uint32_t* pend = s.pend.get();
+    std::copy(list, list + m, pend);
+    size_t np = m;
+    T* sx = s.sx.get();
+    T* sy = s.sy.get();
+    unsigned char* hit = s.hit.get();
+    unsigned char* any = s.any.get();
+    for (unsigned tr = 0; tr < start_tries && np > 0; ++tr) {
+        for (size_t t = 0; t < np; ++t) {
+            const uint32_t i = pend[t];
+            FP_DCHECK(i < block_size);
+            const double ux = pcg_uniform(s.c.rs.get()[i], s.c.ri.get()[i]);
+            const double uy = pcg_uniform(s.c.rs.get()[i], s.c.ri.get()[i]);
+            sx[t] = T(start_box_.xmin + (start_box_.xmax - start_box_.xmin) * ux);
+            sy[t] = T(start_box_.ymin + (start_box_.ymax - start_box_.ymin) * uy);
+            any[t] = 0;
+        }
+        if (tr + 1 < start_tries) {
+            const fp::Points<const T> cand{sx, sy, np};
+            for (uint32_t j : region_maps_) {
+                maps_[j]->contains(cand, hit);
+                for (size_t t = 0; t < np; ++t) any[t] |= hit[t];
+            }
+        }
+        size_t keep = 0;
+        for (size_t t = 0; t < np; ++t) {
+            const uint32_t i = pend[t];
+            if (any[t]) {
+                pend[keep++] = i;
+            } else {
+                x[i] = sx[t];
+                y[i] = sy[t];
+            }
+        }
+        np = keep;
+    }
+}
+
+// ---------------------------------------------------------------- the scheme's program
+static_assert(uint32_t(ProgOp::map) == uint32_t(fp::SchemeProgram::Op::map) &&
+              uint32_t(ProgOp::copy) == uint32_t(fp::SchemeProgram::Op::copy) &&
+              uint32_t(ProgOp::lin2) == uint32_t(fp::SchemeProgram::Op::lin2) &&
+              uint32_t(ProgOp::lin3) == uint32_t(fp::SchemeProgram::Op::lin3));
+
+template <class T>
+bool ChaosGame::lane_program(uint64_t n, LaneProgram<T>& out) const {
+    // (Asked at every block step: a program is a few dozen bytes to record and compare, and a
+    // kernel is recorded, not run.)
+    fp::SchemeProgram first, other;
+    const bool dbl = std::is_same_v<T, double>;
+    if (!iteration_->program(*maps_[0], n, dbl, first)) return false;
+    for (size_t j = 1; j < maps_.size(); ++j)
+        if (!iteration_->program(*maps_[j], n, dbl, other) || !other.same_as(first)) return false;
+    out.size = first.size;
+    out.regs = first.regs;
+    for (uint32_t i = 0; i < first.size; ++i) {
+        const fp::SchemeProgram::Instr& a = first.code[i];
+        auto& b = out.code[i];
+        b.op = ProgOp(uint32_t(a.op));
+        b.dst = a.dst, b.u = a.u, b.v = a.v, b.w = a.w;
+        for (size_t j = 0; j < fp::SchemeProgram::coefficients(a.op); ++j) b.k[j] = T(a.k[j]);
+    }
+    return true;
+}
+
+template void ChaosGame::choose_rules<float>(Scratch<float>&, size_t) const;
+template void ChaosGame::choose_rules<double>(Scratch<double>&, size_t) const;
+template void ChaosGame::choose_alias<float>(Scratch<float>&, size_t) const;
+template void ChaosGame::choose_alias<double>(Scratch<double>&, size_t) const;
+template void ChaosGame::move_chains<float>(Scratch<float>&, size_t, uint64_t) const;
+template void ChaosGame::move_chains<double>(Scratch<double>&, size_t, uint64_t) const;
+template void ChaosGame::new_starts<float>(Scratch<float>&, const uint32_t*, size_t) const;
+template void ChaosGame::new_starts<double>(Scratch<double>&, const uint32_t*, size_t) const;
+template bool ChaosGame::lane_program<float>(uint64_t, LaneProgram<float>&) const;
+template bool ChaosGame::lane_program<double>(uint64_t, LaneProgram<double>&) const;
+
+} // namespace fp_chaos
