@@ -39,7 +39,7 @@ extern "C" void on_sigint(int) {
 // length: a line longer than about 1000 characters keeps its start and its end (where the
 // reason is) and says how much was cut (a 4 kB file name quoted twice).
 std::string error_line(const std::string& raw) {
-    const std::string line = excerpt(raw, std::string::npos);
+    std::string line = excerpt(raw, std::string::npos);
     constexpr std::size_t keep = 480;
     if (line.size() <= 2 * keep + 64) return line;
     // Cut at UTF-8 character boundaries.
