@@ -36,6 +36,7 @@ packages=(
     ffmpeg # fixpoint animate --video (and ffprobe for its test)
     libcpp-httplib-dev # fixpoint serve (a compiled library, linked with its pkg-config flags)
     nlohmann-json3-dev # fixpoint serve's JSON requests and answers (header-only)
+    libssl-dev # the golden corpus's SHA-256 (tests/golden-recipes/; also pulled in by cpp-httplib)
     libopenmpi-dev openmpi-bin # mpirun -np N fixpoint render (FIXPOINT_MPI)
 )
 quick=${FIXPOINT_QUICK:-}

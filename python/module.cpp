@@ -154,7 +154,7 @@ void run_released(Work&& work, std::atomic<bool>& cancel, const std::function<st
 /// render(config, is_text, sets, threads, progress, output, allow_python, pixels, job)
 ///   -> (float pixels or None, recipe, stats, warnings, bit_depth)
 /// `job`: the render job's further requests as strings, as the CLI's options take them:
-/// memory, checkpoint, checkpoint_every, resume ("" where not given).
+/// memory, checkpoint, checkpoint_every, resume ("" where not given), strict ("true").
 /// With an output path, planned and written by the render job as `fixpoint render -o` does
 /// (output.tiled honoured); without `pixels` the image is only written, and may stream in strips
 /// when it does not fit in memory. allow_python: a recipe read from an image may run its
@@ -177,6 +177,7 @@ py::tuple render(const std::string& config, bool is_text, const std::vector<std:
     if (const std::string m = opt("memory"); !m.empty()) request.memory = parse_size(m, "memory");
     request.checkpoint = opt("checkpoint"), request.checkpoint_every = opt("checkpoint_every");
     request.resume = opt("resume");
+    request.strict = opt("strict") == "true";
     RenderPlan plan = plan_render(p, request);
     std::atomic<bool> cancel{false};
     std::atomic<std::uint64_t> done{0};

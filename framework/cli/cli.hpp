@@ -40,6 +40,7 @@ struct Options {
     bool quiet = false, force = false, check = false, verbose = false, draft = false, no_draft = false;
     bool markdown = false;     ///< describe --markdown
     bool allow_python = false; ///< --allow-python: a recipe read from an image may run its Python
+    bool strict = false;       ///< --strict: refuse a recipe whose image may differ from its own
     std::string steps = "1";
     long long level = -1;
     host::PrintRequest print; ///< --tile, --repeat, --dpi, --print-size

@@ -41,6 +41,7 @@ RenderRequest render_request(const Options& o) {
     r.distributed = true;
     r.print = o.print;
     r.checkpoint = o.checkpoint, r.checkpoint_every = o.checkpoint_every, r.resume = o.resume;
+    r.strict = o.strict;
     return r;
 }
 
@@ -75,7 +76,7 @@ int cmd_render(const Options& o, bool validate_only) {
     const Registry reg = make_registry(o);
     Pipeline p = load_for_print(reg, o.config, o.sets, o.print, o.allow_python);
     if (o.draft) p = load_for_print(reg, o.config, with_draft(o.sets, p), o.print, o.allow_python);
-    told(p);
+    if (!o.strict) told(p); // (with --strict, what may differ is the one error line)
     RenderPlan plan = plan_render(p, render_request(o), &interrupted());
     if (validate_only) {
         // The animation's frames are checked before "valid" is said of anything.
@@ -160,6 +161,10 @@ void add_render_commands(CLI::App& app, Options& o, std::vector<Command>& table)
     render->add_flag("--allow-python", o.allow_python,
                      "Run the Python of a python-scheme in a recipe read from an image (refused by default: "
                      "an image may come from anywhere)");
+    render->add_flag("--strict", o.strict,
+                     "Refuse a recipe whose image may differ from the one it was made of: one of an older "
+                     "render version whose changes touch it, or made with another version of a plugin "
+                     "(docs/render-versions.md)");
     render->add_flag("--force", o.force,
                      "Replace an existing output that was not named with -o (the config's output.path or "
                      "the default name)");
@@ -199,6 +204,7 @@ void add_render_commands(CLI::App& app, Options& o, std::vector<Command>& table)
     validate->add_flag("--allow-python", o.allow_python,
                        "Run the Python of a python-scheme in a recipe read from an image (refused by "
                        "default: an image may come from anywhere)");
+    validate->add_flag("--strict", o.strict, "Check as render --strict would");
     validate->add_option("--vary", o.vary, "Check every child of a collection (as render --vary)");
     table.push_back({validate, [&o] { return cmd_render(o, true); }});
 

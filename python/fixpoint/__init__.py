@@ -48,7 +48,8 @@ def _config(config):
 
 
 def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None, allow_python=False,
-           pixels=True, memory=None, checkpoint=None, checkpoint_every=None, resume=None, **overrides):
+           pixels=True, memory=None, checkpoint=None, checkpoint_every=None, resume=None, strict=False,
+           **overrides):
     """Render a config and return ``(image, recipe)``.
 
     config     a config file (or an image fixpoint wrote: its recipe), YAML text, or a dict.
@@ -69,6 +70,8 @@ def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None
                ``output.bit_depth: 16``), equal to the PNG's; "float32": linear floats.
     allow_python  run the Python of a python-scheme in an image's recipe (refused by
                default, as ``fixpoint render --allow-python``: an image may come from anywhere).
+    strict     refuse a recipe whose image may differ from the one it was made of (an older
+               render version whose changes touch it), as ``fixpoint render --strict``.
 
     The GIL is released while rendering; Ctrl-C stops the render (KeyboardInterrupt).
     ``render.last_stats`` holds the last render's summary (points, restarts, ...).
@@ -80,7 +83,8 @@ def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None
     try:
         job = {k: os.fspath(v) if isinstance(v, os.PathLike) else str(v)
                for k, v in [("memory", memory), ("checkpoint", checkpoint),
-                            ("checkpoint_every", checkpoint_every), ("resume", resume)] if v is not None}
+                            ("checkpoint_every", checkpoint_every), ("resume", resume),
+                            ("strict", "true" if strict else None)] if v is not None}
         image, recipe, stats, warns, bit_depth = _fixpoint.render(
             text, is_text, assignments, int(threads), progress, os.fspath(output) if output else "",
             bool(allow_python), bool(pixels), job)

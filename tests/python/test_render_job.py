@@ -63,3 +63,19 @@ def test_checkpoints_resume_to_the_same_image(tmp_path):
     # The same checks as the CLI's: a checkpoint there already is not written over.
     with pytest.raises(fixpoint.Error, match="exists: continue it with --resume"):
         fixpoint.render(FIG6A, sets=SETS, checkpoint=ck)
+
+
+def test_an_older_recipe_warns_and_strict_refuses_it(tmp_path):
+    # A recipe of render version 1 (no render_version: key) with paper 01's rules, which
+    # version 2 changed: a RuntimeWarning naming the change, and with strict=True the CLI's
+    # refusal (render_version.hpp).
+    old = tmp_path / "old.yaml"
+    old.write_text('fixpoint_version: "0.1.0"\n' + FIG6A.read_text())
+    with pytest.warns(RuntimeWarning, match="the recipe is of render version 1, this fixpoint renders version"):
+        image, recipe = fixpoint.render(old, sets=SETS)
+    assert "\nrender_version: " in recipe
+    with pytest.raises(fixpoint.Error, match=r"old\.yaml:1:1: the recipe is of render version 1.*refused \(--strict\)"):
+        fixpoint.render(old, sets=SETS, strict=True)
+    # The recipe it made is of this version: strict renders it, to the same pixels.
+    again, _ = fixpoint.render(recipe, strict=True)
+    assert np.array_equal(again, image)

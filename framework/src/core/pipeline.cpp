@@ -2,6 +2,7 @@
 #include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/host/core/pipeline.hpp>
 #include <fixpoint/host/core/ranks.hpp>
+#include <fixpoint/host/core/render_version.hpp>
 #include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/text.hpp>
 #include <fixpoint/version.hpp>
@@ -82,7 +83,8 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
     if (!root.is_map()) fail(root.mark, "expected a mapping with a 'renderer:' key, got " + root.describe());
     // animation: is read by `fixpoint animate` (animate.cpp); a render of the config as it
     // stands leaves it aside, and recipes do not carry it.
-    const std::vector<std::string> top = {"renderer", "output", "fixpoint_version", "plugins", "animation"};
+    const std::vector<std::string> top = {"renderer",         "output",  "fixpoint_version",
+                                          "render_version",   "plugins", "animation"};
     for (std::size_t i = 0; i < root.keys.size(); ++i) {
         const auto& k = root.keys[i].first;
         if (std::find(top.begin(), top.end(), k) != top.end()) continue;
@@ -139,6 +141,7 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
             name, scalar_node(std::string(e->desc->version) + (hash.empty() ? "" : " " + hash), true));
     }
     record.key_marks.resize(record.keys.size());
+    std::vector<std::string> other_builds;
     if (const CNode* given = root.find("plugins")) {
         if (!given->is_map())
             fail(given->mark, "plugins: expected a mapping of plugin names to 'VERSION HASH' (as a recipe "
@@ -149,14 +152,48 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
             if (!v.is_scalar())
                 fail(v.mark, "plugins." + name + ": expected 'VERSION HASH', got " + v.describe());
             const CNode* now = record.find(name);
-            if (now && now->scalar != v.scalar)
-                p.warnings.push_back("plugin " + quote(name) + " is " + now->scalar +
-                                     ", the recipe was made with " + v.scalar + ": the image may differ");
+            if (!now || now->scalar == v.scalar) continue;
+            std::string line = "plugin " + quote(name) + " is " + now->scalar + ", the recipe was made with " +
+                               v.scalar + ": the image may differ";
+            // Another version of a plugin is refused by --strict; another build of the same version
+            // is told only: the render version covers the builds of fixpoint's own plugins (the
+            // golden corpus holds every build to it).
+            const auto version_of = [](const std::string& s) { return s.substr(0, s.find(' ')); };
+            (version_of(now->scalar) != version_of(v.scalar) ? p.may_differ : other_builds)
+                .push_back(std::move(line));
         }
     }
+    // The render version of a recipe (render_version.hpp): one without it (a recipe has
+    // fixpoint_version or plugins) was made by version 1. A config written by hand has neither
+    // and renders by this version.
+    p.recipe_mark = root.mark;
+    int made_by = render_version();
+    if (const CNode* rv = root.find("render_version")) {
+        p.recipe_mark = rv->mark;
+        std::size_t used_chars = 0;
+        int n = 0;
+        try {
+            n = rv->is_scalar() ? std::stoi(rv->scalar, &used_chars) : 0;
+        } catch (const std::exception&) {
+            n = 0;
+        }
+        if (n < 1 || used_chars != rv->scalar.size())
+            fail(rv->mark, "render_version: expected a whole number from 1 (as a recipe records it), got " +
+                               rv->describe());
+        made_by = n;
+    } else if (root.find("fixpoint_version") || root.find("plugins")) {
+        made_by = 1;
+    }
+    std::vector<std::string> names;
+    for (const auto& [name, e] : used) names.push_back(name);
+    if (std::string d = render_version_difference(made_by, names); !d.empty())
+        p.may_differ.insert(p.may_differ.begin(), std::move(d));
+    p.warnings = p.may_differ;
+    p.warnings.insert(p.warnings.end(), other_builds.begin(), other_builds.end());
 
     CNode recipe = map_node();
     recipe.keys.emplace_back("fixpoint_version", scalar_node(FIXPOINT_VERSION, true));
+    recipe.keys.emplace_back("render_version", scalar_node(std::to_string(render_version())));
     recipe.keys.emplace_back("plugins", std::move(record));
     recipe.keys.emplace_back("renderer", resolved(*typed));
     CNode out = map_node();
@@ -170,7 +207,7 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
     p.recipe = emit_yaml(recipe);
     // What a checkpoint must match to be continued: the recipe but renderer.points, which a
     // resumed render may raise.
-    CNode& rnode = recipe.keys[2].second;
+    CNode& rnode = recipe.keys[3].second; // renderer
     for (std::size_t i = 0; i < rnode.keys.size(); ++i) {
         if (rnode.keys[i].first != "points") continue;
         try {
@@ -187,7 +224,7 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
 }
 
 CheckpointHeader checkpoint_header(const Pipeline& p) {
-    return CheckpointHeader{FIXPOINT_VERSION, p.renderer_type, p.identity, p.points};
+    return CheckpointHeader{render_version_tag(), p.renderer_type, p.identity, p.points};
 }
 
 void check_memory(const Pipeline& p, unsigned threads) {

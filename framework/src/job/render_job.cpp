@@ -178,6 +178,10 @@ RenderPlan plan_render(const Pipeline& pipeline, RenderRequest request, const st
     plan.pipeline = pipeline;
     plan.request = std::move(request);
     const RenderRequest& r = plan.request;
+    // --strict: a recipe renders its own bytes or not at all (render_version.hpp).
+    if (r.strict && !plan.pipeline.may_differ.empty())
+        throw InputError(plan.pipeline.recipe_mark.str() + ": " + plan.pipeline.may_differ.front() +
+                         "; refused (--strict)");
     plan.threads = r.serial ? 1 : r.threads ? r.threads : hardware_threads();
     RequestOutput out = request_output(plan.pipeline, r);
     plan.output = std::move(out.path);

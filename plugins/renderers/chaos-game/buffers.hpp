@@ -88,10 +88,13 @@ struct HugeBuf {
         // Mapped with a huge page to spare, whose unaligned head and tail are unmapped.
         void* m = ::mmap(nullptr, bytes + huge, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
         if (m == MAP_FAILED) throw std::bad_alloc();
-        const uintptr_t b = reinterpret_cast<uintptr_t>(m), a = (b + huge - 1) & ~uintptr_t(huge - 1);
-        if (a > b) ::munmap(m, a - b);
-        ::munmap(reinterpret_cast<void*>(a + bytes), b + huge - a);  // (a - b < huge: never empty)
-        ::madvise(reinterpret_cast<void*>(a), bytes, MADV_HUGEPAGE); // advice only: failure is harmless
+        // (Pointer arithmetic on the mapping, not integers cast back to pointers.)
+        char* const base = static_cast<char*>(m);
+        const size_t lead = (huge - reinterpret_cast<uintptr_t>(m) % huge) % huge;
+        char* const a = base + lead;
+        if (lead > 0) ::munmap(base, lead);
+        ::munmap(a + bytes, huge - lead);      // (lead < huge: never empty)
+        ::madvise(a, bytes, MADV_HUGEPAGE); // advice only: failure is harmless
         p = std::unique_ptr<U[], HugeFree>(reinterpret_cast<U*>(a), HugeFree{bytes});
 #else
         p = std::unique_ptr<U[], HugeFree>(static_cast<U*>(::operator new(bytes, std::align_val_t(huge))),
@@ -122,10 +125,11 @@ void assign_huge(V& v, size_t n, Poll poll) {
     v.reserve(n);
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     constexpr uintptr_t huge = 2u << 20;
-    const uintptr_t b = (reinterpret_cast<uintptr_t>(v.data()) + huge - 1) & ~(huge - 1);
-    const uintptr_t e =
-        (reinterpret_cast<uintptr_t>(v.data()) + n * sizeof(typename V::value_type)) & ~(huge - 1);
-    if (e > b) ::madvise(reinterpret_cast<void*>(b), e - b, MADV_HUGEPAGE); // advice only
+    char* const data = reinterpret_cast<char*>(v.data());
+    const uintptr_t start = reinterpret_cast<uintptr_t>(data);
+    const uintptr_t b = (start + huge - 1) & ~(huge - 1);
+    const uintptr_t e = (start + n * sizeof(typename V::value_type)) & ~(huge - 1);
+    if (e > b) ::madvise(data + (b - start), e - b, MADV_HUGEPAGE); // advice only
 #endif
     // Filled piece by piece within the reserved capacity (no reallocation), value-initialised:
     // for fp::HistBin the compilers make that a memset, where a fill with a copy of

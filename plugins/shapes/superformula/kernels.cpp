@@ -72,7 +72,7 @@ HWY_INLINE hn::Mask<D> classify(D d, const Curve& c, V x, V y, hn::Mask<D>& open
         const auto t = hn::Div(ry, hn::Add(hn::Abs(rx), hn::Abs(ry)));
         const auto a = hn::IfThenElse(
             hn::Ge(rx, zero), t, hn::IfThenElse(hn::Ge(ry, zero), hn::Sub(two, t), hn::Sub(hn::Neg(two), t)));
-        const auto f = hn::Mul(hn::Add(a, two), hn::Set(d, double(sector_count / 4)));
+        const auto f = hn::Mul(hn::Add(a, two), hn::Set(d, double(sector_count) / 4) /* 64: exact */);
         // (f > 0 is false for NaN: sector 0, whose bounds are the global ones.)
         const auto fc = hn::IfThenElseZero(hn::Gt(f, zero), hn::Min(f, hn::Set(d, double(sector_count - 1))));
         const auto i2 = hn::ShiftLeft<1>(hn::ConvertTo(di, fc));

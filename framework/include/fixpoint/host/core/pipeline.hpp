@@ -6,6 +6,7 @@
 //     bit_depth: 8                      #   8 or 16 for PNG and TIFF; EXR is always float
 //     tiled: auto                       #   TIFF/EXR in 256 x 256 tiles: auto (> 8192^2), true, false
 //   fixpoint_version: 0.1.0             # written into recipes; informational
+//   render_version: 2                   # written into recipes (host/core/render_version.hpp)
 #pragma once
 
 #include <fixpoint/host/core/build.hpp>
@@ -42,6 +43,12 @@ struct Pipeline {
     /// Things to tell the user before rendering (a plugin that differs from the one the
     /// recipe was made with), one line each, without a "warning:" prefix.
     std::vector<std::string> warnings;
+    /// Of those, the ones that say the image may differ from the one the recipe was made of (an
+    /// older render version whose changes touch it, another version of a plugin; not another
+    /// build of the same version, which the render version covers): --strict refuses them, at
+    /// `recipe_mark` (render_version:, else the top of the file).
+    std::vector<std::string> may_differ;
+    Mark recipe_mark;
 };
 
 /// The tree of a config file. `path` may name an image fixpoint wrote (PNG, EXR, TIFF, SVG):

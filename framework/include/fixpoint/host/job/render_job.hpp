@@ -74,6 +74,9 @@ struct RenderRequest {
     bool defer_write = false;
     /// An image that drew nothing is a result, not an error (explore's drafts score it).
     bool allow_empty = false;
+    /// Refuse a recipe whose image may differ from the one it was made of (--strict: an older
+    /// render version whose changes touch it, another version of a plugin; Pipeline::may_differ).
+    bool strict = false;
 
     // ---- the work
     unsigned threads = 0;     ///< 0: every core
