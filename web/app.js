@@ -184,12 +184,19 @@ document.addEventListener('keydown', (e) => {
 // ------------------------------------------------------------------ preview
 // One refresh per text: start its preview (which cancels the running one on the server) and
 // ask for its parameters. A refused config keeps the last good image.
+// The previews are posted one after another, each once the one before has answered: two in
+// flight at once may reach the server in the other order, and the older text's job would then
+// cancel the newer one's, leaving the page following a cancelled job. A text that is no longer
+// the newest when its turn comes is not posted.
+let previews = Promise.resolve();
 async function refresh() {
   clearTimeout(typing);
   const seq = ++S.seq;
   const body = { text: editor.value, path: S.path };
-  const [pv, pr] = await Promise.all([post('/api/preview', body), post('/api/params', body)]);
-  if (seq !== S.seq) return;
+  const preview = previews.then(() => (seq === S.seq ? post('/api/preview', body) : null));
+  previews = preview.catch(() => null);
+  const [pv, pr] = await Promise.all([preview, post('/api/params', body)]);
+  if (seq !== S.seq || !pv) return;
   if (pr.ok) buildPanel(pr.params);
   if (!pv.ok) {
     showError(pv);

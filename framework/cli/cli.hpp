@@ -57,6 +57,13 @@ struct Options {
     host::ServeOptions serve;
 };
 
+/// The options several commands share, in one wording each: --threads (1 to 4096; `what` says
+/// what they do) and --set.
+CLI::Option* add_threads(CLI::App* cmd, unsigned& threads,
+                         const std::string& what = "Worker threads (default: all cores)");
+CLI::Option* add_sets(CLI::App* cmd, std::vector<std::string>& sets,
+                      const std::string& what = "Override a value: path.to.param=value (repeatable)");
+
 /// One subcommand: its CLI11 parser and what runs it (the exit code).
 struct Command {
     CLI::App* app;

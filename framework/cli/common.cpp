@@ -128,4 +128,12 @@ int report(int code, const std::string& raw) {
     return code;
 }
 
+CLI::Option* add_threads(CLI::App* cmd, unsigned& threads, const std::string& what) {
+    return cmd->add_option("--threads", threads, what)->check(CLI::Range(1u, 4096u));
+}
+
+CLI::Option* add_sets(CLI::App* cmd, std::vector<std::string>& sets, const std::string& what) {
+    return cmd->add_option("--set", sets, what);
+}
+
 } // namespace fp::cli

@@ -140,11 +140,8 @@ void add_render_commands(CLI::App& app, Options& o, std::vector<Command>& table)
     render->add_option("-o,--output", o.out,
                        "Output image (.png, .exr, .tif; .svg or .pdf for renderers with vector output); "
                        "default: the config's output.path or <config>.png");
-    render->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
-    render
-        ->add_option("--threads", o.threads,
-                     "Worker threads (default: all cores); the image does not depend on it")
-        ->check(CLI::Range(1u, 4096u));
+    add_sets(render, o.sets);
+    add_threads(render, o.threads, "Worker threads (default: all cores); the image does not depend on it");
     render->add_option("--memory", o.memory,
                        "Memory the render may take, such as 8G or 512M (default: what the machine has "
                        "available); a chaos-game image over it renders in strips, with the same bytes");
@@ -196,8 +193,8 @@ void add_render_commands(CLI::App& app, Options& o, std::vector<Command>& table)
     auto* validate = app.add_subcommand("validate", "Check everything a render would check; render nothing");
     validate->add_option("config", o.config, "Pipeline file (YAML)")->required();
     validate->add_option("-o,--output", o.out, "Output image to check");
-    validate->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
-    validate->add_option("--threads", o.threads, "Threads to check memory for")->check(CLI::Range(1u, 4096u));
+    add_sets(validate, o.sets);
+    add_threads(validate, o.threads, "Threads to check memory for");
     validate->add_option("--memory", o.memory, "Memory to check the render against (as render --memory)");
     validate->add_flag("-q,--quiet", o.quiet, "Print nothing when valid");
     validate->add_flag("--force", o.force, "Check as render --force would");
@@ -221,11 +218,10 @@ void add_render_commands(CLI::App& app, Options& o, std::vector<Command>& table)
     animate_cmd->add_option("--video", ao.video,
                             "Assemble the frames (of --frames) into a video with ffmpeg: .mp4, .mkv, .mov "
                             "(H.264) or .gif");
-    animate_cmd->add_option("--set", o.sets,
-                            "Override a value before the animation's: path.to.param=value (repeatable; "
-                            "--set animation.frames=3 too)");
-    animate_cmd->add_option("--threads", o.threads, "Worker threads (default: all cores)")
-        ->check(CLI::Range(1u, 4096u));
+    add_sets(animate_cmd, o.sets,
+             "Override a value before the animation's: path.to.param=value (repeatable; "
+             "--set animation.frames=3 too)");
+    add_threads(animate_cmd, o.threads);
     animate_cmd->add_flag("--list", ao.list,
                           "Check every frame and print each frame's values as --set takes them; render "
                           "nothing");
@@ -238,9 +234,8 @@ void add_render_commands(CLI::App& app, Options& o, std::vector<Command>& table)
         "watch", "Render a config again each time it is saved: a draft, then the full image (Ctrl-C stops)");
     watch_cmd->add_option("config", o.config, "Pipeline file (YAML)")->required();
     watch_cmd->add_option("-o,--output", o.out, "The image written (replaced at each save)")->required();
-    watch_cmd->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
-    watch_cmd->add_option("--threads", o.threads, "Worker threads (default: all cores)")
-        ->check(CLI::Range(1u, 4096u));
+    add_sets(watch_cmd, o.sets);
+    add_threads(watch_cmd, o.threads);
     watch_cmd->add_flag("--no-draft", o.no_draft, "The full image only, no draft first");
     watch_cmd->add_flag("-q,--quiet", o.quiet, "Print only errors");
     table.push_back({watch_cmd, [&o] { return cmd_watch(o); }});

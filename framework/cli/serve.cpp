@@ -45,8 +45,7 @@ void add_serve_commands(CLI::App& app, Options& o, std::vector<Command>& table) 
                           "the address");
     serve_cmd->add_option("--root", so.root,
                           "The only folder the page reads and writes (default: the current one)");
-    serve_cmd->add_option("--threads", so.threads, "Render threads (default: all cores)")
-        ->check(CLI::Range(1u, 4096u));
+    add_threads(serve_cmd, so.threads, "Render threads (default: all cores)");
     serve_cmd->add_flag("--allow-python", so.allow_python,
                         "Accept configs with a python-scheme (its Python code runs when the page checks "
                         "the config)");
@@ -65,7 +64,7 @@ void add_serve_commands(CLI::App& app, Options& o, std::vector<Command>& table) 
                         "A parameter and its range: PATH=A..B, PATH=a+bq..c+dq, 'PATH=a|b|c'");
     explore->add_option("--random", ex.random,
                         "Every ranged parameter of the plugin at this path (repeatable)");
-    explore->add_option("--set", ex.sets, "Override a value first: path.to.param=value (repeatable)");
+    add_sets(explore, ex.sets, "Override a value first: path.to.param=value (repeatable)");
     explore->add_option(
         "--weights", ex.weights,
         "Weights of the measures (default coverage=1,entropy=1,dimension=2,lyapunov=1,symmetry=0)");
@@ -86,10 +85,7 @@ void add_serve_commands(CLI::App& app, Options& o, std::vector<Command>& table) 
         ->check(CLI::Range(1LL, 1000000000LL));
     explore->add_option("--columns", ex.columns, "Columns of the contact sheet (default: about square)")
         ->check(CLI::Range(1, 1000));
-    explore
-        ->add_option("--threads", ex.threads,
-                     "Worker threads (default: all cores); the result does not depend on it")
-        ->check(CLI::Range(1u, 4096u));
+    add_threads(explore, ex.threads, "Worker threads (default: all cores); the result does not depend on it");
     explore->add_flag("-q,--quiet", o.quiet, "No summary lines");
     explore->add_flag("--force", ex.force, "Replace existing files in the folder");
     explore->add_flag("--allow-python", ex.allow_python,

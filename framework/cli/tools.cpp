@@ -293,7 +293,7 @@ void add_tool_commands(CLI::App& app, Options& o, std::vector<Command>& table) {
     addresses->add_option("config", o.config, "Pipeline file (YAML)")->required();
     addresses->add_option("--level", o.level, "Level to list (default: the last)")
         ->check(CLI::Range(0LL, 1000LL));
-    addresses->add_option("--set", o.sets, "Override a value: path.to.param=value (repeatable)");
+    add_sets(addresses, o.sets);
     addresses->add_flag("--allow-python", o.allow_python,
                         "Run the Python of a python-scheme in a recipe read from an image (refused by "
                         "default: an image may come from anywhere)");
@@ -355,10 +355,8 @@ void add_tool_commands(CLI::App& app, Options& o, std::vector<Command>& table) {
         ->add_option("--smooth", o.smooth,
                      "Passes of a [1 2 1] / 4 filter over the picture before scoring (default 1; 0: none)")
         ->check(CLI::Range(0, 16));
-    symmetry->add_option("--set", o.sets,
-                         "With a config: override a value, path.to.param=value (repeatable)");
-    symmetry->add_option("--threads", o.threads, "Worker threads to render a config with")
-        ->check(CLI::Range(1u, 4096u));
+    add_sets(symmetry, o.sets, "With a config: override a value, path.to.param=value (repeatable)");
+    add_threads(symmetry, o.threads, "Worker threads to render a config with");
     symmetry->add_flag("--json", o.json, "Print the scores and groups as JSON");
     symmetry->add_flag("-q,--quiet", o.quiet, "No progress bar while a config renders");
 

@@ -376,3 +376,32 @@ def test_a_pan_with_fit_view_turns_it_off(browser, tmp_path):
         assert numbers(line) == pytest.approx(want, rel=1e-9, abs=1e-12)
         page.wait_done(other_than=first)
         page.shot("fit-view-off")
+
+
+def test_previews_are_posted_one_after_another(browser, tmp_path):
+    # Texts typed faster than the server answers: each preview is posted once the one before
+    # has answered, so that they reach the server in the page's order. Two in flight at once
+    # could arrive in the other order, and the older text's job would cancel the newer one's,
+    # leaving the page following a cancelled job (it waited for ever).
+    with serving(browser, tmp_path, "gumowski-mira/fig1b-chains.yaml", "gm.yaml") as page:
+        first = page.wait_done()  # (the page's first preview has answered)
+        page.js("""
+          window.inFlight = 0; window.mostInFlight = 0; window.posted = [];
+          const fetch0 = window.fetch;
+          window.fetch = async (url, opts) => {
+            const preview = String(url).includes('/api/preview');
+            if (preview) {
+              window.posted.push(JSON.parse(opts.body).text.match(/points: (\\d+)/)[1]);
+              window.mostInFlight = Math.max(window.mostInFlight, ++window.inFlight);
+            }
+            try { return await fetch0(url, opts); } finally { if (preview) --window.inFlight; }
+          };""")
+        text = page.text()
+        for points in ("2000000", "1000000", "3000000"):
+            page.js("const t = document.getElementById('text'); t.value = arguments[0]; refresh();",
+                    text.replace("points: 50000000", f"points: {points}"))
+        last = page.wait_done(other_than=first)
+        assert page.js("return String(S.job)") == last
+        assert page.js("return window.mostInFlight") == 1
+        # The first went at once; the second was no longer the newest when the first answered.
+        assert page.js("return window.posted") == ["2000000", "3000000"]

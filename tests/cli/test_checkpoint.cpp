@@ -163,7 +163,7 @@ TEST(Checkpoint, DamagedOrForeignCheckpointsAreRefused) {
     write_file(dir + "/s2.yaml", replace_once(sierpinski, "seed: 1", "seed: 2"));
     EXPECT_EQ(
         refused(dir, {dir + "/s2.yaml", "-o", dir + "/out.png", "--resume", ck}),
-        who + " is a checkpoint of another recipe (its line 12 is 'seed: 1', this recipe's 'seed: 2'); only "
+        who + " is a checkpoint of another recipe (its line 13 is 'seed: 1', this recipe's 'seed: 2'); only "
               "renderer.points may differ, and only upwards");
     // No such file.
     EXPECT_EQ(refused(dir, {dir + "/s.yaml", "-o", dir + "/out.png", "--resume", dir + "/none.bin"}),

@@ -132,6 +132,17 @@ void check_count(const ParamSpec& s, const CNode& n, const std::string& path, co
                  std::to_string(n.items.size()));
 }
 
+/// A list of values of one type, each read by `item` at its own path ("maps[2]").
+template <class V, class Item>
+std::vector<V> list_value(const ParamSpec& s, const CNode& n, const std::string& path, const char* what,
+                          Item item) {
+    check_count(s, n, path, what);
+    std::vector<V> v;
+    for (std::size_t i = 0; i < n.items.size(); ++i)
+        v.push_back(item(s, n.items[i], path + "[" + std::to_string(i) + "]"));
+    return v;
+}
+
 TParam validate_param(const Registry& reg, const ParamSpec& s, const CNode& n, const std::string& path);
 
 // A q-system number a + qb written as text: "0.5+0.5q", "0.75-0.9q", "-2q", "q", "1.5".
@@ -293,22 +304,13 @@ TParam validate_param(const Registry& reg, const ParamSpec& s, const CNode& n, c
     }
     case ParamType::Vec2: t.value = vec2_value(s, n, path); break;
     case ParamType::Colour: t.value = colour_value(n, path); break;
-    case ParamType::Reals: {
-        check_count(s, n, path, "numbers");
-        std::vector<double> v;
-        for (std::size_t i = 0; i < n.items.size(); ++i)
-            v.push_back(real_value(s, n.items[i], path + "[" + std::to_string(i) + "]"));
-        t.value = std::move(v);
+    case ParamType::Reals:
+        t.value =
+            list_value<double>(s, n, path, "numbers", [](const auto&... a) { return real_value(a...); });
         break;
-    }
-    case ParamType::Vec2s: {
-        check_count(s, n, path, "points");
-        std::vector<Vec2> v;
-        for (std::size_t i = 0; i < n.items.size(); ++i)
-            v.push_back(vec2_value(s, n.items[i], path + "[" + std::to_string(i) + "]"));
-        t.value = std::move(v);
+    case ParamType::Vec2s:
+        t.value = list_value<Vec2>(s, n, path, "points", [](const auto&... a) { return vec2_value(a...); });
         break;
-    }
     case ParamType::Sequence: t.value = sequence_value(n, path); break;
     case ParamType::Object: t.object = validate(reg, s.kind, n, path); break;
     case ParamType::Objects: {

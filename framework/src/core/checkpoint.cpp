@@ -1,6 +1,7 @@
 // Checkpoint files: host/checkpoint.hpp says the layout and the promises.
 #include <fixpoint/host/core/checkpoint.hpp>
 #include <fixpoint/host/core/image_io.hpp>
+#include <fixpoint/host/core/runtime.hpp>
 
 #include <fixpoint/errors.hpp>
 #include <fixpoint/text.hpp>
@@ -256,14 +257,9 @@ double parse_duration(const std::string& text, const std::string& option) {
     const auto bad = [&] {
         return InputError(option + ": expected a time such as 30s, 5m or 1.5h, got " + quote(text));
     };
-    std::size_t used = 0;
     double v = 0;
-    try {
-        v = std::stod(text, &used);
-    } catch (const std::exception&) {
-        throw bad();
-    }
-    const std::string unit = text.substr(used);
+    std::string unit;
+    if (!number_and_unit(text, v, unit)) throw bad();
     double scale = 0;
     if (unit.empty() || unit == "s")
         scale = 1;

@@ -182,19 +182,25 @@ std::string format_bytes(std::uint64_t b) {
     return buf;
 }
 
+bool number_and_unit(const std::string& text, double& value, std::string& unit) {
+    std::size_t used = 0;
+    try {
+        value = std::stod(text, &used);
+    } catch (const std::exception&) {
+        return false;
+    }
+    unit = text.substr(used);
+    return true;
+}
+
 std::uint64_t parse_size(const std::string& text, const std::string& option) {
     const auto bad = [&] {
         return InputError(option + " '" + text +
                           "': a size such as 8G, 512M or 1.5GiB (binary units: K, M, G, T)");
     };
-    std::size_t used = 0;
     double v = 0;
-    try {
-        v = std::stod(text, &used);
-    } catch (const std::exception&) {
-        throw bad();
-    }
-    std::string unit = text.substr(used);
+    std::string unit;
+    if (!number_and_unit(text, v, unit)) throw bad();
     for (char& c : unit) c = char(std::toupper(static_cast<unsigned char>(c)));
     if (unit.size() > 1 && unit.back() == 'B') unit.pop_back();
     if (unit.size() > 1 && unit.back() == 'I') unit.pop_back();

@@ -85,4 +85,8 @@ std::string format_bytes(std::uint64_t b);
 /// fp::InputError naming `option` otherwise, or for a size below 1 MiB.
 std::uint64_t parse_size(const std::string& text, const std::string& option);
 
+/// A number and the unit after it ("1.5GiB": 1.5 and "GiB"), as --memory and --checkpoint-every
+/// read them; false when the text does not start with a number.
+bool number_and_unit(const std::string& text, double& value, std::string& unit);
+
 } // namespace fp::host
