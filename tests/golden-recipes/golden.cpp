@@ -135,7 +135,8 @@ int main(int argc, char** argv) {
             }
             if (it == sums.end()) {
                 if (!record) {
-                    std::fprintf(stderr, "%s: no hash recorded in SHA256SUMS (run fixpoint_golden DIR --record)\n",
+                    std::fprintf(stderr,
+                                 "%s: no hash recorded in SHA256SUMS (run fixpoint_golden DIR --record)\n",
                                  name.c_str());
                     ++failed;
                 }
@@ -150,7 +151,8 @@ int main(int argc, char** argv) {
                       ": add a version to framework/render-versions.yaml naming what changed "
                       "(docs/render-versions.md), then record";
             else if (changes_since(was.version, plugins).empty())
-                why = "its pixels changed, but no change after render version " + std::to_string(was.version) +
+                why = "its pixels changed, but no change after render version " +
+                      std::to_string(was.version) +
                       " in framework/render-versions.yaml names one of its plugins";
             if (!record || !why.empty()) {
                 std::fprintf(stderr, "%s: pixels %s, recorded %s at render version %d%s%s\n", name.c_str(),

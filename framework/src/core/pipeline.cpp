@@ -83,8 +83,8 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
     if (!root.is_map()) fail(root.mark, "expected a mapping with a 'renderer:' key, got " + root.describe());
     // animation: is read by `fixpoint animate` (animate.cpp); a render of the config as it
     // stands leaves it aside, and recipes do not carry it.
-    const std::vector<std::string> top = {"renderer",         "output",  "fixpoint_version",
-                                          "render_version",   "plugins", "animation"};
+    const std::vector<std::string> top = {"renderer",       "output",  "fixpoint_version",
+                                          "render_version", "plugins", "animation"};
     for (std::size_t i = 0; i < root.keys.size(); ++i) {
         const auto& k = root.keys[i].first;
         if (std::find(top.begin(), top.end(), k) != top.end()) continue;
@@ -153,8 +153,8 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
                 fail(v.mark, "plugins." + name + ": expected 'VERSION HASH', got " + v.describe());
             const CNode* now = record.find(name);
             if (!now || now->scalar == v.scalar) continue;
-            std::string line = "plugin " + quote(name) + " is " + now->scalar + ", the recipe was made with " +
-                               v.scalar + ": the image may differ";
+            std::string line = "plugin " + quote(name) + " is " + now->scalar +
+                               ", the recipe was made with " + v.scalar + ": the image may differ";
             // Another version of a plugin is refused by --strict; another build of the same version
             // is told only: the render version covers the builds of fixpoint's own plugins (the
             // golden corpus holds every build to it).

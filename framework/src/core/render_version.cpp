@@ -24,15 +24,17 @@ std::vector<RenderChange> read_changes() {
     int expect = 1;
     for (const auto& v : versions) {
         const int n = v["version"].as<int>();
-        if (n != expect) throw InternalError("render-versions.yaml: version " + std::to_string(n) +
-                                             " where " + std::to_string(expect) + " comes next");
+        if (n != expect)
+            throw InternalError("render-versions.yaml: version " + std::to_string(n) + " where " +
+                                std::to_string(expect) + " comes next");
         const std::string date = v["date"].as<std::string>();
         if (n == 1) {
             out.push_back({1, date, {}, v["what"].as<std::string>()});
         } else {
             const YAML::Node changes = v["changes"];
             if (!changes.IsSequence() || changes.size() == 0)
-                throw InternalError("render-versions.yaml: version " + std::to_string(n) + " names no change");
+                throw InternalError("render-versions.yaml: version " + std::to_string(n) +
+                                    " names no change");
             for (const auto& c : changes) {
                 RenderChange rc{n, date, {}, c["what"].as<std::string>()};
                 if (c["plugins"]) rc.plugins = c["plugins"].as<std::vector<std::string>>();
@@ -79,7 +81,8 @@ std::string render_version_difference(int since, const std::vector<std::string>&
     const auto changes = changes_since(since, plugins);
     if (changes.empty()) return "";
     std::string what;
-    for (const auto& c : changes) what += (what.empty() ? "" : "; ") + c.what + " (" + std::to_string(c.version) + ")";
+    for (const auto& c : changes)
+        what += (what.empty() ? "" : "; ") + c.what + " (" + std::to_string(c.version) + ")";
     return "the recipe is of render version " + std::to_string(since) + ", this fixpoint renders version " +
            std::to_string(now) + ": " + what + "; the image may differ (docs/render-versions.md)";
 }

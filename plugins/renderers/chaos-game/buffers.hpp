@@ -93,7 +93,7 @@ struct HugeBuf {
         const size_t lead = (huge - reinterpret_cast<uintptr_t>(m) % huge) % huge;
         char* const a = base + lead;
         if (lead > 0) ::munmap(base, lead);
-        ::munmap(a + bytes, huge - lead);      // (lead < huge: never empty)
+        ::munmap(a + bytes, huge - lead);   // (lead < huge: never empty)
         ::madvise(a, bytes, MADV_HUGEPAGE); // advice only: failure is harmless
         p = std::unique_ptr<U[], HugeFree>(reinterpret_cast<U*>(a), HugeFree{bytes});
 #else
