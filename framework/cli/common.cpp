@@ -13,6 +13,9 @@
 #include <filesystem>
 #include <unistd.h>
 
+#include <chrono>
+#include <thread>
+
 namespace fs = std::filesystem;
 using namespace fp::host;
 
@@ -118,7 +121,19 @@ int report(int code, const std::string& raw) {
         return v.code;
     }
     case ranks::Phase::rendering:
+        if (code == 130) {
+            // Stopped by mpirun, which sends every rank SIGTERM on a Ctrl-C and when a rank
+            // aborts the job: one line for the job, rank 0's, unless a rank told it that it
+            // failed (its line is the job's). The job is ending: no MPI_Abort and its banner.
+            if (ranks::rank() == 0 && !ranks::failure_told(300)) std::fprintf(stderr, "%s\n", line.c_str());
+            // The others wait a little: mpirun kills the ranks still running as soon as one
+            // has ended, which would cut rank 0 before its line.
+            if (ranks::rank() != 0) std::this_thread::sleep_for(std::chrono::seconds(2));
+            std::fflush(stderr);
+            ranks::quit(code);
+        }
         // During the render the other ranks may be waiting for this one: the job ends.
+        ranks::tell_failure();
         std::fprintf(stderr, "fixpoint: rank %u of %u: %s\n", ranks::rank(), ranks::size(), line.c_str());
         std::fflush(stderr);
         ranks::abort(code);

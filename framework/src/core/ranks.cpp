@@ -2,8 +2,10 @@
 #include <fixpoint/host/core/ranks.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
+#include <thread>
 #include <vector>
 
 #ifdef FIXPOINT_HAVE_MPI
@@ -82,7 +84,33 @@ void abort(int code) {
     std::_Exit(code);
 }
 
+void quit(int code) { std::_Exit(code); }
+
 #ifdef FIXPOINT_HAVE_MPI
+namespace {
+constexpr int failure_tag = 9;
+} // namespace
+
+void tell_failure() {
+    if (!g_started || g_size <= 1 || g_rank == 0) return;
+    // Four bytes go eagerly (below every transport's eager limit): the send returns at once.
+    int one = 1;
+    (void)MPI_Send(&one, 1, MPI_INT, 0, failure_tag, MPI_COMM_WORLD);
+}
+
+bool failure_told(int wait_ms) {
+    if (!g_started || g_size <= 1 || g_rank != 0) return false;
+    for (int i = 0; i <= wait_ms; i += 10) {
+        int flag = 0;
+        if (MPI_Iprobe(MPI_ANY_SOURCE, failure_tag, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE) ==
+                MPI_SUCCESS &&
+            flag)
+            return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+}
+
 namespace {
 // MPI counts are ints: pieces of at most 64 MiB, whole records each.
 constexpr std::size_t piece_bytes = std::size_t(64) << 20;
@@ -166,6 +194,8 @@ Verdict agree(int code, const std::string& message, std::uint64_t fingerprint) {
     return v;
 }
 #else
+void tell_failure() {}
+bool failure_told(int) { return false; }
 void combine(void*, std::size_t, std::size_t, const std::function<void(const void*, void*, std::size_t)>&,
              bool) {}
 void send(unsigned, const void*, std::size_t) { throw InternalError("send: a build without MPI"); }

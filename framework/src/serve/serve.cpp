@@ -5,6 +5,7 @@
 
 #include "api.hpp"
 #include "context.hpp"
+#include "gate.hpp"
 #include "preview.hpp"
 #include "web_assets.hpp"
 
@@ -57,6 +58,13 @@ std::string make_token() {
 template <class F>
 httplib::Server::Handler guarded(const Context& c, Body body, F f) {
     return [&c, body, f](const httplib::Request& req, httplib::Response& res) {
+        // The request is read: the handler has no deadline, its response one (gate.hpp).
+        struct Phase {
+            Phase() { GatedServer::handler_starts(); }
+            ~Phase() { GatedServer::handler_ends(); }
+            Phase(const Phase&) = delete;
+            Phase& operator=(const Phase&) = delete;
+        } phase;
         try {
             c.admit(req, body);
             f(req, res);
@@ -167,9 +175,9 @@ int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& s
     Previewer preview;
     c.preview = &preview;
 
-    httplib::Server srv;
-    // Long polls hold a thread each for up to 10 s: a pool larger than the default 8.
-    srv.new_task_queue = [] { return new httplib::ThreadPool(32); };
+    // Connections wait for their heads without a thread, within a deadline, and are capped
+    // (gate.hpp); 32 request threads, for long polls hold one each for up to 10 s.
+    GatedServer srv(GateLimits::from_environment());
     srv.set_payload_max_length(max_image_body);
     // httplib's default is SO_REUSEPORT, which lets a second server (of the same user) bind
     // the same port and share its requests: SO_REUSEADDR only, so that a port in use is refused
@@ -191,12 +199,21 @@ int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& s
     // The Host, token, content type and size are checked before httplib reads a body (its
     // pre-routing handler runs first), so that a client without them cannot make the server
     // read one; the handlers check them again (guarded), with the size of what was read.
+    // This is as early as the token can be checked: it may come in a header
+    // (X-Fixpoint-Token) as well as in the request line, so the whole head is needed; until
+    // it is in, the connection waits in the gate's waiting room, holding no request thread,
+    // for at most the deadline (gate.hpp).
     srv.set_pre_routing_handler([&c](const httplib::Request& req, httplib::Response& res) {
         const Body body = req.method != "POST"        ? Body::None
                           : req.path == "/api/recipe" ? Body::Bytes
                                                       : Body::Json;
         try {
             c.admit_head(req, body);
+            // httplib reads a body for these methods before finding no route for them.
+            if (req.method == "PUT" || req.method == "PATCH" || req.method == "DELETE" || req.method == "PRI")
+                throw HttpError{405, req.method + " is not a method of this server (GET and POST are)"};
+            if (body != Body::None && !GatedServer::may_read_body(req))
+                throw HttpError{503, "the server is busy reading other requests' bodies: try again"};
         } catch (const HttpError& e) {
             send_json(res, e.status, error_body(e.message));
             return httplib::Server::HandlerResponse::Handled;
@@ -249,6 +266,7 @@ int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& s
             std::this_thread::sleep_for(std::chrono::milliseconds(1));
         srv.stop();
         listener.join();
+        srv.close_gate(); // the connections still open, and the request threads
     };
     try {
         if (o.on_listen) o.on_listen(url);

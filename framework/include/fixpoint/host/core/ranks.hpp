@@ -27,6 +27,16 @@ unsigned on_this_machine();
 /// would wait for it forever).
 [[noreturn]] void abort(int code);
 
+/// Under mpirun, a rank that fails mid-render tells rank 0 before it ends the job (a message
+/// of a few bytes, sent at once): rank 0, then stopped by mpirun as every rank is, knows that
+/// the job's line was that rank's and adds no "interrupted" of its own.
+void tell_failure();
+/// On rank 0: whether a rank told its failure (waiting up to `wait_ms` for the message).
+bool failure_told(int wait_ms);
+/// Ends this rank with `code` without MPI_Abort: the job is ending already (mpirun stops
+/// every rank on a Ctrl-C, and when a rank aborts), and MPI_Abort would add its banner.
+[[noreturn]] void quit(int code);
+
 /// RenderContext::combine over the ranks: a binomial tree to rank 0 in pieces of at most
 /// 64 MiB, then (everywhere) a broadcast.
 void combine(void* data, std::size_t bytes, std::size_t record,
