@@ -15,9 +15,12 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
+#include <fcntl.h>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <unistd.h>
 
 namespace fp::host::image_module {
@@ -217,7 +220,26 @@ bool stream_close(Stream* s, std::string& error) {
     return true;
 }
 
-void stream_free(Stream* s) { delete s; } // (an unfinished encoder is dropped)
+/// Drops a stream; an unfinished encoder (a cancelled or failed render) is closed with the
+/// process's stderr on /dev/null meanwhile. libpng, through OpenImageIO's PNG writer, prints its
+/// own line ("libpng error: No IDATs written into file") when an image with no rows yet is
+/// closed, before fixpoint's one line; the file is a temporary one, removed next. (A line that
+/// another thread writes to stderr in that moment is lost too: on a path that is ending.)
+void stream_free(Stream* s) {
+    if (!s || !s->out) {
+        delete s;
+        return;
+    }
+    static std::mutex quiet;
+    const std::lock_guard<std::mutex> lock(quiet);
+    std::fflush(stderr);
+    const int saved = ::dup(2), null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (saved >= 0 && null >= 0) ::dup2(null, 2);
+    delete s;
+    if (saved >= 0 && null >= 0) ::dup2(saved, 2);
+    if (null >= 0) ::close(null);
+    if (saved >= 0) ::close(saved);
+}
 
 void quantise(const Image& img, int bit_depth, void* out) {
     const auto n = static_cast<OIIO::stride_t>(img.pixels.size());
