@@ -1,6 +1,7 @@
 // `fixpoint animate`: frames equal renders with the interpolated values, the interpolation by
 // hand, skipping on a rerun, exact error lines for bad animation sections, and the video.
 #include "cli.hpp"
+#include "configs.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,29 +11,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-using fp::test::read_file;
-using fp::test::run_bad_input;
-using fp::test::run_cli;
-using fp::test::scratch_dir;
-using fp::test::write_file;
+using namespace fp::test;
 namespace fs = std::filesystem;
 
 namespace {
 
 // Three circles, 64 x 64, few points: the smallest pipeline that draws.
-const std::string base = R"(renderer:
-  type: chaos-game
-  width: 64
-  height: 64
-  view: [-1.6, 1.6, -1.6, 1.6]
-  points: 20000
-  chains: 16
-  seed: 5
-  maps:
-    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.9}, colour: [1, 0.4, 0.2]}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.9}, colour: [0.2, 1, 0.4]}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.9}, colour: [0.3, 0.4, 1]}
-)";
+const std::string base = chaos_game(
+    {"width: 64", "height: 64", "view: [-1.6, 1.6, -1.6, 1.6]", "points: 20000", "chains: 16", "seed: 5"},
+    three_circles("0.9", true));
 
 // Three frames: a radius, a colour from "#rrggbb" to a list, and a point.
 const std::string animated = base + R"(animation:

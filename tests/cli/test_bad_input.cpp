@@ -1,27 +1,19 @@
 // Bad input ends with exactly one error line naming the place, exit code 2, and no output
 // file. The messages are golden: a change to one is a change users see.
 #include "cli.hpp"
+#include "configs.hpp"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-using fp::test::run_cli;
+using namespace fp::test;
 
 namespace {
 
 // Three circles around the origin, the smallest pipeline that renders.
-const char* base = R"(renderer:
-  type: chaos-game
-  width: 64
-  height: 64
-  points: 20000
-  chains: 64
-  maps:
-    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.9}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.9}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.9}}
-)";
+const std::string base =
+    chaos_game({"width: 64", "height: 64", "points: 20000", "chains: 64"}, three_circles("0.9"));
 
 struct Case {
     const char* name;
@@ -29,8 +21,6 @@ struct Case {
     std::string expected; // the whole stderr line, with "bad.yaml" for the file
     std::vector<std::string> extra_args = {};
 };
-
-using fp::test::replace_once;
 
 std::vector<Case> cases() {
     const std::string b = base;

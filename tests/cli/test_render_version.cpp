@@ -8,31 +8,19 @@
 #include <fixpoint/version.hpp>
 
 #include "cli.hpp"
+#include "configs.hpp"
 #include "host.hpp"
 
 #include <gtest/gtest.h>
 
 using namespace fp::host;
-using fp::test::error_of;
-using fp::test::read_file;
-using fp::test::run_cli;
-using fp::test::scratch_dir;
-using fp::test::write_file;
+using namespace fp::test;
 
 namespace {
 
-const std::string circles = R"(renderer:
-  type: chaos-game
-  width: 24
-  height: 16
-  points: 4000
-  chains: 8
-  view: [-2, 2, -1.5, 1.5]
-  maps:
-    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.8}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.8}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.8}}
-)";
+const std::string circles =
+    chaos_game({"width: 24", "height: 16", "points: 4000", "chains: 8", "view: [-2, 2, -1.5, 1.5]"},
+               three_circles("0.8"));
 
 // One Gumowski-Mira map: a chaos game without paper 01's rules.
 const std::string gm = R"(renderer:
@@ -66,8 +54,8 @@ TEST(RenderVersion, TheChangelogIsWellFormed) {
         last = c.version;
     }
     EXPECT_EQ(last, render_version());
-    EXPECT_EQ(render_version_tag(), std::string(FIXPOINT_VERSION) + " (render version " +
-                                        std::to_string(render_version()) + ")");
+    EXPECT_EQ(render_version_tag(),
+              std::string(FIXPOINT_VERSION) + " (render version " + std::to_string(render_version()) + ")");
 }
 
 // Version 2's change (the rules' draw) touches renders of chaos-game with inversions only.
@@ -92,7 +80,8 @@ TEST(RenderVersion, ChangesTouchTheRendersOfTheirPlugins) {
 // it is of version 1.
 TEST(RenderVersion, RecipesRecordItAndOlderOnesAreTold) {
     const Pipeline now = pipeline(circles);
-    EXPECT_NE(now.recipe.find("\nrender_version: " + std::to_string(render_version()) + "\n"), std::string::npos)
+    EXPECT_NE(now.recipe.find("\nrender_version: " + std::to_string(render_version()) + "\n"),
+              std::string::npos)
         << now.recipe;
     EXPECT_TRUE(now.warnings.empty());
     EXPECT_TRUE(now.may_differ.empty());
@@ -106,15 +95,18 @@ TEST(RenderVersion, RecipesRecordItAndOlderOnesAreTold) {
     EXPECT_TRUE(pipeline("fixpoint_version: \"0.1.0\"\n" + gm).warnings.empty());
     EXPECT_TRUE(pipeline("render_version: 1\n" + gm).warnings.empty());
     // This version, said: nothing to say.
-    EXPECT_TRUE(pipeline("render_version: " + std::to_string(render_version()) + "\n" + circles).warnings.empty());
+    EXPECT_TRUE(
+        pipeline("render_version: " + std::to_string(render_version()) + "\n" + circles).warnings.empty());
     // A newer one is told.
-    const Pipeline newer = pipeline("render_version: " + std::to_string(render_version() + 1) + "\n" + circles);
+    const Pipeline newer =
+        pipeline("render_version: " + std::to_string(render_version() + 1) + "\n" + circles);
     ASSERT_EQ(newer.may_differ.size(), 1u);
     EXPECT_NE(newer.may_differ[0].find("newer than this fixpoint's"), std::string::npos);
     // Not a whole number from 1: refused where it stands.
     for (const char* bad : {"0", "two", "2.5", "[2]", "-1"})
-        EXPECT_EQ(error_of([&] { pipeline(std::string("render_version: ") + bad + "\n" + circles); })
-                      .rfind("recipe.yaml:1:17: render_version: expected a whole number from 1", 0),
+        EXPECT_EQ(error_of([&] {
+                      pipeline(std::string("render_version: ") + bad + "\n" + circles);
+                  }).rfind("recipe.yaml:1:17: render_version: expected a whole number from 1", 0),
                   0u)
             << bad;
 }
