@@ -46,6 +46,13 @@ std::string shell(const std::string& cmd) {
     return out;
 }
 
+// The frames ffprobe counts in the video `path`, as it prints them ("3\n").
+std::string frames_in(const std::string& path) {
+    return shell("ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of "
+                 "csv=p=0 '" +
+                 path + "'");
+}
+
 // PATH replaced for the CLI runs of one scope.
 struct PathFor {
     std::string saved;
@@ -305,20 +312,12 @@ TEST(Animate, VideoHasEveryFrame) {
     r = run_cli({"animate", "--quiet", "--force", dir + "/cfg.yaml", "-o", dir + "/f/%03d.png", "--frames",
                  "1..2", "--video", dir + "/out.mp4"});
     ASSERT_EQ(r.rc, 0) << r.err;
-    EXPECT_EQ(
-        shell("ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of "
-              "csv=p=0 '" +
-              dir + "/out.mp4'"),
-        "2\n");
+    EXPECT_EQ(frames_in(dir + "/out.mp4"), "2\n");
     // A GIF too.
     r = run_cli(
         {"animate", "--quiet", dir + "/cfg.yaml", "-o", dir + "/f/%03d.png", "--video", dir + "/out.gif"});
     ASSERT_EQ(r.rc, 0) << r.err;
-    EXPECT_EQ(
-        shell("ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of "
-              "csv=p=0 '" +
-              dir + "/out.gif'"),
-        "3\n");
+    EXPECT_EQ(frames_in(dir + "/out.gif"), "3\n");
 }
 
 TEST(Animate, MissingOrFailingFfmpegIsOneLine) {

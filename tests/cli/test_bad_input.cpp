@@ -25,6 +25,10 @@ struct Case {
 std::vector<Case> cases() {
     const std::string b = base;
     const std::string circle0 = "{type: circle, centre: [1, 0], radius: 0.9}";
+    // The base with `iteration: SCHEME` on line 7, after the chains.
+    const auto with_iteration = [&](const std::string& scheme) {
+        return replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: " + scheme + "\n");
+    };
     return {
         {"syntax", "renderer: [1, 2\n", "bad.yaml:2:1: YAML syntax error: end of sequence flow not found"},
         {"lone_comma", ",", "bad.yaml:1:1: YAML syntax error: unexpected ','"},
@@ -111,22 +115,17 @@ std::vector<Case> cases() {
          "cannot write 'no/such/folder/out.png': folder 'no/such/folder' does not exist",
          {"-o", "no/such/folder/out.png"}},
         // Iteration processes (paper 02).
-        {"qnumber_syntax",
-         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: 0.5+q0.5}\n"),
+        {"qnumber_syntax", with_iteration("{type: mann, alpha: 0.5+q0.5}"),
          "bad.yaml:7:34: renderer.iteration.alpha: cannot read '0.5+q0.5' as a number or q-system number "
          "(write 0.7, "
          "0.5+0.5q or [0.5, 0.5])"},
-        {"qnumber_nan",
-         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: .nan}\n"),
+        {"qnumber_nan", with_iteration("{type: mann, alpha: .nan}"),
          "bad.yaml:7:34: renderer.iteration.alpha: must be a finite number, got .nan"},
-        {"empty_periodic_list",
-         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: []}\n"),
+        {"empty_periodic_list", with_iteration("{type: mann, alpha: []}"),
          "bad.yaml:7:34: renderer.iteration.alpha: a periodic list must not be empty"},
-        {"empty_switching",
-         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: switching, schemes: []}\n"),
+        {"empty_switching", with_iteration("{type: switching, schemes: []}"),
          "bad.yaml:7:41: renderer.iteration.schemes: the list of iteration-schemes is empty"},
-        {"qnumber_in_real_scheme",
-         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: 0.5+0.5q}\n"),
+        {"qnumber_in_real_scheme", with_iteration("{type: mann, alpha: 0.5+0.5q}"),
          "bad.yaml:7:34: renderer.iteration.alpha: 0.5+0.5q is a q-system number, but the scheme computes in "
          "the real "
          "numbers (set numbers: {type: q-system, A: ..., B: ...})"},
