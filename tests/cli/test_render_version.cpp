@@ -18,9 +18,7 @@ using namespace fp::test;
 
 namespace {
 
-const std::string circles =
-    chaos_game({"width: 24", "height: 16", "points: 4000", "chains: 8", "view: [-2, 2, -1.5, 1.5]"},
-               three_circles("0.8"));
+const std::string& circles = small_circles;
 
 // One Gumowski-Mira map: a chaos game without paper 01's rules.
 const std::string gm = R"(renderer:

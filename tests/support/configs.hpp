@@ -29,6 +29,12 @@ inline std::string three_circles(const std::string& radius, bool coloured = fals
     return s;
 }
 
+/// A small chaos game: three circles of radius 0.8, 24 x 16 pixels, a few thousand points
+/// (a render in milliseconds, for the tests of what is done with an image rather than of it).
+inline const std::string small_circles =
+    chaos_game({"width: 24", "height: 16", "points: 4000", "chains: 8", "view: [-2, 2, -1.5, 1.5]"},
+               three_circles("0.8"));
+
 /// The `maps:` of the Sierpinski triangle: three affine maps of ratio 1/2.
 inline const std::string sierpinski = "  maps:\n"
                                       "    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}\n"

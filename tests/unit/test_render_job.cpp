@@ -21,10 +21,7 @@ using namespace fp::test;
 
 namespace {
 
-// A small chaos game: three circles, a few thousand points.
-const std::string small =
-    chaos_game({"width: 24", "height: 16", "points: 4000", "chains: 8", "view: [-2, 2, -1.5, 1.5]"},
-               three_circles("0.8"));
+const std::string& small = small_circles;
 
 Pipeline pipeline(const std::string& text, const std::string& name = "job.yaml") {
     return load_pipeline(fp::test::host().registry(), parse_config(text, name));
