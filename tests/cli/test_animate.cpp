@@ -213,6 +213,8 @@ struct Bad {
 
 TEST(Animate, BadAnimationSectionsAreOneExactLine) {
     // Lines: the base config is 12 lines; "animation:" is line 13.
+    // An animation that is right, for the cases whose fault is on the command line.
+    const std::string three_frames = "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\n";
     const std::vector<Bad> cases = {
         {"not_a_map", "animation: 3\n",
          "bad.yaml:13:12: animation: expected a mapping (frames, fps, "
@@ -262,20 +264,20 @@ TEST(Animate, BadAnimationSectionsAreOneExactLine) {
         {"no_animation", "",
          "bad.yaml:1:1: no 'animation:' section (frames, keys: see fixpoint animate --help)"},
         {"pattern",
-         "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\n",
+         three_frames,
          "-o 'f.png': expected a file name with one frame number, %d or %0Nd, as frames/%04d.png",
          {"animate", "--quiet", "bad.yaml", "-o", "f.png"}},
         {"range",
-         "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\n",
+         three_frames,
          "--frames '2..5': expected A..B (or one frame K) with 0 <= A <= B <= 2 (the animation has 3 frames)",
          {"animate", "--quiet", "bad.yaml", "-o", "f/%d.png", "--frames", "2..5"}},
         // Tiles for PNG frames: refused at output.tiled before the first frame renders.
         {"tiled_png",
-         "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\noutput: {tiled: true}\n",
+         three_frames + "output: {tiled: true}\n",
          "bad.yaml:16:17: output.tiled: 'f/0.png': only TIFF and EXR images have tiles (write .tif or .exr)",
          {"animate", "--quiet", "bad.yaml", "-o", "f/%d.png"}},
         {"video_ext",
-         "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\n",
+         three_frames,
          "--video 'v.avi': expected a .mp4, .mkv, .mov or .gif file",
          {"animate", "--quiet", "bad.yaml", "-o", "f/%d.png", "--video", "v.avi"}},
     };
