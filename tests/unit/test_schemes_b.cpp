@@ -378,9 +378,9 @@ TEST(Schu, RefusalThroughTheCli) {
 TEST(Schu, InTheInversionChaosGameIsMannWithEq24) {
     // The whole pipeline: the same pixels as Mann(alpha at even n, 0 at odd n).
     const std::string dir = fp::test::scratch_dir("schu-chaos-game");
-    fp::test::write_file(
-        dir + "/cfg.yaml",
-        chaos_game({"width: 96", "height: 96", "points: 200000", "chains: 256"}, three_circles("0.9")));
+    fp::test::write_file(dir + "/cfg.yaml",
+                         chaos_game({"width: 96", "height: 96", "points: 200000", "chains: 256"},
+                                    fp::test::three_circles("0.9")));
     auto render = [&](const std::string& iteration, const std::string& out) {
         const auto r = fp::test::run_cli({"render", "--quiet", dir + "/cfg.yaml", "-o", dir + "/" + out,
                                           "--set", "renderer.iteration=" + iteration});
