@@ -20,7 +20,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cmake --install "$build" --prefix "$work/prefix" >"$work/install.log"
 fixpoint=("$work/prefix/bin/fixpoint")
-. bench/lib.sh # median
+. bench/lib.sh # median, pair_medians
 rate() { # config output [args] -> M points/s from the summary line
     "${fixpoint[@]}" --plugin-dir "$work/build" render "$1" -o "$2" --force --threads 1 "${@:3}" 2>&1 |
         tail -1 | sed -n 's/.*(\([0-9.e+-]*\) [a-z ]*\/s, .*/\1/p' | awk '{printf "%.3f", $1 / 1e6}'
@@ -70,17 +70,13 @@ row() { # label config name [args]
     local label=$1 cfg=$2 name=$3
     shift 3
     sed -E "s/type: $name([,}])/type: $name-ext\1/" "$cfg" >"$work/ext.yaml"
-    local bs=() es=() qs=()
-    for _ in $(seq "$pairs"); do
-        local b e
-        b=$(rate "$cfg" "$work/builtin.png" "$@")
-        e=$(rate "$work/ext.yaml" "$work/ext.png" "$@")
-        bs+=("$b") es+=("$e") qs+=("$(awk -v a="$e" -v b="$b" 'BEGIN {printf "%.3f", a / b}')")
-    done
+    ext_rate() { rate "$work/ext.yaml" "$work/ext.png" "$@"; }
+    builtin_rate() { rate "$cfg" "$work/builtin.png" "$@"; }
+    local e b q
+    read -r e b q < <(pair_medians "$pairs" ext_rate builtin_rate "$@")
     local same=no
     [ "$(idat "$work/builtin.png")" = "$(idat "$work/ext.png")" ] && same=yes
-    printf '| %s | %s | %s | %.2f | %s |\n' "$label" "$(printf '%s\n' "${bs[@]}" | median)" \
-        "$(printf '%s\n' "${es[@]}" | median)" "$(printf '%s\n' "${qs[@]}" | median)" "$same"
+    printf '| %s | %s | %s | %.2f | %s |\n' "$label" "$b" "$e" "$q" "$same"
     [ "$same" = yes ] || {
         echo "bench/external.sh: $name and $name-ext gave different images" >&2
         exit 1

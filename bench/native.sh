@@ -9,7 +9,7 @@ native=${2:?native build folder}
 pairs=${3:-3}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-. "$(dirname "${BASH_SOURCE[0]}")/lib.sh" # median
+. "$(dirname "${BASH_SOURCE[0]}")/lib.sh" # median, pair_medians
 rate() { # build config [args] -> M samples/s from the summary line
     "$1/bin/fixpoint" render "$2" -o "$out/x.png" --force --threads 1 "${@:3}" 2>&1 | tail -1 |
         sed -n 's/.*(\([0-9.e+-]*\) [a-z ]*\/s, .*/\1/p' | awk '{printf "%.1f", $1 / 1e6}'; }
@@ -20,15 +20,11 @@ echo "|---|---|---|---|"
 row() { # name config [args]
     local name=$1 cfg=$2
     shift 2
-    local ps=() ns=() qs=()
-    for _ in $(seq "$pairs"); do
-        local p n
-        p=$(rate "$portable" "$cfg" "$@")
-        n=$(rate "$native" "$cfg" "$@")
-        ps+=("$p") ns+=("$n") qs+=("$(awk -v a="$p" -v b="$n" 'BEGIN {printf "%.3f", a / b}')")
-    done
-    printf '| %s | %s | %s | %.2f |\n' "$name" "$(printf '%s\n' "${ps[@]}" | median)" \
-        "$(printf '%s\n' "${ns[@]}" | median)" "$(printf '%s\n' "${qs[@]}" | median)"
+    portable_rate() { rate "$portable" "$cfg" "$@"; }
+    native_rate() { rate "$native" "$cfg" "$@"; }
+    local p n q
+    read -r p n q < <(pair_medians "$pairs" portable_rate native_rate "$@")
+    printf '| %s | %s | %s | %.2f |\n' "$name" "$p" "$n" "$q"
 }
 row "circles, density" bench/circles.yaml
 row "circles, map-colour" bench/circles.yaml --set renderer.colourer.type=map-colour

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-using fp::test::run_cli;
+using namespace fp::test;
 
 namespace {
 
@@ -45,15 +45,23 @@ TEST(AddressesWhere, MeetsInsideAndTheirConjunction) {
     EXPECT_EQ(addresses({"meets [2, 3, 2, 3]"}), "");
 }
 
+namespace {
+
+// `addresses --where CONDITION` at the default level.
+CliResult where(const std::string& condition) {
+    return run_cli(
+        {"addresses", fp::test::source_dir() + "/configs/mfs/fig4-middle.yaml", "--where", condition});
+}
+
+} // namespace
+
 TEST(AddressesWhere, BadConditionsAreRefusedBeforeTheWork) {
-    const auto r = run_cli({"addresses", fp::test::source_dir() + "/configs/mfs/fig4-middle.yaml", "--where",
-                            "centre near [0, 1, 0, 1]"});
+    const auto r = where("centre near [0, 1, 0, 1]");
     EXPECT_EQ(r.rc, 2);
     EXPECT_EQ(r.err,
               "--where 'centre near [0, 1, 0, 1]': expected 'centre in [x0, x1, y0, y1]', 'inside [...]' or "
               "'meets [...]'\n");
-    const auto b = run_cli({"addresses", fp::test::source_dir() + "/configs/mfs/fig4-middle.yaml", "--where",
-                            "inside [1, 0, 0, 1]"});
+    const auto b = where("inside [1, 0, 0, 1]");
     EXPECT_EQ(b.rc, 2);
     EXPECT_EQ(b.err,
               "--where 'inside [1, 0, 0, 1]': expected a box [x0, x1, y0, y1] of four finite numbers with x0 "

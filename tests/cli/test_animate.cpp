@@ -1,6 +1,7 @@
 // `fixpoint animate`: frames equal renders with the interpolated values, the interpolation by
 // hand, skipping on a rerun, exact error lines for bad animation sections, and the video.
 #include "cli.hpp"
+#include "configs.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,29 +11,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-using fp::test::read_file;
-using fp::test::run_bad_input;
-using fp::test::run_cli;
-using fp::test::scratch_dir;
-using fp::test::write_file;
+using namespace fp::test;
 namespace fs = std::filesystem;
 
 namespace {
 
 // Three circles, 64 x 64, few points: the smallest pipeline that draws.
-const std::string base = R"(renderer:
-  type: chaos-game
-  width: 64
-  height: 64
-  view: [-1.6, 1.6, -1.6, 1.6]
-  points: 20000
-  chains: 16
-  seed: 5
-  maps:
-    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.9}, colour: [1, 0.4, 0.2]}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.9}, colour: [0.2, 1, 0.4]}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.9}, colour: [0.3, 0.4, 1]}
-)";
+const std::string base = chaos_game(
+    {"width: 64", "height: 64", "view: [-1.6, 1.6, -1.6, 1.6]", "points: 20000", "chains: 16", "seed: 5"},
+    three_circles("0.9", true));
 
 // Three frames: a radius, a colour from "#rrggbb" to a list, and a point.
 const std::string animated = base + R"(animation:
@@ -57,6 +44,13 @@ std::string shell(const std::string& cmd) {
         ::pclose(p);
     }
     return out;
+}
+
+// The frames ffprobe counts in the video `path`, as it prints them ("3\n").
+std::string frames_in(const std::string& path) {
+    return shell("ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of "
+                 "csv=p=0 '" +
+                 path + "'");
 }
 
 // PATH replaced for the CLI runs of one scope.
@@ -219,6 +213,8 @@ struct Bad {
 
 TEST(Animate, BadAnimationSectionsAreOneExactLine) {
     // Lines: the base config is 12 lines; "animation:" is line 13.
+    // An animation that is right, for the cases whose fault is on the command line.
+    const std::string three_frames = "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\n";
     const std::vector<Bad> cases = {
         {"not_a_map", "animation: 3\n",
          "bad.yaml:13:12: animation: expected a mapping (frames, fps, "
@@ -268,20 +264,20 @@ TEST(Animate, BadAnimationSectionsAreOneExactLine) {
         {"no_animation", "",
          "bad.yaml:1:1: no 'animation:' section (frames, keys: see fixpoint animate --help)"},
         {"pattern",
-         "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\n",
+         three_frames,
          "-o 'f.png': expected a file name with one frame number, %d or %0Nd, as frames/%04d.png",
          {"animate", "--quiet", "bad.yaml", "-o", "f.png"}},
         {"range",
-         "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\n",
+         three_frames,
          "--frames '2..5': expected A..B (or one frame K) with 0 <= A <= B <= 2 (the animation has 3 frames)",
          {"animate", "--quiet", "bad.yaml", "-o", "f/%d.png", "--frames", "2..5"}},
         // Tiles for PNG frames: refused at output.tiled before the first frame renders.
         {"tiled_png",
-         "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\noutput: {tiled: true}\n",
+         three_frames + "output: {tiled: true}\n",
          "bad.yaml:16:17: output.tiled: 'f/0.png': only TIFF and EXR images have tiles (write .tif or .exr)",
          {"animate", "--quiet", "bad.yaml", "-o", "f/%d.png"}},
         {"video_ext",
-         "animation:\n  frames: 3\n  keys: {renderer.seed: {0: 1}}\n",
+         three_frames,
          "--video 'v.avi': expected a .mp4, .mkv, .mov or .gif file",
          {"animate", "--quiet", "bad.yaml", "-o", "f/%d.png", "--video", "v.avi"}},
     };
@@ -318,20 +314,12 @@ TEST(Animate, VideoHasEveryFrame) {
     r = run_cli({"animate", "--quiet", "--force", dir + "/cfg.yaml", "-o", dir + "/f/%03d.png", "--frames",
                  "1..2", "--video", dir + "/out.mp4"});
     ASSERT_EQ(r.rc, 0) << r.err;
-    EXPECT_EQ(
-        shell("ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of "
-              "csv=p=0 '" +
-              dir + "/out.mp4'"),
-        "2\n");
+    EXPECT_EQ(frames_in(dir + "/out.mp4"), "2\n");
     // A GIF too.
     r = run_cli(
         {"animate", "--quiet", dir + "/cfg.yaml", "-o", dir + "/f/%03d.png", "--video", dir + "/out.gif"});
     ASSERT_EQ(r.rc, 0) << r.err;
-    EXPECT_EQ(
-        shell("ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of "
-              "csv=p=0 '" +
-              dir + "/out.gif'"),
-        "3\n");
+    EXPECT_EQ(frames_in(dir + "/out.gif"), "3\n");
 }
 
 TEST(Animate, MissingOrFailingFfmpegIsOneLine) {

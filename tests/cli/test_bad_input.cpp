@@ -1,27 +1,19 @@
 // Bad input ends with exactly one error line naming the place, exit code 2, and no output
 // file. The messages are golden: a change to one is a change users see.
 #include "cli.hpp"
+#include "configs.hpp"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-using fp::test::run_cli;
+using namespace fp::test;
 
 namespace {
 
 // Three circles around the origin, the smallest pipeline that renders.
-const char* base = R"(renderer:
-  type: chaos-game
-  width: 64
-  height: 64
-  points: 20000
-  chains: 64
-  maps:
-    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.9}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.9}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.9}}
-)";
+const std::string base =
+    chaos_game({"width: 64", "height: 64", "points: 20000", "chains: 64"}, three_circles("0.9"));
 
 struct Case {
     const char* name;
@@ -30,11 +22,13 @@ struct Case {
     std::vector<std::string> extra_args = {};
 };
 
-using fp::test::replace_once;
-
 std::vector<Case> cases() {
     const std::string b = base;
     const std::string circle0 = "{type: circle, centre: [1, 0], radius: 0.9}";
+    // The base with `iteration: SCHEME` on line 7, after the chains.
+    const auto with_iteration = [&](const std::string& scheme) {
+        return replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: " + scheme + "\n");
+    };
     return {
         {"syntax", "renderer: [1, 2\n", "bad.yaml:2:1: YAML syntax error: end of sequence flow not found"},
         {"lone_comma", ",", "bad.yaml:1:1: YAML syntax error: unexpected ','"},
@@ -121,22 +115,17 @@ std::vector<Case> cases() {
          "cannot write 'no/such/folder/out.png': folder 'no/such/folder' does not exist",
          {"-o", "no/such/folder/out.png"}},
         // Iteration processes (paper 02).
-        {"qnumber_syntax",
-         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: 0.5+q0.5}\n"),
+        {"qnumber_syntax", with_iteration("{type: mann, alpha: 0.5+q0.5}"),
          "bad.yaml:7:34: renderer.iteration.alpha: cannot read '0.5+q0.5' as a number or q-system number "
          "(write 0.7, "
          "0.5+0.5q or [0.5, 0.5])"},
-        {"qnumber_nan",
-         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: .nan}\n"),
+        {"qnumber_nan", with_iteration("{type: mann, alpha: .nan}"),
          "bad.yaml:7:34: renderer.iteration.alpha: must be a finite number, got .nan"},
-        {"empty_periodic_list",
-         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: []}\n"),
+        {"empty_periodic_list", with_iteration("{type: mann, alpha: []}"),
          "bad.yaml:7:34: renderer.iteration.alpha: a periodic list must not be empty"},
-        {"empty_switching",
-         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: switching, schemes: []}\n"),
+        {"empty_switching", with_iteration("{type: switching, schemes: []}"),
          "bad.yaml:7:41: renderer.iteration.schemes: the list of iteration-schemes is empty"},
-        {"qnumber_in_real_scheme",
-         replace_once(b, "  chains: 64\n", "  chains: 64\n  iteration: {type: mann, alpha: 0.5+0.5q}\n"),
+        {"qnumber_in_real_scheme", with_iteration("{type: mann, alpha: 0.5+0.5q}"),
          "bad.yaml:7:34: renderer.iteration.alpha: 0.5+0.5q is a q-system number, but the scheme computes in "
          "the real "
          "numbers (set numbers: {type: q-system, A: ..., B: ...})"},

@@ -19,10 +19,7 @@
 #include <string>
 #include <vector>
 
-using fp::test::read_file;
-using fp::test::run_cli;
-using fp::test::scratch_dir;
-using fp::test::write_file;
+using namespace fp::test;
 
 namespace {
 

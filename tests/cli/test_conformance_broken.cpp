@@ -7,7 +7,7 @@
 #include <sched.h>
 #include <string>
 
-using fp::test::run_cli;
+using namespace fp::test;
 
 namespace {
 

@@ -2,6 +2,7 @@
 // renders again to the same bytes), and watch renders a draft, then the full image, at each
 // save, and keeps the last good image when a save is refused.
 #include "cli.hpp"
+#include "configs.hpp"
 
 #include <fixpoint/host/job/draft.hpp>
 
@@ -16,29 +17,16 @@
 #include <thread>
 #include <unistd.h>
 
-using fp::test::read_file;
-using fp::test::run_cli;
-using fp::test::scratch_dir;
-using fp::test::write_file;
+using namespace fp::test;
 namespace fs = std::filesystem;
 
 namespace {
 
 // Three circles at 256 x 128: a draft is 64 x 32 with 1/16 of the points.
-const std::string config = R"(# three circles
-renderer:
-  type: chaos-game
-  width: 256
-  height: 128
-  view: [-3.2, 3.2, -1.6, 1.6]
-  points: 160000
-  chains: 16
-  seed: 5
-  maps:
-    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.9}, colour: [1, 0.4, 0.2]}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.9}, colour: [0.2, 1, 0.4]}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.9}, colour: [0.3, 0.4, 1]}
-)";
+const std::string config =
+    "# three circles\n" + chaos_game({"width: 256", "height: 128", "view: [-3.2, 3.2, -1.6, 1.6]",
+                                      "points: 160000", "chains: 16", "seed: 5"},
+                                     three_circles("0.9", true));
 
 std::string recipe_of(const std::string& image) {
     const auto r = run_cli({"recipe", image});

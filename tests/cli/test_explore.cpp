@@ -2,6 +2,7 @@
 // user runs it (deterministic for a seed on any thread count, the best beating the rest,
 // exact error lines).
 #include "cli.hpp"
+#include "configs.hpp"
 
 #include <fixpoint/host/tools/measures.hpp>
 
@@ -12,10 +13,7 @@
 #include <map>
 #include <sstream>
 
-using fp::test::read_file;
-using fp::test::run_cli;
-using fp::test::scratch_dir;
-using fp::test::write_file;
+using namespace fp::test;
 namespace fs = std::filesystem;
 using namespace fp::host;
 
@@ -109,19 +107,9 @@ TEST(ExploreMeasures, ScoreMappings) {
 
 // Three circles and a star, inverted: radii drawn from 0.2 to 1.2 give anything from a few
 // scattered points to a full gasket.
-const char* circles = R"(renderer:
-  type: chaos-game
-  width: 64
-  height: 64
-  view: [-1.6, 1.6, -1.6, 1.6]
-  points: 40000
-  chains: 16
-  seed: 7
-  maps:
-    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.9}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.9}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.9}}
-)";
+const std::string circles = chaos_game(
+    {"width: 64", "height: 64", "view: [-1.6, 1.6, -1.6, 1.6]", "points: 40000", "chains: 16", "seed: 7"},
+    three_circles("0.9"));
 
 std::vector<std::string> explore_args(const std::string& dir, const std::string& out,
                                       std::vector<std::string> extra = {}, const std::string& seed = "5") {

@@ -8,12 +8,9 @@
 
 #include <string>
 
-namespace {
+using namespace fp::test;
 
-using fp::test::read_file;
-using fp::test::replace_once;
-using fp::test::run_bad_input;
-using fp::test::source_dir;
+namespace {
 
 std::string config(const std::string& name) { return read_file(source_dir() + "/configs/" + name); }
 

@@ -2,6 +2,7 @@
 // failed before its fix. Bad input still ends in one escaped, positioned line, exit 2 and no
 // output; nothing crashes, hangs or overwrites what it was not asked to.
 #include "cli.hpp"
+#include "configs.hpp"
 
 #include <fixpoint/host/core/image_io.hpp>
 
@@ -18,22 +19,11 @@
 #include <utility>
 #include <vector>
 
-using fp::test::run_bad_input;
-using fp::test::run_cli;
+using namespace fp::test;
 
 namespace {
 
-const std::string base = R"(renderer:
-  type: chaos-game
-  width: 64
-  height: 64
-  points: 20000
-  chains: 64
-  maps:
-    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}
-    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0]}
-    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, 0.5]}
-)";
+const std::string base = chaos_game({"width: 64", "height: 64", "points: 20000", "chains: 64"}, sierpinski);
 
 const std::string hint = " (a '#' after a space starts a comment: quote colours, as in \"#ff6b6b\")";
 
@@ -130,9 +120,6 @@ TEST(Hardening, SetMadeMappingsHaveAPosition) {
 } // namespace
 
 namespace {
-
-using fp::test::files_in;
-using fp::test::shell;
 
 const std::string bin = FIXPOINT_BIN;
 

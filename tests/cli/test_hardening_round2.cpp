@@ -2,6 +2,7 @@
 // A render ends cleanly on every path out: one escaped, readable line, a meaningful exit code,
 // nothing half-written.
 #include "cli.hpp"
+#include "configs.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,32 +15,16 @@
 #include <string>
 #include <vector>
 
-using fp::test::read_file;
-using fp::test::replace_once;
-using fp::test::run_cli;
-using fp::test::scratch_dir;
-using fp::test::write_file;
+using namespace fp::test;
 
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string base = R"(renderer:
-  type: chaos-game
-  width: 256
-  height: 256
-  points: 400000
-  chains: 64
-  maps:
-    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0, 0]}
-    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0]}
-    - {type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, 0.5]}
-)";
+const std::string base =
+    chaos_game({"width: 256", "height: 256", "points: 400000", "chains: 64"}, sierpinski);
 
 const std::string bin = FIXPOINT_BIN;
-
-using fp::test::files_in;
-using fp::test::shell;
 
 int lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 

@@ -29,9 +29,9 @@
 #include <string>
 #include <vector>
 
-namespace {
+using namespace fp::test;
 
-using fp::test::host;
+namespace {
 
 struct Union {
     std::vector<std::shared_ptr<const fp::Transform>> maps;

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-using fp::test::run_cli;
+using namespace fp::test;
 
 namespace {
 
@@ -25,8 +25,6 @@ const std::string base = R"(renderer:
   traps: {type: circles, preset: fig-3b}
   colourer: {type: colour-map, preset: fig-4a}
 )";
-
-using fp::test::replace_once;
 
 struct Case {
     const char* name;

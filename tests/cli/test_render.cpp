@@ -1,5 +1,6 @@
 // End-to-end behaviour of `fixpoint render` and friends, as a user runs them.
 #include "cli.hpp"
+#include "configs.hpp"
 
 #include <fixpoint/host/core/image_io.hpp>
 
@@ -15,30 +16,17 @@
 #include <sys/wait.h>
 #include <thread>
 
-using fp::test::read_file;
-using fp::test::run_cli;
-using fp::test::scratch_dir;
-using fp::test::write_file;
+using namespace fp::test;
 namespace fs = std::filesystem;
 
 extern char** environ;
 
 namespace {
 
-const char* three_circles = R"(renderer:
-  type: chaos-game
-  width: 96
-  height: 80
-  view: [-1.6, 1.6, -1.4, 1.4]
-  points: 300000
-  chains: 300
-  seed: 7
-  maps:
-    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.9}, colour: [1, 0.4, 0.2]}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.9}, colour: [0.2, 1, 0.4]}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.9}, colour: [0.3, 0.4, 1]}
-    - {type: inversion, shape: {type: star-polygon, points: 5, outer_radius: 0.35, inner_radius: 0.2}, weight: 0.5}
-)";
+const std::string three_circles = chaos_game(
+    {"width: 96", "height: 80", "view: [-1.6, 1.6, -1.4, 1.4]", "points: 300000", "chains: 300", "seed: 7"},
+    fp::test::three_circles("0.9", true) + "    - {type: inversion, shape: {type: star-polygon, points: 5, "
+                                           "outer_radius: 0.35, inner_radius: 0.2}, weight: 0.5}\n");
 
 std::string render(const std::string& dir, const std::string& out, std::vector<std::string> extra = {}) {
     std::vector<std::string> args = {"render", "--quiet", dir + "/cfg.yaml", "-o", dir + "/" + out};

@@ -8,31 +8,17 @@
 #include <fixpoint/version.hpp>
 
 #include "cli.hpp"
+#include "configs.hpp"
 #include "host.hpp"
 
 #include <gtest/gtest.h>
 
 using namespace fp::host;
-using fp::test::error_of;
-using fp::test::read_file;
-using fp::test::run_cli;
-using fp::test::scratch_dir;
-using fp::test::write_file;
+using namespace fp::test;
 
 namespace {
 
-const std::string circles = R"(renderer:
-  type: chaos-game
-  width: 24
-  height: 16
-  points: 4000
-  chains: 8
-  view: [-2, 2, -1.5, 1.5]
-  maps:
-    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.8}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.8}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.8}}
-)";
+const std::string& circles = small_circles;
 
 // One Gumowski-Mira map: a chaos game without paper 01's rules.
 const std::string gm = R"(renderer:

@@ -3,6 +3,7 @@
 // pixels: the fractal's half is the plain render's, bit for bit; a set's inside is its colour
 // at the fill's opacity; a centre is its map's colour; outside every set, the background.
 #include "cli.hpp"
+#include "configs.hpp"
 
 #include <fixpoint/host/core/image_io.hpp>
 
@@ -12,29 +13,14 @@
 #include <string>
 #include <vector>
 
-using fp::test::read_file;
-using fp::test::replace_once;
-using fp::test::run_cli;
-using fp::test::scratch_dir;
-using fp::test::write_file;
+using namespace fp::test;
 
 namespace {
 
 // 96 x 80 pixels over [-1.6, 1.6] x [-1.4, 1.4]: 30 pixels per unit.
-const char* config = R"(renderer:
-  type: chaos-game
-  width: 96
-  height: 80
-  view: [-1.6, 1.6, -1.4, 1.4]
-  points: 200000
-  chains: 200
-  seed: 5
-  sets: none
-  maps:
-    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.9}, colour: [1, 0.4, 0.2]}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.9}, colour: [0.2, 1, 0.4]}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.9}, colour: [0.3, 0.4, 1]}
-)";
+const std::string config = chaos_game({"width: 96", "height: 80", "view: [-1.6, 1.6, -1.4, 1.4]",
+                                       "points: 200000", "chains: 200", "seed: 5", "sets: none"},
+                                      three_circles("0.9", true));
 
 struct Rendered {
     fp::Image img;

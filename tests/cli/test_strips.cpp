@@ -17,11 +17,7 @@
 #include <string>
 #include <vector>
 
-using fp::test::read_file;
-using fp::test::run_bad_input;
-using fp::test::run_cli;
-using fp::test::scratch_dir;
-using fp::test::source_dir;
+using namespace fp::test;
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-using fp::test::run_cli;
+using namespace fp::test;
 
 namespace {
 

@@ -2,8 +2,8 @@
 // the known-kernel contract of `inversion` in a `circle`, is_picard, the fused step on every
 // instruction set this machine has against the generic step's arithmetic written out per
 // chain, and whole renders with `kernels: auto` and `kernels: generic` giving the same bytes.
-#include <fixpoint/host/core/host.hpp>
-#include <fixpoint/host/core/runtime.hpp>
+#include "host.hpp"
+
 #include <fixpoint/simd.hpp>
 
 // The renderer's kernels, compiled here for every target too (the plugin keeps its own
@@ -30,12 +30,9 @@ HWY_EXPORT(draw_rules);
 #include <string>
 #include <vector>
 
-namespace {
+using namespace fp::test;
 
-fp::host::Host& host() {
-    static fp::host::Host h;
-    return h;
-}
+namespace {
 
 template <class T>
 bool same_bits(T a, T b) {
@@ -377,19 +374,6 @@ TEST(ChaosKernel, FusedPackingClampsUnlessColoursAreInRange) {
             }
         }
     fp::simd::force_target("");
-}
-
-struct Render {
-    fp::Image img;
-    fp::RenderStats stats;
-};
-
-Render render(const std::string& yaml, unsigned threads) {
-    auto r = host().make<fp::Renderer>(yaml);
-    fp::host::Runtime rt(threads, nullptr);
-    Render out;
-    out.img = r->render(rt, out.stats);
-    return out;
 }
 
 // Paper 01's loop gives each allowed map its share: 4 maps of weights 1, 2, 3, 4 (or all

@@ -10,17 +10,12 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 using fp::Colourer;
 using fp::Rgb;
-using fp::test::host;
-
-std::shared_ptr<const Colourer> cmap(const std::string& yaml) {
-    auto c = host().make<Colourer>(yaml);
-    EXPECT_TRUE(c) << yaml;
-    return c;
-}
 
 // The colour of one caught sample with trap ratio d / r = `ratio`.
 Rgb hit(const Colourer& c, float ratio, const Rgb* background = nullptr, std::int32_t trap = 0) {
@@ -39,21 +34,13 @@ void expect_rgb(Rgb got, Rgb want, double tol = 2e-7) {
     EXPECT_NEAR(got.b, want.b, tol);
 }
 
-std::string error_of(const std::string& yaml) {
-    try {
-        host().make_object(fp::Kind::Colourer, yaml, "<string>");
-    } catch (const fp::InputError& e) {
-        const std::string m = e.what();
-        const auto at = m.find(": ");
-        return m.rfind("<string>:", 0) == 0 && at != std::string::npos ? m.substr(at + 2) : m;
-    }
-    return "(no error)";
-}
+std::string error_of(const std::string& yaml) { return fp::test::error_of(fp::Kind::Colourer, yaml); }
 
 TEST(ColourMap, SmallTableByHand) {
     // Black to white over ratios [0, 1], E = 1, Nc = 5: entry i has q = i / (1 + i) and is the
     // grey q (t = (1 - q) / 1 weights black): 0, 1/2, 2/3, 3/4, 4/5.
-    auto c = cmap("{type: colour-map, colours: [0, 0, 0, 255, 255, 255], ratios: [0, 1], E: 1, Nc: 5}");
+    auto c =
+        make<Colourer>("{type: colour-map, colours: [0, 0, 0, 255, 255, 255], ratios: [0, 1], E: 1, Nc: 5}");
     const float grey[5] = {0, 0.5f, 2.0f / 3, 0.75f, 0.8f};
     for (int i = 0; i < 5; ++i) expect_rgb(hit(*c, ratio_of_entry(i, 1)), {grey[i], grey[i], grey[i]});
     // The index rule itself: d / r = 0.5 gives v = 0.5, v / (1 - v) = 1: entry 1. d = 0: entry 0.
@@ -63,14 +50,15 @@ TEST(ColourMap, SmallTableByHand) {
     expect_rgb(hit(*c, 0.9f), {0.8f, 0.8f, 0.8f});
     expect_rgb(hit(*c, 0.99999994f), {0.8f, 0.8f, 0.8f});
     // E = 2: q = (i / (1 + i))^2 = 0, 1/4, 4/9, 9/16, 16/25; the ratio of entry 2 is (2.5/3.5)^2.
-    auto c2 = cmap("{type: colour-map, colours: [0, 0, 0, 255, 255, 255], ratios: [0, 1], E: 2, Nc: 5}");
+    auto c2 =
+        make<Colourer>("{type: colour-map, colours: [0, 0, 0, 255, 255, 255], ratios: [0, 1], E: 2, Nc: 5}");
     expect_rgb(hit(*c2, ratio_of_entry(2, 2)), {4.0f / 9, 4.0f / 9, 4.0f / 9});
     expect_rgb(hit(*c2, ratio_of_entry(3, 2)), {9.0f / 16, 9.0f / 16, 9.0f / 16});
 }
 
 TEST(ColourMap, Fig4aEntriesByHand) {
     // Table 1(a), E = 16, Nc = 3000. Entry i is the colour of q = (i / (1 + i))^16:
-    auto c = cmap("{type: colour-map, preset: fig-4a}");
+    auto c = make<Colourer>("{type: colour-map, preset: fig-4a}");
     // i = 0: q = 0 = q_0: b_0, black.
     expect_rgb(hit(*c, ratio_of_entry(0, 16)), {0, 0, 0});
     // i = 44: q = (44/45)^16 = 0.697979 <= q_1 = 0.7: t = (0.7 - q) / 0.7 = 0.0028866, the colour
@@ -108,8 +96,8 @@ TEST(ColourMap, PresetsAreTable1) {
                    "ratios: [0, 0.25, 0.3, 0.47, 0.6, 0.7, 0.85, 1]"},
     };
     for (auto& r : rows) {
-        auto a = cmap(std::string("{type: colour-map, preset: ") + r[0] + "}");
-        auto b = cmap(std::string("{type: colour-map, ") + r[1] + "}");
+        auto a = make<Colourer>(std::string("{type: colour-map, preset: ") + r[0] + "}");
+        auto b = make<Colourer>(std::string("{type: colour-map, ") + r[1] + "}");
         for (int i = 0; i < 3000; i += 7) {
             const Rgb x = hit(*a, ratio_of_entry(i, 16)), y = hit(*b, ratio_of_entry(i, 16));
             EXPECT_TRUE(x == y) << r[0] << " entry " << i;
@@ -118,7 +106,8 @@ TEST(ColourMap, PresetsAreTable1) {
 }
 
 TEST(ColourMap, ResolveUsesTheTableAndTheBackground) {
-    auto c = cmap("{type: colour-map, colours: [0, 0, 0, 255, 255, 255], ratios: [0, 1], E: 1, Nc: 5}");
+    auto c =
+        make<Colourer>("{type: colour-map, colours: [0, 0, 0, 255, 255, 255], ratios: [0, 1], E: 1, Nc: 5}");
     fp::Histogram h;
     h.resize(2, 1);
     h.bins[0].hits = 0;

@@ -11,9 +11,9 @@
 
 using namespace fp::host;
 
-namespace {
+using namespace fp::test;
 
-using fp::test::error_of;
+namespace {
 
 TEST(Config, NodesRememberPositions) {
     const CNode n = parse_yaml("a: 1\nb:\n  - [2, 3]\n  - {c: 'x'}\n", "t.yaml");

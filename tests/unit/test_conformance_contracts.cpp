@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-using fp::test::host;
+using namespace fp::test;
 
 namespace {
 

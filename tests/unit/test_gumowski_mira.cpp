@@ -14,32 +14,22 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 using fp::Colourer;
 using fp::Transform;
 using fp::Vec2;
 
-using fp::test::host;
-
 std::shared_ptr<const Transform> gm(const std::string& params) {
     const std::string yaml = "{type: gumowski-mira, " + params + "}";
-    auto t = host().make<Transform>(yaml);
-    EXPECT_TRUE(t) << yaml;
-    return t;
+    return make<Transform>(yaml);
 }
 
-Vec2 apply(const Transform& t, Vec2 p, int steps = 1) {
-    for (int i = 0; i < steps; ++i) t.apply(fp::Points<double>{&p.x, &p.y, 1}, nullptr);
-    return p;
-}
-
-void expect_point(Vec2 got, Vec2 want, double tol = 1e-15) {
-    EXPECT_NEAR(got.x, want.x, tol) << "got (" << got.x << ", " << got.y << "), want (" << want.x << ", "
-                                    << want.y << ")";
-    EXPECT_NEAR(got.y, want.y, tol) << "got (" << got.x << ", " << got.y << "), want (" << want.x << ", "
-                                    << want.y << ")";
-}
+// This file's tolerance where a test names none.
+using fp::test::expect_point;
+void expect_point(Vec2 got, Vec2 want) { expect_point(got, want, 1e-15); }
 
 // ------------------------------------------------------------------ the map
 

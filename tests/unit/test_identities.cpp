@@ -22,14 +22,14 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 using fp::Mat2;
 using fp::NumberSystem;
 using fp::Transform;
 using fp::Vec2;
-
-using fp::test::host;
 
 constexpr double eps = std::numeric_limits<double>::epsilon();
 
@@ -172,20 +172,13 @@ TEST(QSystemIdentities, HandComputedProducts) {
 std::shared_ptr<const Transform> gm(double alpha, double mu) {
     const std::string yaml =
         "{type: gumowski-mira, alpha: " + std::to_string(alpha) + ", mu: " + std::to_string(mu) + "}";
-    auto t = host().make<Transform>(yaml);
-    EXPECT_TRUE(t) << yaml;
-    return t;
-}
-
-Vec2 step(const Transform& t, Vec2 p) {
-    t.apply(fp::Points<double>{&p.x, &p.y, 1}, nullptr);
-    return p;
+    return make<Transform>(yaml);
 }
 
 // det of the Jacobian of one step of the plugin's own map at p, by central differences.
 double jacobian_det(const Transform& t, Vec2 p, double h) {
-    const Vec2 xp = step(t, {p.x + h, p.y}), xm = step(t, {p.x - h, p.y});
-    const Vec2 yp = step(t, {p.x, p.y + h}), ym = step(t, {p.x, p.y - h});
+    const Vec2 xp = apply(t, {p.x + h, p.y}), xm = apply(t, {p.x - h, p.y});
+    const Vec2 yp = apply(t, {p.x, p.y + h}), ym = apply(t, {p.x, p.y - h});
     const double j11 = (xp.x - xm.x) / (2 * h), j21 = (xp.y - xm.y) / (2 * h);
     const double j12 = (yp.x - ym.x) / (2 * h), j22 = (yp.y - ym.y) / (2 * h);
     return j11 * j22 - j12 * j21;
@@ -250,7 +243,6 @@ TEST(GumowskiMiraIdentities, AlphaNonZeroScalesAreaBy1PlusAlphaTimes1Minus015YSq
 
 // ================================================================== vector S-iteration (paper 04)
 
-using fp::test::has_plugin;
 const std::string& p4m = fp::test::p4m_fig8;
 
 // `a` and `b` equal as numbers; NaN equals NaN (the same lanes blow up on both sides).

@@ -13,32 +13,22 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 using fp::Transform;
 using fp::Vec2;
 
-using fp::test::host;
-
 std::shared_ptr<const Transform> inversion(const std::string& shape, const std::string& centre = "") {
     const std::string yaml =
         "{type: inversion, shape: " + shape + (centre.empty() ? "" : ", centre: " + centre) + "}";
-    auto t = host().make<Transform>(yaml);
-    EXPECT_TRUE(t) << yaml;
-    return t;
+    return make<Transform>(yaml);
 }
 
-Vec2 apply(const Transform& t, Vec2 p) {
-    t.apply(fp::Points<double>{&p.x, &p.y, 1}, nullptr);
-    return p;
-}
-
-void expect_point(Vec2 got, Vec2 want, double tol = 1e-14) {
-    EXPECT_NEAR(got.x, want.x, tol) << "got (" << got.x << ", " << got.y << "), want (" << want.x << ", "
-                                    << want.y << ")";
-    EXPECT_NEAR(got.y, want.y, tol) << "got (" << got.x << ", " << got.y << "), want (" << want.x << ", "
-                                    << want.y << ")";
-}
+// This file's tolerance where a test names none.
+using fp::test::expect_point;
+void expect_point(Vec2 got, Vec2 want) { expect_point(got, want, 1e-14); }
 
 const std::string unit_circle = "{type: circle, centre: [0, 0], radius: 1}";
 const std::string square = "{type: polygon, vertices: [[-1, -1], [1, -1], [1, 1], [-1, 1]]}";

@@ -12,17 +12,12 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 using fp::Metric;
 using fp::Vec2;
-using fp::test::host;
-
-std::shared_ptr<const Metric> metric(const std::string& yaml) {
-    auto m = host().make<Metric>(yaml);
-    EXPECT_TRUE(m) << yaml;
-    return m;
-}
 
 std::shared_ptr<const Metric> metric_of(const std::string& yaml) { return host().make<Metric>(yaml); }
 
@@ -32,39 +27,27 @@ double dist(const Metric& m, Vec2 p, Vec2 c) {
     return d;
 }
 
-// The message of the InputError a YAML object raises, without its "<string>:1:col: " prefix.
-std::string error_of(fp::Kind kind, const std::string& yaml) {
-    try {
-        host().make_object(kind, yaml, "<string>");
-    } catch (const fp::InputError& e) {
-        const std::string m = e.what();
-        const auto at = m.find(": ");
-        return m.rfind("<string>:", 0) == 0 && at != std::string::npos ? m.substr(at + 2) : m;
-    }
-    return "(no error)";
-}
-
 TEST(Metrics, HandComputed) {
     // p = (4, -3), c = (1, 1): |dx| = 3, |dy| = 4.
     const Vec2 p{4, -3}, c{1, 1};
-    EXPECT_EQ(dist(*metric("{type: lp, p: 1}"), p, c), 7.0);
-    EXPECT_EQ(dist(*metric("{type: lp}"), p, c), 5.0); // p = 2 by default: the 3-4-5 triangle
-    EXPECT_EQ(dist(*metric("{type: lp, p: .inf}"), p, c), 4.0);
-    EXPECT_EQ(dist(*metric("{type: chebyshev}"), p, c), 4.0);
+    EXPECT_EQ(dist(*make<Metric>("{type: lp, p: 1}"), p, c), 7.0);
+    EXPECT_EQ(dist(*make<Metric>("{type: lp}"), p, c), 5.0); // p = 2 by default: the 3-4-5 triangle
+    EXPECT_EQ(dist(*make<Metric>("{type: lp, p: .inf}"), p, c), 4.0);
+    EXPECT_EQ(dist(*make<Metric>("{type: chebyshev}"), p, c), 4.0);
     // (3^3 + 4^3)^(1/3) = 91^(1/3) = 4.497941445275415...
-    EXPECT_NEAR(dist(*metric("{type: lp, p: 3}"), p, c), 4.497941445275415, 1e-14);
+    EXPECT_NEAR(dist(*make<Metric>("{type: lp, p: 3}"), p, c), 4.497941445275415, 1e-14);
     // Rickman, gamma = 0.5: 3 + 4^0.5 = 5; gamma = 0.25: 3 + 4^0.25 = 3 + sqrt 2.
-    EXPECT_NEAR(dist(*metric("{type: rickman, gamma: 0.5}"), p, c), 5.0, 1e-15);
-    EXPECT_NEAR(dist(*metric("{type: rickman, gamma: 0.25}"), p, c), 3 + std::sqrt(2.0), 1e-15);
+    EXPECT_NEAR(dist(*make<Metric>("{type: rickman, gamma: 0.5}"), p, c), 5.0, 1e-15);
+    EXPECT_NEAR(dist(*make<Metric>("{type: rickman, gamma: 0.25}"), p, c), 3 + std::sqrt(2.0), 1e-15);
     // Rickman is not symmetric in x and y: |dx| enters linearly.
-    EXPECT_NEAR(dist(*metric("{type: rickman, gamma: 0.5}"), {1, 5}, c), 0 + 2.0, 1e-15);
+    EXPECT_NEAR(dist(*make<Metric>("{type: rickman, gamma: 0.5}"), {1, 5}, c), 0 + 2.0, 1e-15);
 }
 
 // Fig. 2: circles of radius 1 about the origin. For lp, (sgn c |c|^(2/p), sgn s |s|^(2/p)) with
 // (c, s) = (cos t, sin t) satisfies |x|^p + |y|^p = c^2 + s^2 = 1.
 TEST(Metrics, UnitCirclesOfFig2) {
     for (double p : {1.0, 1.5, 2.0, 2.5, 3.0, 7.5}) {
-        auto m = metric("{type: lp, p: " + std::to_string(p) + "}");
+        auto m = make<Metric>("{type: lp, p: " + std::to_string(p) + "}");
         for (int k = 0; k < 360; ++k) {
             const double t = 2 * std::numbers::pi * k / 360.0, c = std::cos(t), s = std::sin(t);
             const Vec2 q{std::copysign(std::pow(std::fabs(c), 2 / p), c),
@@ -76,7 +59,7 @@ TEST(Metrics, UnitCirclesOfFig2) {
     }
     // Chebyshev (and lp with p = .inf): the square with corners (+-1, +-1).
     for (const char* y : {"{type: chebyshev}", "{type: lp, p: .inf}"}) {
-        auto m = metric(y);
+        auto m = make<Metric>(y);
         for (int k = 0; k <= 20; ++k) {
             const double t = -1 + k / 10.0;
             for (Vec2 q : {Vec2{1, t}, Vec2{-1, t}, Vec2{t, 1}, Vec2{t, -1}})
@@ -85,7 +68,7 @@ TEST(Metrics, UnitCirclesOfFig2) {
     }
     // Rickman: |x| + |y|^gamma = 1, i.e. y = +-(1 - |x|)^(1 / gamma).
     for (double g : {0.1, 0.5, 0.7, 0.9}) {
-        auto m = metric("{type: rickman, gamma: " + std::to_string(g) + "}");
+        auto m = make<Metric>("{type: rickman, gamma: " + std::to_string(g) + "}");
         for (int k = 0; k <= 40; ++k) {
             const double x = -1 + k / 20.0, y = std::pow(1 - std::fabs(x), 1 / g);
             EXPECT_NEAR(dist(*m, {x, y}, {0, 0}), 1.0, 1e-12) << "gamma = " << g << ", x = " << x;
@@ -97,7 +80,7 @@ TEST(Metrics, UnitCirclesOfFig2) {
 TEST(Metrics, FloatPathAgreesWithDouble) {
     for (const char* y : {"{type: lp, p: 1}", "{type: lp}", "{type: lp, p: 2.5}", "{type: chebyshev}",
                           "{type: rickman, gamma: 0.3}"}) {
-        auto m = metric(y);
+        auto m = make<Metric>(y);
         std::vector<float> xf, yf;
         std::vector<double> xd, yd;
         for (int i = 0; i < 300; ++i) {

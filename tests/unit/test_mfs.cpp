@@ -26,19 +26,21 @@ const char* quad_S[] = {
 const char* tri_S[] = {"[2, 0, 0, 1, 1, 0, 1, 0, 1]", "[1, 1, 0, 0, 1, 1, 1, 0, 1]",
                        "[1, 1, 0, 0, 2, 0, 0, 1, 1]", "[1, 0, 1, 0, 1, 1, 0, 0, 2]"};
 
-std::string quad_maps() {
+// The `maps:` of one subdivision per matrix of `S`, all with `divisor` and `points`; map `only0`
+// (from 1) belongs to system 0 alone, the others to systems 0 and 1.
+template <std::size_t N>
+std::string subdivision_maps(const char* (&S)[N], int only0, const std::string& divisor,
+                             const std::string& points) {
     std::string s = "maps: [";
-    for (int i = 1; i <= 9; ++i)
-        s += std::string(i > 1 ? ", " : "") + "{type: subdivision, systems: " + (i == 5 ? "[0]" : "[0, 1]") +
-             ", divisor: 9, points: [[0, 0], [1, 0], [0, 1], [1, 1]], S: " + quad_S[i - 1] + "}";
+    for (int i = 1; i <= int(N); ++i)
+        s += std::string(i > 1 ? ", " : "") +
+             "{type: subdivision, systems: " + (i == only0 ? "[0]" : "[0, 1]") + ", divisor: " + divisor +
+             ", points: " + points + ", S: " + S[i - 1] + "}";
     return s + "]";
 }
+std::string quad_maps() { return subdivision_maps(quad_S, 5, "9", "[[0, 0], [1, 0], [0, 1], [1, 1]]"); }
 std::string tri_maps() {
-    std::string s = "maps: [";
-    for (int i = 1; i <= 4; ++i)
-        s += std::string(i > 1 ? ", " : "") + "{type: subdivision, systems: " + (i == 2 ? "[0]" : "[0, 1]") +
-             ", divisor: 2, points: [[0, 0], [1, 0], [0.5, 0.6666666666666666]], S: " + tri_S[i - 1] + "}";
-    return s + "]";
+    return subdivision_maps(tri_S, 2, "2", "[[0, 0], [1, 0], [0.5, 0.6666666666666666]]");
 }
 
 std::shared_ptr<const fp::Renderer> make(const std::string& body) {

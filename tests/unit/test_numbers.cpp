@@ -15,18 +15,12 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 using fp::NumberSystem;
 using fp::Vec2;
-
-using fp::test::host;
-
-std::shared_ptr<const NumberSystem> numbers(const std::string& yaml) {
-    auto ns = host().make<NumberSystem>(yaml);
-    EXPECT_TRUE(ns) << yaml;
-    return ns;
-}
 
 std::string qsystem(double A, double B) {
     return "{type: q-system, A: " + std::to_string(A) + ", B: " + std::to_string(B) + "}";
@@ -74,7 +68,7 @@ TEST(QSystemNumbers, MinusOneZeroIsComplexBitwise) {
     const std::size_t n = 1000;
     const Operands o = random_operands(n, 1);
     for (const std::string yaml : {"{type: complex}", "{type: q-system, A: -1, B: 0}", "{type: q-system}"}) {
-        auto ns = numbers(yaml);
+        auto ns = make<NumberSystem>(yaml);
         std::vector<double> ox(n), oy(n);
         ns->multiply({o.ux.data(), o.uy.data(), n}, {o.vx.data(), o.vy.data(), n}, {ox.data(), oy.data(), n});
         std::size_t bad = 0;
@@ -93,7 +87,7 @@ TEST(QSystemNumbers, MinusOneZeroIsComplexBitwise) {
 // different sequence of roundings, so this agrees within a few ulps, not bitwise.
 TEST(QSystemNumbers, ComplexDivisionIsComplexQuotient) {
     const Operands o = random_operands(1000, 2);
-    auto ns = numbers("{type: complex}");
+    auto ns = make<NumberSystem>("{type: complex}");
     for (std::size_t i = 0; i < o.ux.size(); ++i) {
         Vec2 q;
         ASSERT_TRUE(ns->divide({o.ux[i], o.uy[i]}, {o.vx[i], o.vy[i]}, q));
@@ -113,7 +107,7 @@ TEST(QSystemNumbers, ComplexDivisionIsComplexQuotient) {
 TEST(QSystemNumbers, MultiplierAgreesWithMultiply) {
     const Operands o = random_operands(1000, 3);
     for (auto [A, B] : systems) {
-        auto ns = numbers(qsystem(A, B));
+        auto ns = make<NumberSystem>(qsystem(A, B));
         for (std::size_t i = 0; i < o.ux.size(); ++i) {
             const Vec2 u{o.ux[i], o.uy[i]}, v{o.vx[i], o.vy[i]};
             const fp::Mat2 m = ns->multiplier(u);
@@ -133,7 +127,7 @@ TEST(QSystemNumbers, MultiplierAgreesWithMultiply) {
 TEST(QSystemNumbers, MultiplicationCommutes) {
     const Operands o = random_operands(1000, 4);
     for (auto [A, B] : systems) {
-        auto ns = numbers(qsystem(A, B));
+        auto ns = make<NumberSystem>(qsystem(A, B));
         for (std::size_t i = 0; i < o.ux.size(); ++i) {
             const Vec2 u{o.ux[i], o.uy[i]}, v{o.vx[i], o.vy[i]};
             const Vec2 uv = mul(*ns, u, v), vu = mul(*ns, v, u);
@@ -147,7 +141,7 @@ TEST(QSystemNumbers, MultiplicationCommutes) {
 // ------------------------------------------------------------------ hand-computed, A = 2, B = 1
 
 TEST(QSystemNumbers, HandComputedProductsA2B1) {
-    auto ns = numbers("{type: q-system, A: 2, B: 1}");
+    auto ns = make<NumberSystem>("{type: q-system, A: 2, B: 1}");
     // q^2 = A + 2B q = 2 + 2q (eq. (11)): (0 + 1q)(0 + 1q) = (0 + 2*1*1) + q(0 + 0 + 2*1*1*1).
     EXPECT_EQ(mul(*ns, {0, 1}, {0, 1}), (Vec2{2, 2}));
     // (1 + 2q)(3 + 4q): eq. (14) real part 1*3 + 2*(2*4) = 19, q part 2*3 + 1*4 + 2*1*(2*4) = 26.
@@ -183,7 +177,7 @@ TEST(QSystemNumbers, HandComputedProductsA2B1) {
 TEST(QSystemNumbers, DivisionInvertsMultiplication) {
     const Operands o = random_operands(1000, 5);
     for (auto [A, B] : systems) {
-        auto ns = numbers(qsystem(A, B));
+        auto ns = make<NumberSystem>(qsystem(A, B));
         std::size_t tested = 0;
         for (std::size_t i = 0; i < o.ux.size(); ++i) {
             const Vec2 u{o.ux[i], o.uy[i]}, v{o.vx[i], o.vy[i]};
@@ -212,7 +206,7 @@ TEST(QSystemNumbers, DivisionByZeroDenominatorRefused) {
     const Vec2 untouched{123, 456};
     // Zero itself, in every system: D = 0^2 + 2B*0*0 - A*0^2 = 0.
     for (auto [A, B] : systems) {
-        auto ns = numbers(qsystem(A, B));
+        auto ns = make<NumberSystem>(qsystem(A, B));
         Vec2 out = untouched;
         EXPECT_FALSE(ns->divide({1, 2}, {0, 0}, out)) << "A = " << A << ", B = " << B;
         EXPECT_EQ(out, untouched);
@@ -221,7 +215,7 @@ TEST(QSystemNumbers, DivisionByZeroDenominatorRefused) {
     // 1 + 2*1*1 - 3*1 = 0. Indeed 1 + q is a zero divisor: (1 + q)(-3 + q) by eq. (14) has
     // real part 1*(-3) + 3*(1*1) = 0 and q part 1*(-3) + 1*1 + 2*1*(1*1) = 0.
     {
-        auto ns = numbers("{type: q-system, A: 3, B: 1}");
+        auto ns = make<NumberSystem>("{type: q-system, A: 3, B: 1}");
         Vec2 out = untouched;
         EXPECT_FALSE(ns->divide({2, 5}, {1, 1}, out));
         EXPECT_EQ(out, untouched);
@@ -231,14 +225,14 @@ TEST(QSystemNumbers, DivisionByZeroDenominatorRefused) {
     }
     // A = 1, B = 0 (split-complex, q^2 = 1): D = c^2 - d^2, zero on c = +-d: 2 - 2q -> 4 - 4 = 0.
     {
-        auto ns = numbers("{type: q-system, A: 1, B: 0}");
+        auto ns = make<NumberSystem>("{type: q-system, A: 1, B: 0}");
         Vec2 out = untouched;
         EXPECT_FALSE(ns->divide({1, 0}, {2, -2}, out));
         EXPECT_EQ(out, untouched);
     }
     // The complex numbers only refuse 0: D = c^2 + d^2.
     {
-        auto ns = numbers("{type: complex}");
+        auto ns = make<NumberSystem>("{type: complex}");
         Vec2 out;
         EXPECT_TRUE(ns->divide({1, 0}, {2, -2}, out));
         EXPECT_EQ(out, (Vec2{0.25, 0.25})); // 1/(2 - 2i) = (2 + 2i)/8
@@ -246,8 +240,8 @@ TEST(QSystemNumbers, DivisionByZeroDenominatorRefused) {
 }
 
 TEST(QSystemNumbers, RealIsReal) {
-    EXPECT_TRUE(numbers("{type: real}")->is_real());
-    EXPECT_FALSE(numbers("{type: q-system, A: 0, B: 0}")->is_real());
+    EXPECT_TRUE(make<NumberSystem>("{type: real}")->is_real());
+    EXPECT_FALSE(make<NumberSystem>("{type: q-system, A: 0, B: 0}")->is_real());
 }
 
 } // namespace

@@ -22,24 +22,10 @@
 #include <utility>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
-using fp::test::host;
-
-struct Render {
-    fp::Image img;
-    fp::RenderStats stats;
-};
-
-Render render(const std::string& yaml, unsigned threads = 2) {
-    auto r = host().make<fp::Renderer>(yaml);
-    fp::host::Runtime rt(threads, nullptr);
-    Render out;
-    out.img = r->render(rt, out.stats);
-    return out;
-}
-
-using fp::test::has_plugin;
 const std::string& p4m = fp::test::p4m_fig8;
 
 std::string orbit_trap(const std::string& extra, int size = 64) {
@@ -191,16 +177,7 @@ TEST(OrbitTrap, SameImageOnOneAndTwoThreads) {
 }
 
 TEST(OrbitTrap, RefusesWhatItCannotDo) {
-    auto error_of = [](const std::string& yaml) -> std::string {
-        try {
-            host().make_object(fp::Kind::Renderer, yaml, "<string>");
-        } catch (const fp::InputError& e) {
-            const std::string m = e.what();
-            const auto at = m.find(": ");
-            return m.rfind("<string>:", 0) == 0 && at != std::string::npos ? m.substr(at + 2) : m;
-        }
-        return "(no error)";
-    };
+    auto error_of = [](const std::string& yaml) { return fp::test::error_of(fp::Kind::Renderer, yaml); };
     const std::string base = "{type: orbit-trap, mapping: {type: affine, coefficients: [1, 0, 0, 1, 0, 0]}, "
                              "traps: {type: circles, preset: fig-1a}";
     EXPECT_EQ(error_of(base + ", colourer: {type: density}}"),

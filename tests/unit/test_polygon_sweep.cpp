@@ -66,6 +66,18 @@ TEST(PolygonSweep, AgreesWithEveryPairOnDegenerateGridPolygons) {
     EXPECT_GT(crossing, 500);
 }
 
+// The polygon of `n` vertices at the angles 2 pi i / n and the radii rho(i) (called in turn, from
+// i = 0) about the origin.
+template <class Rho>
+std::vector<Vec2> star(std::size_t n, Rho rho) {
+    std::vector<Vec2> v;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double a = 2 * std::numbers::pi * double(i) / double(n), r = rho(i);
+        v.push_back({r * std::cos(a), r * std::sin(a)});
+    }
+    return v;
+}
+
 // Star-shaped polygons with random radii (simple) and the same with two vertices swapped
 // (crossing, usually), in general position.
 TEST(PolygonSweep, AgreesWithEveryPairOnRandomStars) {
@@ -73,11 +85,7 @@ TEST(PolygonSweep, AgreesWithEveryPairOnRandomStars) {
     std::uniform_real_distribution<double> r(0.2, 1.0);
     for (int trial = 0; trial < 300; ++trial) {
         const std::size_t n = 5 + rng() % 200;
-        std::vector<Vec2> v;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double a = 2 * std::numbers::pi * double(i) / double(n), rho = r(rng);
-            v.push_back({rho * std::cos(a), rho * std::sin(a)});
-        }
+        std::vector<Vec2> v = star(n, [&](std::size_t) { return r(rng); });
         EXPECT_FALSE(detail::find_crossing(v, detail::segments_meet).has_value()) << "trial " << trial;
         std::swap(v[rng() % n], v[rng() % n]);
         if (!sweep_applies(v)) continue;
@@ -104,14 +112,10 @@ TEST(PolygonKernel, SortedIntersectionAgreesWithClipping) {
     std::uniform_real_distribution<double> r(0.5, 1.0);
     for (int trial = 0; trial < 40; ++trial) {
         const std::size_t n = 600 + rng() % 1500;
-        std::vector<Vec2> v;
         const double cx = r(rng) - 0.75, cy = r(rng) - 0.75;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double a = 2 * std::numbers::pi * double(i) / double(n);
-            // Mostly convex-ish, with dents every few vertices so that the kernel is smaller.
-            const double rho = i % 7 == 0 ? 0.6 * r(rng) : r(rng);
-            v.push_back({cx + rho * std::cos(a), cy + rho * std::sin(a)});
-        }
+        // Mostly convex-ish, with dents every few vertices so that the kernel is smaller.
+        std::vector<Vec2> v = star(n, [&](std::size_t i) { return i % 7 == 0 ? 0.6 * r(rng) : r(rng); });
+        for (auto& p : v) p = {cx + p.x, cy + p.y};
         const auto a = polygon_kernel_clipped(v), b = polygon_kernel_sorted(v);
         ASSERT_EQ(a.empty(), b.empty()) << "trial " << trial;
         if (a.empty()) continue;

@@ -25,18 +25,12 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 using fp::IterationScheme;
 using fp::Transform;
-
-using fp::test::host;
-
-std::shared_ptr<const IterationScheme> scheme(const std::string& yaml) {
-    auto s = host().make<IterationScheme>(yaml);
-    EXPECT_TRUE(s) << yaml;
-    return s;
-}
 
 // A plain affine map (a contraction with a rotation), written here so that these tests depend on
 // no other transform plugin than the inversion.
@@ -100,7 +94,7 @@ Batch<T> run(const Transform& t, const std::vector<std::string>& steps, std::uin
         if (s == "T")
             t.apply(p, nullptr);
         else
-            scheme(s)->step(t, p, nullptr, n);
+            make<IterationScheme>(s)->step(t, p, nullptr, n);
     }
     return b;
 }
@@ -280,7 +274,7 @@ TEST(SchemeReductions, MaskLeavesInactivePoints) {
     for (const char* yaml :
          {"{type: ishikawa, alpha: 0.7, a: 0.3}", "{type: noor}", "{type: sp}", "{type: khan}",
           "{type: s-iteration}", "{type: picard-s, beta: 1.5, gamma: 0.8}"}) {
-        auto s = scheme(yaml);
+        auto s = make<IterationScheme>(yaml);
         Batch<double> b = random_points<double>(), full = b;
         std::vector<unsigned char> mask(b.x.size());
         for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = i % 3 != 0;
@@ -296,13 +290,13 @@ TEST(SchemeReductions, MaskLeavesInactivePoints) {
 }
 
 TEST(SchemeReductions, ApplicationsPerStep) {
-    EXPECT_EQ(scheme("{type: mann}")->applications(), 1u);
-    EXPECT_EQ(scheme("{type: ishikawa}")->applications(), 2u);
-    EXPECT_EQ(scheme("{type: noor}")->applications(), 3u);
-    EXPECT_EQ(scheme("{type: sp}")->applications(), 3u);
-    EXPECT_EQ(scheme("{type: khan}")->applications(), 2u);
-    EXPECT_EQ(scheme("{type: s-iteration}")->applications(), 2u);
-    EXPECT_EQ(scheme("{type: picard-s}")->applications(), 3u);
+    EXPECT_EQ(make<IterationScheme>("{type: mann}")->applications(), 1u);
+    EXPECT_EQ(make<IterationScheme>("{type: ishikawa}")->applications(), 2u);
+    EXPECT_EQ(make<IterationScheme>("{type: noor}")->applications(), 3u);
+    EXPECT_EQ(make<IterationScheme>("{type: sp}")->applications(), 3u);
+    EXPECT_EQ(make<IterationScheme>("{type: khan}")->applications(), 2u);
+    EXPECT_EQ(make<IterationScheme>("{type: s-iteration}")->applications(), 2u);
+    EXPECT_EQ(make<IterationScheme>("{type: picard-s}")->applications(), 3u);
 }
 
 // ------------------------------------------------------------------ bad input

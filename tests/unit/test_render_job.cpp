@@ -6,6 +6,7 @@
 #include <fixpoint/host/job/render_job.hpp>
 
 #include "cli.hpp"
+#include "configs.hpp"
 #include "host.hpp"
 
 #include <gtest/gtest.h>
@@ -16,23 +17,11 @@
 namespace fs = std::filesystem;
 using namespace fp;
 using namespace fp::host;
-using fp::test::error_of;
+using namespace fp::test;
 
 namespace {
 
-// A small chaos game: three circles, a few thousand points.
-const std::string small = R"(renderer:
-  type: chaos-game
-  width: 24
-  height: 16
-  points: 4000
-  chains: 8
-  view: [-2, 2, -1.5, 1.5]
-  maps:
-    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.8}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.8}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.8}}
-)";
+const std::string& small = small_circles;
 
 Pipeline pipeline(const std::string& text, const std::string& name = "job.yaml") {
     return load_pipeline(fp::test::host().registry(), parse_config(text, name));

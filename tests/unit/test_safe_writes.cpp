@@ -17,12 +17,11 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 namespace fs = std::filesystem;
-using fp::test::read_file;
-using fp::test::scratch_dir;
-using fp::test::write_file;
 
 /// A folder with a victim file outside the target's folder and links to it at every name a
 /// writer of `name` could have been expected to use. Returns the victim's path.

@@ -13,11 +13,12 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 using fp::SchemeProgram;
 using Op = fp::SchemeProgram::Op;
-using fp::test::host;
 
 std::shared_ptr<const fp::IterationScheme> scheme(const std::string& yaml) {
     return host().make<fp::IterationScheme>(yaml);

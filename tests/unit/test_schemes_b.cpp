@@ -8,6 +8,7 @@
 // few ulps (the sides group the same sums differently, e.g. alpha + beta against two
 // separate weights).
 #include "cli.hpp"
+#include "configs.hpp"
 
 #include "host.hpp"
 #include <fixpoint/fixpoint.hpp>
@@ -23,25 +24,13 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 using fp::IterationScheme;
 using fp::Transform;
 using fp::Vec2;
-
-using fp::test::host;
-
-std::shared_ptr<const IterationScheme> scheme(const std::string& yaml) {
-    auto s = host().make<IterationScheme>(yaml);
-    EXPECT_TRUE(s) << yaml;
-    return s;
-}
-
-std::shared_ptr<const Transform> transform(const std::string& yaml) {
-    auto t = host().make<Transform>(yaml);
-    EXPECT_TRUE(t) << yaml;
-    return t;
-}
 
 /// A batch of points, structure of arrays.
 struct Pts {
@@ -53,7 +42,7 @@ struct Pts {
 using Step = std::function<Pts(const Transform&, Pts, std::uint64_t)>;
 
 Step step_of(const std::string& yaml) {
-    std::shared_ptr<const IterationScheme> s = scheme(yaml);
+    std::shared_ptr<const IterationScheme> s = make<IterationScheme>(yaml);
     return [s, yaml](const Transform& t, Pts p, std::uint64_t n) {
         if (!s)
             ADD_FAILURE() << "no scheme " << yaml;
@@ -129,7 +118,7 @@ void expect_points(const Pts& got, const Pts& want, double tol, const std::strin
 /// a and b agree on batches under every test map at steps 0..5.
 void expect_same(const Step& a, const Step& b, double tol, const std::string& what) {
     for (const Map& m : maps) {
-        auto t = transform(m.yaml);
+        auto t = make<Transform>(m.yaml);
         ASSERT_TRUE(t);
         const Pts p = sample(m, 600, 5);
         for (std::uint64_t n = 0; n < 6; ++n)
@@ -253,10 +242,10 @@ TEST(Cr, PicardLimits) {
 /// Step-by-step chain over changing maps (as in a chaos game): a and b to the bit at each n.
 void expect_same_chain(const std::string& a_yaml, const std::string& b_yaml,
                        const std::vector<std::string>& chain_maps, std::uint64_t steps) {
-    auto a = scheme(a_yaml), b = scheme(b_yaml);
+    auto a = make<IterationScheme>(a_yaml), b = make<IterationScheme>(b_yaml);
     ASSERT_TRUE(a && b);
     std::vector<std::shared_ptr<const Transform>> ts;
-    for (const auto& m : chain_maps) ts.push_back(transform(m));
+    for (const auto& m : chain_maps) ts.push_back(make<Transform>(m));
     Pts p = sample(circle_map, 700, 9), q = p;
     std::vector<float> fx(p.x.begin(), p.x.end()), fy(p.y.begin(), p.y.end()), gx = fx, gy = fy;
     for (std::uint64_t n = 0; n < steps; ++n) {
@@ -298,8 +287,8 @@ TEST(Schu, OnAnInvolutionIsMannWithEq24InAQSystem) {
 TEST(Schu, GeneralDefinitionByHand) {
     // T(x, y) = (x / 2 + 1/4, y / 2): p = (1, 2), T(p) = (0.75, 1), T^2(p) = (0.625, 0.5),
     // T^3(p) = (0.5625, 0.25). At n = 2, alpha = 0.5: p' = (p + T^3(p)) / 2 = (0.78125, 1.125).
-    auto t = transform("{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, 0]}");
-    auto s = scheme("{type: schu, alpha: 0.5}");
+    auto t = make<Transform>("{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, 0]}");
+    auto s = make<IterationScheme>("{type: schu, alpha: 0.5}");
     ASSERT_TRUE(t && s);
     ASSERT_FALSE(t->is_involution());
     double x = 1, y = 2;
@@ -315,7 +304,7 @@ TEST(Schu, GeneralDefinitionByHand) {
 
 TEST(Schu, GeneralDefinitionOnBatches) {
     // n = 2: (1 - alpha) p + alpha T(T(T(p))), real and in Q_{2,1} (products by eq. (14)).
-    auto t = transform(affine_map.yaml);
+    auto t = make<Transform>(affine_map.yaml);
     ASSERT_TRUE(t);
     const Pts p = sample(affine_map, 500, 4);
     const Pts t3 = apply(*t, apply(*t, apply(*t, p)));
@@ -342,8 +331,8 @@ TEST(Schu, GeneralDefinitionOnBatches) {
 }
 
 TEST(Schu, RefusesTooManyCompositions) {
-    auto t = transform(affine_map.yaml);
-    auto s = scheme("{type: schu, alpha: 0.5}");
+    auto t = make<Transform>(affine_map.yaml);
+    auto s = make<IterationScheme>("{type: schu, alpha: 0.5}");
     ASSERT_TRUE(t && s);
     Pts p = sample(affine_map, 10, 1);
     auto run = [&](const IterationScheme& sc, std::uint64_t n) {
@@ -361,17 +350,17 @@ TEST(Schu, RefusesTooManyCompositions) {
         EXPECT_NE(m.find("raise max_compositions"), std::string::npos) << m;
         EXPECT_EQ(m.find('\n'), std::string::npos) << m;
     }
-    auto s3 = scheme("{type: schu, alpha: 0.5, max_compositions: 3}");
+    auto s3 = make<IterationScheme>("{type: schu, alpha: 0.5, max_compositions: 3}");
     EXPECT_NO_THROW(run(*s3, 2));
     EXPECT_THROW(run(*s3, 3), fp::InputError);
     // An involution never needs more than one application, whatever n.
-    auto inv = transform(circle_map.yaml);
+    auto inv = make<Transform>(circle_map.yaml);
     Pts q = sample(circle_map, 10, 1), want = q;
     s3->step(*inv, fp::Points<double>{q.x.data(), q.y.data(), q.size()}, nullptr, 1000001);
     expect_points(q, want, 0, "odd n on an involution moves nothing");
     EXPECT_NO_THROW(s3->step(*inv, fp::Points<double>{q.x.data(), q.y.data(), q.size()}, nullptr, 1000000));
     // A point reflection written as an affine map is an involution too: the cheap form.
-    auto refl = transform("{type: affine, matrix: [-1, 0, 0, -1], offset: [2, 4]}");
+    auto refl = make<Transform>("{type: affine, matrix: [-1, 0, 0, -1], offset: [2, 4]}");
     ASSERT_TRUE(refl && refl->is_involution());
     EXPECT_NO_THROW(s3->step(*refl, fp::Points<double>{q.x.data(), q.y.data(), q.size()}, nullptr, 5000));
 }
@@ -389,17 +378,9 @@ TEST(Schu, RefusalThroughTheCli) {
 TEST(Schu, InTheInversionChaosGameIsMannWithEq24) {
     // The whole pipeline: the same pixels as Mann(alpha at even n, 0 at odd n).
     const std::string dir = fp::test::scratch_dir("schu-chaos-game");
-    fp::test::write_file(dir + "/cfg.yaml", R"(renderer:
-  type: chaos-game
-  width: 96
-  height: 96
-  points: 200000
-  chains: 256
-  maps:
-    - {type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.9}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.9}}
-    - {type: inversion, shape: {type: circle, centre: [-0.5, -0.866], radius: 0.9}}
-)");
+    fp::test::write_file(dir + "/cfg.yaml",
+                         chaos_game({"width: 96", "height: 96", "points: 200000", "chains: 256"},
+                                    fp::test::three_circles("0.9")));
     auto render = [&](const std::string& iteration, const std::string& out) {
         const auto r = fp::test::run_cli({"render", "--quiet", dir + "/cfg.yaml", "-o", dir + "/" + out,
                                           "--set", "renderer.iteration=" + iteration});
@@ -428,7 +409,7 @@ TEST(Switching, TwoChildrenAlternate) {
     const Step sw = step_of("{type: switching, schemes: [" + a + ", " + b + "]}");
     const Step sa = step_of(a), sb = step_of(b);
     for (const Map& m : maps) {
-        auto t = transform(m.yaml);
+        auto t = make<Transform>(m.yaml);
         const Pts p = sample(m, 300, 2);
         for (std::uint64_t n = 0; n < 8; ++n)
             expect_points(sw(*t, p, n), (n % 2 == 0 ? sa : sb)(*t, p, n), 0, "n = " + std::to_string(n));
@@ -437,7 +418,7 @@ TEST(Switching, TwoChildrenAlternate) {
 
 TEST(Switching, PassesTheStepIndexThrough) {
     // Schu as the second of two children at n = 3 composes T four times (n + 1), not twice.
-    auto t = transform(affine_map.yaml);
+    auto t = make<Transform>(affine_map.yaml);
     const Pts p = sample(affine_map, 200, 8);
     const Step sw = step_of("{type: switching, schemes: [{type: picard}, {type: schu, alpha: 0.5}]}");
     expect_points(sw(*t, p, 3), step_of("{type: schu, alpha: 0.5}")(*t, p, 3), 0, "n = 3");
@@ -451,7 +432,7 @@ TEST(Switching, OfQSystems) {
     const Step sw = step_of("{type: switching, schemes: [" + a + ", " + b + "]}");
     const Step sa = step_of(a), sb = step_of(b);
     for (const Map& m : maps) {
-        auto t = transform(m.yaml);
+        auto t = make<Transform>(m.yaml);
         const Pts p = sample(m, 300, 6);
         for (std::uint64_t n = 0; n < 6; ++n)
             expect_points(sw(*t, p, n), (n % 2 == 0 ? sa : sb)(*t, p, n), 0, "n = " + std::to_string(n));
@@ -476,15 +457,15 @@ Vec2 map_point(const Transform& t, Vec2 p) {
 
 TEST(Affine, HandComputedPoints) {
     // x' = a x + b y + e, y' = c x + d y + f.
-    auto half = transform("{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, 0]}");
+    auto half = make<Transform>("{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, 0]}");
     EXPECT_EQ(map_point(*half, {1, 2}), (Vec2{0.75, 1}));
     EXPECT_EQ(map_point(*half, {-1, 0.5}), (Vec2{-0.25, 0.25}));
-    auto m = transform("{type: affine, matrix: [1, 2, 3, 4], offset: [10, 20]}");
-    EXPECT_EQ(map_point(*m, {1, 2}), (Vec2{15, 31}));                          // (1 + 4 + 10, 3 + 8 + 20)
-    EXPECT_EQ(map_point(*m, {-2, 0.5}), (Vec2{9, 16}));                        // (-2 + 1 + 10, -6 + 2 + 20)
-    auto rot = transform("{type: affine, coefficients: [0, -1, 1, 0, 1, 0]}"); // quarter turn, then +x
+    auto m = make<Transform>("{type: affine, matrix: [1, 2, 3, 4], offset: [10, 20]}");
+    EXPECT_EQ(map_point(*m, {1, 2}), (Vec2{15, 31}));   // (1 + 4 + 10, 3 + 8 + 20)
+    EXPECT_EQ(map_point(*m, {-2, 0.5}), (Vec2{9, 16})); // (-2 + 1 + 10, -6 + 2 + 20)
+    auto rot = make<Transform>("{type: affine, coefficients: [0, -1, 1, 0, 1, 0]}"); // quarter turn, then +x
     EXPECT_EQ(map_point(*rot, {2, 3}), (Vec2{-2, 2}));
-    auto lin = transform("{type: affine, matrix: [2, 0, 0, -3]}"); // offset defaults to [0, 0]
+    auto lin = make<Transform>("{type: affine, matrix: [2, 0, 0, -3]}"); // offset defaults to [0, 0]
     EXPECT_EQ(map_point(*lin, {1.5, 2}), (Vec2{3, -6}));
     // The float path.
     float x = 1, y = 2;
@@ -494,8 +475,8 @@ TEST(Affine, HandComputedPoints) {
 }
 
 TEST(Affine, MatrixWithOffsetIsTheCoefficients) {
-    auto a = transform("{type: affine, matrix: [0.6, -0.3, 0.25, 0.5], offset: [0.1, -0.2]}");
-    auto b = transform(affine_map.yaml);
+    auto a = make<Transform>("{type: affine, matrix: [0.6, -0.3, 0.25, 0.5], offset: [0.1, -0.2]}");
+    auto b = make<Transform>(affine_map.yaml);
     const Pts p = sample(affine_map, 500, 12);
     expect_points(apply(*a, p), apply(*b, p), 0, "matrix + offset against coefficients");
     // The mask: inactive points stay.
@@ -511,13 +492,15 @@ TEST(Affine, MatrixWithOffsetIsTheCoefficients) {
 }
 
 TEST(Affine, Involutions) {
-    EXPECT_TRUE(transform("{type: affine, matrix: [-1, 0, 0, -1], offset: [2, 4]}")->is_involution());
+    EXPECT_TRUE(make<Transform>("{type: affine, matrix: [-1, 0, 0, -1], offset: [2, 4]}")->is_involution());
     EXPECT_TRUE(
-        transform("{type: affine, coefficients: [1, 0, 0, -1, 0, 1]}")->is_involution()); // y -> 1 - y
-    EXPECT_FALSE(transform("{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, 0]}")->is_involution());
-    EXPECT_FALSE(transform("{type: affine, coefficients: [0, -1, 1, 0, 0, 0]}")->is_involution()); // A^2 = -I
-    EXPECT_FALSE(transform("{type: affine, coefficients: [1, 0, 0, 1, 0.5, 0]}")->is_involution()); // a shift
-    auto t = transform("{type: affine, coefficients: [1, 0, 0, -1, 0, 1]}");
+        make<Transform>("{type: affine, coefficients: [1, 0, 0, -1, 0, 1]}")->is_involution()); // y -> 1 - y
+    EXPECT_FALSE(make<Transform>("{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.25, 0]}")->is_involution());
+    EXPECT_FALSE(
+        make<Transform>("{type: affine, coefficients: [0, -1, 1, 0, 0, 0]}")->is_involution()); // A^2 = -I
+    EXPECT_FALSE(
+        make<Transform>("{type: affine, coefficients: [1, 0, 0, 1, 0.5, 0]}")->is_involution()); // a shift
+    auto t = make<Transform>("{type: affine, coefficients: [1, 0, 0, -1, 0, 1]}");
     EXPECT_EQ(map_point(*t, map_point(*t, {0.3, 0.7})), (Vec2{0.3, 0.7}));
 }
 

@@ -16,18 +16,12 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 using fp::Shape;
 using fp::Vec2;
-
-using fp::test::host;
-
-std::shared_ptr<const Shape> shape(const std::string& yaml) {
-    auto s = host().make<Shape>(yaml);
-    EXPECT_TRUE(s) << yaml;
-    return s;
-}
 
 double ray(const Shape& s, Vec2 o, Vec2 d) {
     double t = 0;
@@ -72,7 +66,7 @@ const std::string l_shape = "{type: polygon, vertices: [[0, 0], [2, 0], [2, 1], 
 // ------------------------------------------------------------------ circle
 
 TEST(Circle, RayExitHandComputed) {
-    auto c = shape("{type: circle, centre: [0, 0], radius: 1}");
+    auto c = make<Shape>("{type: circle, centre: [0, 0], radius: 1}");
     // From the centre: t = R / |d|.
     EXPECT_DOUBLE_EQ(ray(*c, {0, 0}, {1, 0}), 1.0);
     EXPECT_DOUBLE_EQ(ray(*c, {0, 0}, {0, -4}), 0.25);
@@ -88,14 +82,14 @@ TEST(Circle, RayExitHandComputed) {
 TEST(Circle, RayExitIsAccurateNearTheBoundary) {
     // o a hair inside the boundary, ray straight out: the naive (-h + sqrt(h^2 - a c)) / a
     // cancels; the stable form keeps full relative precision.
-    auto c = shape("{type: circle, centre: [1, 2], radius: 1}");
+    auto c = make<Shape>("{type: circle, centre: [1, 2], radius: 1}");
     const Vec2 o{1 + (1 - 1e-7), 2};
     EXPECT_NEAR(ray(*c, o, {1, 0}), 1e-7, 1e-7 * 1e-8);
     EXPECT_NEAR(ray(*c, o, {-1, 0}), 2 - 1e-7, 1e-15);
 }
 
 TEST(Circle, KernelAndInside) {
-    auto c = shape("{type: circle, centre: [1, -1], radius: 2}");
+    auto c = make<Shape>("{type: circle, centre: [1, -1], radius: 2}");
     EXPECT_EQ(c->centre(), (Vec2{1, -1}));
     EXPECT_TRUE(c->in_kernel({2.9, -1}));
     EXPECT_FALSE(c->in_kernel({3, -1})); // on the boundary: not strictly inside
@@ -107,7 +101,7 @@ TEST(Circle, KernelAndInside) {
 // ------------------------------------------------------------------ polygon: ray exit
 
 TEST(Polygon, RayThroughAVertex) {
-    auto s = shape(square);
+    auto s = make<Shape>(square);
     // From the centre along the diagonal: hits the corner (1, 1) at t = 1 exactly where the
     // two edges meet.
     EXPECT_NEAR(ray(*s, {0, 0}, {1, 1}), 1.0, 1e-15);
@@ -117,14 +111,14 @@ TEST(Polygon, RayThroughAVertex) {
     EXPECT_NEAR(ray(*s, {0.5, 0}, {0.5, 1}), 1.0, 1e-15);
     // Triangle (0, 0), (4, 0), (0, 4) from o = (1, 1): direction (3, -1) hits the vertex
     // (4, 0) at t = 1; direction (-1, 3) hits (0, 4) at t = 1.
-    auto t = shape("{type: polygon, vertices: [[0, 0], [4, 0], [0, 4]]}");
+    auto t = make<Shape>("{type: polygon, vertices: [[0, 0], [4, 0], [0, 4]]}");
     EXPECT_NEAR(ray(*t, {1, 1}, {3, -1}), 1.0, 1e-15);
     EXPECT_NEAR(ray(*t, {1, 1}, {-1, 3}), 1.0, 1e-15);
     EXPECT_NEAR(ray(*t, {1, 1}, {-1, -1}), 1.0, 1e-15);
 }
 
 TEST(Polygon, RayExitHandComputed) {
-    auto s = shape(square);
+    auto s = make<Shape>(square);
     // o = (0, 0), d = (2, 1): the edge x = 1 at t = 0.5, b = (1, 0.5).
     EXPECT_DOUBLE_EQ(ray(*s, {0, 0}, {2, 1}), 0.5);
     // o = (0.5, 0), d = (1.5, 1.5): x = 1 at t = 1/3 (before y = 1 at t = 2/3).
@@ -132,7 +126,7 @@ TEST(Polygon, RayExitHandComputed) {
     // o = (0.5, 0), d = (-3.5, 0): x = -1 at t = 1.5 / 3.5 = 3/7.
     EXPECT_NEAR(ray(*s, {0.5, 0}, {-3.5, 0}), 3.0 / 7, 1e-15);
     // Reflex vertex of the L-shape, (1, 1), seen from o = (0.5, 0.25): d = (0.5, 0.75), t = 1.
-    auto l = shape(l_shape);
+    auto l = make<Shape>(l_shape);
     EXPECT_NEAR(ray(*l, {0.5, 0.25}, {0.5, 0.75}), 1.0, 1e-15);
     // Just either side of that vertex the hit moves continuously.
     EXPECT_NEAR(ray(*l, {0.5, 0.25}, {0.5, 0.75 + 1e-9}), 1.0, 1e-8);
@@ -145,7 +139,7 @@ TEST(Polygon, RayExitHandComputed) {
 TEST(Polygon, InsideWithHorizontalRayThroughVertices) {
     // Diamond: the horizontal ray from a point at y = 0 passes through the vertices (1, 0)
     // and, from further left, (-1, 0).
-    auto d = shape("{type: polygon, vertices: [[0, -1], [1, 0], [0, 1], [-1, 0]]}");
+    auto d = make<Shape>("{type: polygon, vertices: [[0, -1], [1, 0], [0, 1], [-1, 0]]}");
     EXPECT_TRUE(inside(*d, 0.5, 0));
     EXPECT_TRUE(inside(*d, -0.5, 0));
     EXPECT_TRUE(inside(*d, 0, 0));
@@ -159,7 +153,7 @@ TEST(Polygon, InsideWithHorizontalRayThroughVertices) {
 
 TEST(Polygon, InsideWithHorizontalRayAlongAnEdge) {
     // A step: the edge (2, 1)-(3, 1) is horizontal. Kernel: 0 < x < 2, 1 < y < 2.
-    auto s = shape("{type: polygon, vertices: [[0, 0], [2, 0], [2, 1], [3, 1], [3, 2], [0, 2]]}");
+    auto s = make<Shape>("{type: polygon, vertices: [[0, 0], [2, 0], [2, 1], [3, 1], [3, 2], [0, 2]]}");
     EXPECT_TRUE(inside(*s, 1, 1));   // ray along the horizontal edge, then out at x = 3
     EXPECT_FALSE(inside(*s, -1, 1)); // enters at x = 0, leaves at x = 3
     EXPECT_TRUE(inside(*s, 2.5, 1.5));
@@ -170,8 +164,8 @@ TEST(Polygon, InsideWithHorizontalRayAlongAnEdge) {
 }
 
 TEST(Polygon, EitherOrientation) {
-    auto ccw = shape(square);
-    auto cw = shape("{type: polygon, vertices: [[-1, 1], [1, 1], [1, -1], [-1, -1]]}");
+    auto ccw = make<Shape>(square);
+    auto cw = make<Shape>("{type: polygon, vertices: [[-1, 1], [1, 1], [1, -1], [-1, -1]]}");
     for (double x : {-1.5, -0.5, 0.0, 0.9, 1.2})
         for (double y : {-1.5, -0.3, 0.4, 1.1})
             EXPECT_EQ(inside(*ccw, x, y), inside(*cw, x, y)) << x << " " << y;
@@ -183,7 +177,7 @@ TEST(Polygon, EitherOrientation) {
 // ------------------------------------------------------------------ polygon: kernel
 
 TEST(Polygon, KernelOfConcavePolygon) {
-    auto l = shape(l_shape);
+    auto l = make<Shape>(l_shape);
     // Default centre: the centroid of the kernel (0, 1) x (0, 1).
     EXPECT_NEAR(l->centre().x, 0.5, 1e-12);
     EXPECT_NEAR(l->centre().y, 0.5, 1e-12);
@@ -232,7 +226,8 @@ TEST(Polygon, DegeneratePolygonsRefused) {
 // ------------------------------------------------------------------ star-polygon
 
 TEST(StarPolygon, VerticesAndCentre) {
-    auto s = shape("{type: star-polygon, points: 5, outer_radius: 1, inner_radius: 0.5, centre: [1, 2]}");
+    auto s =
+        make<Shape>("{type: star-polygon, points: 5, outer_radius: 1, inner_radius: 0.5, centre: [1, 2]}");
     EXPECT_EQ(s->centre(), (Vec2{1, 2}));
     EXPECT_TRUE(s->in_kernel({1, 2}));
     const auto v = s->outline(0);
@@ -264,7 +259,7 @@ TEST(StarPolygon, InnerRadiusTooSmallRefused) {
 }
 
 TEST(StarPolygon, TwoPointsIsARhombus) {
-    auto s = shape("{type: star-polygon, points: 2, outer_radius: 2, inner_radius: 1}");
+    auto s = make<Shape>("{type: star-polygon, points: 2, outer_radius: 2, inner_radius: 1}");
     EXPECT_TRUE(inside(*s, 0, 1.9));
     EXPECT_TRUE(inside(*s, 0.9, 0));
     EXPECT_FALSE(inside(*s, 1.1, 0));
@@ -276,7 +271,7 @@ TEST(StarPolygon, TwoPointsIsARhombus) {
 
 TEST(Superformula, CircleCaseIsExact) {
     // m = 4, n1 = n2 = n3 = 2, a = b = 1: r = (cos^2 + sin^2)^(-1/2) = 1, the unit circle.
-    auto s = shape("{type: superformula, m: 4, n1: 2, n2: 2, n3: 2, scale: 2, centre: [1, 1]}");
+    auto s = make<Shape>("{type: superformula, m: 4, n1: 2, n2: 2, n3: 2, scale: 2, centre: [1, 1]}");
     EXPECT_NEAR(ray(*s, {1, 1}, {3, 4}), 2.0 / 5, 1e-15); // closed form from the centre
     EXPECT_NEAR(ray(*s, {2, 1}, {1, 0}), 1.0, 1e-12);     // bisection from off-centre
     EXPECT_NEAR(ray(*s, {2, 1}, {-1, 0}), 3.0, 1e-12);
@@ -286,7 +281,8 @@ TEST(Superformula, CircleCaseIsExact) {
 }
 
 TEST(Superformula, InsideAgreesWithRayExit) {
-    auto s = shape("{type: superformula, m: 5, n1: 2, n2: 7, n3: 7, rotation: 0.3, centre: [0.5, -0.25]}");
+    auto s =
+        make<Shape>("{type: superformula, m: 5, n1: 2, n2: 7, n3: 7, rotation: 0.3, centre: [0.5, -0.25]}");
     const Vec2 c = s->centre();
     EXPECT_EQ(c, (Vec2{0.5, -0.25}));
     // From the centre and from another point of the kernel.
@@ -328,7 +324,7 @@ TEST(Superformula, InsideShortcutAgreesWithTheRadius) {
         "{type: superformula, m: 4, n1: 1000, n2: 1500, n3: 1500}", // (beyond the bounds' limits: none)
     };
     for (const char* yaml : shapes) {
-        auto s = shape(yaml);
+        auto s = make<Shape>(yaml);
         const Vec2 c = s->centre();
         double far = 0;
         for (const auto& q : s->outline(4096)) far = std::max(far, std::hypot(q.x - c.x, q.y - c.y));
@@ -371,7 +367,7 @@ TEST(Superformula, InsideShortcutAgreesWithTheRadius) {
 }
 
 TEST(Superformula, KernelExcludesTheTips) {
-    auto s = shape("{type: superformula}");
+    auto s = make<Shape>("{type: superformula}");
     EXPECT_TRUE(s->in_kernel({0, 0}));
     // A point inside a lobe but near its tip cannot see the other lobes.
     const auto b = s->bounds();

@@ -2,8 +2,8 @@
 // instruction set the kernels dispatch to. Each recipe is rendered with dispatch pinned to
 // each target this machine has (fp::simd::force_target), from the portable one-lane SCALAR
 // up to the widest, and compared with the best target's image and counts.
-#include <fixpoint/host/core/host.hpp>
-#include <fixpoint/host/core/runtime.hpp>
+#include "host.hpp"
+
 #include <fixpoint/simd.hpp>
 
 #include <gtest/gtest.h>
@@ -11,25 +11,9 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
-
-fp::host::Host& host() {
-    static fp::host::Host h;
-    return h;
-}
-
-struct Render {
-    fp::Image img;
-    fp::RenderStats stats;
-};
-
-Render render(const std::string& yaml, unsigned threads) {
-    auto r = host().make<fp::Renderer>(yaml);
-    fp::host::Runtime rt(threads, nullptr);
-    Render out;
-    out.img = r->render(rt, out.stats);
-    return out;
-}
 
 const std::string circles = "maps: [{type: inversion, shape: {type: circle, centre: [1, 0], radius: 0.65}}, "
                             "{type: inversion, shape: {type: circle, centre: [-0.5, 0.866], radius: 0.65}}, "

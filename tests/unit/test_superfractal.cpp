@@ -112,6 +112,18 @@ TEST(Superfractal, EquationTwoJoinsItsCurves) {
 
 const std::string sf_head = "{type: superfractal, width: 256, height: 256, view: [0, 1, 0, 1], ";
 
+// Several chunks per buffer (16384 points each), three buffers, an IFS of three maps (shares of
+// unequal size), bad values to repair (the 1e200 map), coloured by `colourer`.
+std::string three_buffers(const std::string& colourer) {
+    const std::string maps = "maps: [" + f1 + ", " + f2 + ", " + g1 + ", " + g2 +
+                             ", {type: affine, coefficients: [0.3, 0, 0, 0.3, 0.1, 0.1], ifs: 1}, "
+                             "{type: affine, coefficients: [1e200, 0, 0, 1e200, 0, 0], ifs: 2}, " +
+                             "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0.5], ifs: 2}]";
+    return sf_head +
+           "points_per_buffer: 40001, buffers: 3, child: 2, steps: 25, colourer: {type: " + colourer + "}, " +
+           maps + "}";
+}
+
 TEST(Superfractal, OneIfsOneBufferReachesTheAttractor) {
     // With one IFS and one buffer the buffer algorithm is the deterministic IFS algorithm: its
     // points lie on the attractor that the chaos game draws, within a pixel, and fill it.
@@ -152,14 +164,7 @@ TEST(Superfractal, ForgetsItsInitialSets) {
 TEST(Superfractal, SameImageOnOneAndManyThreads) {
     // Several chunks per buffer (16384 points each), three buffers, an IFS of three maps (shares
     // of unequal size), flame colours, and bad values repaired.
-    const std::string maps = "maps: [" + f1 + ", " + f2 + ", " + g1 + ", " + g2 +
-                             ", {type: affine, coefficients: [0.3, 0, 0, 0.3, 0.1, 0.1], ifs: 1}, "
-                             "{type: affine, coefficients: [1e200, 0, 0, 1e200, 0, 0], ifs: 2}, " +
-                             "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0.5], ifs: 2}]";
-    const std::string yaml = sf_head +
-                             "points_per_buffer: 40001, buffers: 3, child: 2, steps: 25, "
-                             "colourer: {type: flame}, " +
-                             maps + "}";
+    const std::string yaml = three_buffers("flame");
     const auto one = render(yaml, 1), two = render(yaml, 2), three = render(yaml, 3);
     ASSERT_GT(count(lit(one.img)), 100u);
     EXPECT_TRUE(one.img.pixels == two.img.pixels);
@@ -349,14 +354,7 @@ TEST(Superfractal, StealingKeepsTheGeometryAndTheBytesOnAnyThreads) {
     // The same child with and without colour stealing (the colour IFS draws nothing from the
     // RNG), and the same bytes on 1, 2 and 3 threads: several chunks per buffer, three buffers,
     // an IFS of three maps, bad values repaired (their colour points copied with them).
-    const std::string maps = "maps: [" + f1 + ", " + f2 + ", " + g1 + ", " + g2 +
-                             ", {type: affine, coefficients: [0.3, 0, 0, 0.3, 0.1, 0.1], ifs: 1}, "
-                             "{type: affine, coefficients: [1e200, 0, 0, 1e200, 0, 0], ifs: 2}, " +
-                             "{type: affine, coefficients: [0.5, 0, 0, 0.5, 0.5, 0.5], ifs: 2}]";
-    const std::string plain = sf_head +
-                              "points_per_buffer: 40001, buffers: 3, child: 2, steps: 25, "
-                              "colourer: {type: map-colour}, " +
-                              maps + "}";
+    const std::string plain = three_buffers("map-colour");
     const std::string yaml = fp::test::replace_once(
         fp::test::replace_once(plain, "colourer:", "picture: hues, colourer:"), "0.1, 0.1], ifs: 1}",
         "0.1, 0.1], ifs: 1, colour_map: [0, 0.5, 0.5, 0, 0.25, 0.25]}");

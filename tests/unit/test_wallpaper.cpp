@@ -23,11 +23,12 @@
 #include <string>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 using fp::Transform;
 using fp::Vec2;
-using fp::test::host;
 namespace wp = fp_wallpaper;
 
 constexpr double pi = std::numbers::pi;

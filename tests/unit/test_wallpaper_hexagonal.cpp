@@ -33,10 +33,11 @@
 #include <utility>
 #include <vector>
 
+using namespace fp::test;
+
 namespace {
 
 using fp::Vec2;
-using fp::test::host;
 namespace wp = fp_wallpaper;
 
 constexpr double pi = std::numbers::pi;
@@ -172,15 +173,8 @@ TEST(WallpaperHexagonal, MapIsTheUnreducedMapThenTheReduction) {
 }
 
 TEST(WallpaperHexagonal, SquareGroupsRefuseIt) {
-    const auto error_of = [](const std::string& yaml) -> std::string {
-        try {
-            host().make_object(fp::Kind::Transform, yaml, "<string>");
-        } catch (const fp::InputError& e) {
-            const std::string m = e.what();
-            const auto at = m.find(": ");
-            return m.rfind("<string>:", 0) == 0 && at != std::string::npos ? m.substr(at + 2) : m;
-        }
-        return "(no error)";
+    const auto error_of = [](const std::string& yaml) {
+        return fp::test::error_of(fp::Kind::Transform, yaml);
     };
     EXPECT_EQ(
         error_of("{type: wallpaper, group: p4m, seed: 1, reduction: hexagonal}"),
@@ -401,19 +395,6 @@ TEST(WallpaperHexagonal, Fig5aSamplesKeepTheRotation) {
 }
 
 // ------------------------------------------------------------------ renders
-
-struct Render {
-    fp::Image img;
-    fp::RenderStats stats;
-};
-
-Render render(const std::string& yaml, unsigned threads) {
-    auto r = host().make<fp::Renderer>(yaml);
-    fp::host::Runtime rt(threads, nullptr);
-    Render out;
-    out.img = r->render(rt, out.stats);
-    return out;
-}
 
 TEST(WallpaperHexagonal, EveryTargetGivesTheSameBytes) {
     // The map's loops (per target) and the renderer's passes (fused: circles; general: the

@@ -17,9 +17,9 @@
 using namespace fp::host;
 namespace fs = std::filesystem;
 
-namespace {
+using namespace fp::test;
 
-using fp::test::error_of;
+namespace {
 
 std::string set(const std::string& text, const std::string& path, const std::string& value) {
     return edit_set(text, "t.yaml", path, value);
