@@ -47,7 +47,7 @@ void resume(const std::uint8_t* data, std::size_t size) {
     if (!f || std::fwrite(bytes.data(), 1, size, f) != size || std::fclose(f) != 0)
         fp::fuzz::finding("fuzz_checkpoint", "a write", g_file.c_str());
     const Pipeline& p = *g_pipeline;
-    const CheckpointHeader header{FIXPOINT_VERSION, p.renderer_type, p.identity, p.points};
+    const CheckpointHeader header = checkpoint_header(p); // (what the CLI writes: its seeds pass)
     auto file = std::make_unique<CheckpointFile>(g_file);
     file->check_against(header);
     Runtime rt(1, nullptr);
