@@ -18,10 +18,8 @@
 
 namespace {
 
-class Cr final : public fp::SchemeBase<Cr> {
-public:
+struct Cr final : fp::SchemeBase<Cr> {
     static constexpr fp::ParamSpec params[] = {
-        fp::scheme::numbers_param,
         fp::scheme::seq("alpha", "0.5",
                         "alpha_n: weight of T(u_n) in p_{n+1} = (1 - alpha_n) u_n + alpha_n T(u_n)"),
         fp::scheme::seq("beta", "0.5",
@@ -29,7 +27,6 @@ public:
         fp::scheme::seq("gamma", "0.5",
                         "gamma_n: weight of T(p_n) in v_n = (1 - gamma_n) p_n + gamma_n T(p_n)"),
     };
-    using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 3; }
 
@@ -48,8 +45,6 @@ public:
 
 } // namespace
 
-FIXPOINT_PLUGIN(
-    fp::describe<Cr>(fp::Kind::IterationScheme, "cr",
-                     "the CR iteration (Chugh-Kumar-Kumar 2012, paper 02 eq. (7)): p <- (1 - alpha) u "
-                     "+ alpha T(u), u = (1 - beta) T(p) + beta T(v), v = (1 - gamma) p + gamma T(p)",
-                     Cr::params))
+FIXPOINT_PLUGIN(fp::scheme::describe<Cr>(
+    "cr", "the CR iteration (Chugh-Kumar-Kumar 2012, paper 02 eq. (7)): p <- (1 - alpha) u "
+          "+ alpha T(u), u = (1 - beta) T(p) + beta T(v), v = (1 - gamma) p + gamma T(p)"))

@@ -12,14 +12,11 @@
 
 namespace {
 
-class Ishikawa final : public fp::SchemeBase<Ishikawa> {
-public:
+struct Ishikawa final : fp::SchemeBase<Ishikawa> {
     static constexpr fp::ParamSpec params[] = {
-        fp::scheme::numbers_param,
         fp::scheme::seq("alpha", "0.5", "alpha_n: weight of T(u_n) in p_{n+1}"),
         fp::scheme::seq("a", "0.5", "a_n: weight of T(p_n) in u_n (a = 0 is Mann)"),
     };
-    using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 2; }
 
@@ -36,7 +33,6 @@ public:
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::describe<Ishikawa>(
-    fp::Kind::IterationScheme, "ishikawa",
-    "the Ishikawa iteration (Ishikawa 1974): p <- (1 - alpha) p + alpha T(u), u = (1 - a) p + a T(p)",
-    Ishikawa::params))
+FIXPOINT_PLUGIN(fp::scheme::describe<Ishikawa>(
+    "ishikawa",
+    "the Ishikawa iteration (Ishikawa 1974): p <- (1 - alpha) p + alpha T(u), u = (1 - a) p + a T(p)"))

@@ -19,10 +19,8 @@
 
 namespace {
 
-class Karakaya final : public fp::SchemeBase<Karakaya> {
-public:
+struct Karakaya final : fp::SchemeBase<Karakaya> {
     static constexpr fp::ParamSpec params[] = {
-        fp::scheme::numbers_param,
         fp::scheme::seq(
             "alpha", "0.5",
             "alpha_n: weight of T(u_n) in p_{n+1} = (1 - alpha_n - beta_n) u_n + alpha_n T(u_n) + beta_n "
@@ -34,7 +32,6 @@ public:
                         "a_n: weight of T(v_n) in u_n = (1 - a_n - b_n) v_n + a_n T(v_n) + b_n T(p_n)"),
         fp::scheme::seq("b", "0.2", "b_n: weight of T(p_n) in u_n"),
     };
-    using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 3; }
 
@@ -53,9 +50,7 @@ public:
 
 } // namespace
 
-FIXPOINT_PLUGIN(
-    fp::describe<Karakaya>(fp::Kind::IterationScheme, "karakaya",
-                           "the Karakaya et al. three-step iteration (2013, paper 02 eq. (8)): p <- "
-                           "(1 - alpha - beta) u + alpha T(u) + beta T(v), u = (1 - a - b) v + a T(v) "
-                           "+ b T(p), v = (1 - gamma) p + gamma T(p)",
-                           Karakaya::params))
+FIXPOINT_PLUGIN(fp::scheme::describe<Karakaya>(
+    "karakaya", "the Karakaya et al. three-step iteration (2013, paper 02 eq. (8)): p <- "
+                "(1 - alpha - beta) u + alpha T(u) + beta T(v), u = (1 - a - b) v + a T(v) "
+                "+ b T(p), v = (1 - gamma) p + gamma T(p)"))

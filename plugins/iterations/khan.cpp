@@ -13,13 +13,10 @@
 
 namespace {
 
-class Khan final : public fp::SchemeBase<Khan> {
-public:
+struct Khan final : fp::SchemeBase<Khan> {
     static constexpr fp::ParamSpec params[] = {
-        fp::scheme::numbers_param,
         fp::scheme::seq("a", "0.5", "a_n: weight of T(p_n) in the Mann step u_n (Khan's alpha_n)"),
     };
-    using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 2; }
 
@@ -35,6 +32,5 @@ public:
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::describe<Khan>(
-    fp::Kind::IterationScheme, "khan",
-    "the Picard-Mann hybrid iteration (Khan 2013): p <- T(u), u = (1 - a) p + a T(p)", Khan::params))
+FIXPOINT_PLUGIN(fp::scheme::describe<Khan>(
+    "khan", "the Picard-Mann hybrid iteration (Khan 2013): p <- T(u), u = (1 - a) p + a T(p)"))

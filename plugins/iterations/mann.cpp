@@ -9,13 +9,10 @@
 
 namespace {
 
-class Mann final : public fp::SchemeBase<Mann> {
-public:
+struct Mann final : fp::SchemeBase<Mann> {
     static constexpr fp::ParamSpec params[] = {
-        fp::scheme::numbers_param,
         fp::scheme::seq("alpha", "0.5", "alpha_n: weight of T(p_n)"),
     };
-    using SchemeBase::SchemeBase;
 
     template <class T>
     void kernel(Chunk<T>& c, const Coefs& k, std::uint64_t) const {
@@ -28,5 +25,4 @@ public:
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::describe<Mann>(fp::Kind::IterationScheme, "mann",
-                                   "the Mann iteration p <- (1 - alpha) p + alpha T(p)", Mann::params))
+FIXPOINT_PLUGIN(fp::scheme::describe<Mann>("mann", "the Mann iteration p <- (1 - alpha) p + alpha T(p)"))

@@ -13,15 +13,12 @@
 
 namespace {
 
-class Noor final : public fp::SchemeBase<Noor> {
-public:
+struct Noor final : fp::SchemeBase<Noor> {
     static constexpr fp::ParamSpec params[] = {
-        fp::scheme::numbers_param,
         fp::scheme::seq("alpha", "0.5", "alpha_n: weight of T(u_n) in p_{n+1}"),
         fp::scheme::seq("a", "0.5", "a_n: weight of T(v_n) in u_n"),
         fp::scheme::seq("gamma", "0.5", "gamma_n: weight of T(p_n) in v_n (gamma = 0 is Ishikawa)"),
     };
-    using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 3; }
 
@@ -40,8 +37,6 @@ public:
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::describe<Noor>(
-    fp::Kind::IterationScheme, "noor",
-    "the Noor iteration (Noor 2000): p <- (1 - alpha) p + alpha T(u), u = (1 - a) p + a T(v), "
-    "v = (1 - gamma) p + gamma T(p)",
-    Noor::params))
+FIXPOINT_PLUGIN(fp::scheme::describe<Noor>(
+    "noor", "the Noor iteration (Noor 2000): p <- (1 - alpha) p + alpha T(u), u = (1 - a) p + a T(v), "
+            "v = (1 - gamma) p + gamma T(p)"))

@@ -17,14 +17,11 @@
 
 namespace {
 
-class PicardS final : public fp::SchemeBase<PicardS> {
-public:
+struct PicardS final : fp::SchemeBase<PicardS> {
     static constexpr fp::ParamSpec params[] = {
-        fp::scheme::numbers_param,
         fp::scheme::seq("beta", "0.5", "beta_n: weight of T(v_n) against T(p_n) in u_n"),
         fp::scheme::seq("gamma", "0.5", "gamma_n: weight of T(p_n) in v_n"),
     };
-    using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 3; }
 
@@ -42,8 +39,6 @@ public:
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::describe<PicardS>(
-    fp::Kind::IterationScheme, "picard-s",
-    "the Picard-S hybrid iteration (Gürsoy-Karakaya 2014): p <- T(u), u = (1 - beta) T(p) "
-    "+ beta T(v), v = (1 - gamma) p + gamma T(p)",
-    PicardS::params))
+FIXPOINT_PLUGIN(fp::scheme::describe<PicardS>(
+    "picard-s", "the Picard-S hybrid iteration (Gürsoy-Karakaya 2014): p <- T(u), u = (1 - beta) T(p) "
+                "+ beta T(v), v = (1 - gamma) p + gamma T(p)"))

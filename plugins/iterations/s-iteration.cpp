@@ -12,14 +12,11 @@
 
 namespace {
 
-class SIteration final : public fp::SchemeBase<SIteration> {
-public:
+struct SIteration final : fp::SchemeBase<SIteration> {
     static constexpr fp::ParamSpec params[] = {
-        fp::scheme::numbers_param,
         fp::scheme::seq("alpha", "0.5", "alpha_n: weight of T(u_n) against T(p_n) in p_{n+1}"),
         fp::scheme::seq("beta", "0.5", "beta_n: weight of T(p_n) in u_n (beta = 0 is Picard)"),
     };
-    using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 2; }
 
@@ -36,8 +33,6 @@ public:
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::describe<SIteration>(
-    fp::Kind::IterationScheme, "s-iteration",
-    "the S-iteration (Agarwal-O'Regan-Sahu 2007, paper 02 eq. (6)): p <- (1 - alpha) T(p) "
-    "+ alpha T(u), u = (1 - beta) p + beta T(p)",
-    SIteration::params))
+FIXPOINT_PLUGIN(fp::scheme::describe<SIteration>(
+    "s-iteration", "the S-iteration (Agarwal-O'Regan-Sahu 2007, paper 02 eq. (6)): p <- (1 - alpha) T(p) "
+                   "+ alpha T(u), u = (1 - beta) p + beta T(p)"))

@@ -41,10 +41,8 @@
 
 namespace {
 
-class Schu final : public fp::SchemeBase<Schu> {
-public:
+struct Schu final : fp::SchemeBase<Schu> {
     static constexpr fp::ParamSpec params[] = {
-        fp::scheme::numbers_param,
         fp::scheme::seq("alpha", "0.5",
                         "alpha_n: weight of T^{n+1}(p_n) in p_{n+1} = (1 - alpha_n) p_n + alpha_n "
                         "T^{n+1}(p_n)"),
@@ -93,9 +91,7 @@ private:
 
 } // namespace
 
-FIXPOINT_PLUGIN(
-    fp::describe<Schu>(fp::Kind::IterationScheme, "schu",
-                       "the Schu iteration (1991, paper 02 eq. (21)): p_{n+1} <- (1 - alpha_n) p_n + "
-                       "alpha_n T^{n+1}(p_n); on an involution, Mann with alpha_n at even n and no move "
-                       "at odd n",
-                       Schu::params))
+FIXPOINT_PLUGIN(fp::scheme::describe<Schu>(
+    "schu", "the Schu iteration (1991, paper 02 eq. (21)): p_{n+1} <- (1 - alpha_n) p_n + "
+            "alpha_n T^{n+1}(p_n); on an involution, Mann with alpha_n at even n and no move "
+            "at odd n"))

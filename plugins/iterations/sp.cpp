@@ -15,15 +15,12 @@
 
 namespace {
 
-class Sp final : public fp::SchemeBase<Sp> {
-public:
+struct Sp final : fp::SchemeBase<Sp> {
     static constexpr fp::ParamSpec params[] = {
-        fp::scheme::numbers_param,
         fp::scheme::seq("alpha", "0.5", "alpha_n: weight of T(u_n) in p_{n+1}"),
         fp::scheme::seq("a", "0.5", "a_n: weight of T(v_n) in u_n"),
         fp::scheme::seq("gamma", "0.5", "gamma_n: weight of T(p_n) in v_n (a = gamma = 0 is Mann)"),
     };
-    using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 3; }
 
@@ -42,8 +39,6 @@ public:
 
 } // namespace
 
-FIXPOINT_PLUGIN(
-    fp::describe<Sp>(fp::Kind::IterationScheme, "sp",
-                     "the SP iteration (Phuengrattana-Suantai 2011): p <- (1 - alpha) u + alpha T(u), "
-                     "u = (1 - a) v + a T(v), v = (1 - gamma) p + gamma T(p)",
-                     Sp::params))
+FIXPOINT_PLUGIN(fp::scheme::describe<Sp>(
+    "sp", "the SP iteration (Phuengrattana-Suantai 2011): p <- (1 - alpha) u + alpha T(u), "
+          "u = (1 - a) v + a T(v), v = (1 - gamma) p + gamma T(p)"))

@@ -20,10 +20,8 @@
 
 namespace {
 
-class Suantai final : public fp::SchemeBase<Suantai> {
-public:
+struct Suantai final : fp::SchemeBase<Suantai> {
     static constexpr fp::ParamSpec params[] = {
-        fp::scheme::numbers_param,
         fp::scheme::seq(
             "alpha", "0.5",
             "alpha_n: weight of T(u_n) in p_{n+1} = (1 - alpha_n - beta_n) p_n + alpha_n T(u_n) + beta_n "
@@ -35,7 +33,6 @@ public:
                         "a_n: weight of T(v_n) in u_n = (1 - a_n - b_n) p_n + a_n T(v_n) + b_n T(p_n)"),
         fp::scheme::seq("b", "0.2", "b_n: weight of T(p_n) in u_n"),
     };
-    using SchemeBase::SchemeBase;
 
     unsigned applications() const override { return 3; }
 
@@ -54,9 +51,7 @@ public:
 
 } // namespace
 
-FIXPOINT_PLUGIN(
-    fp::describe<Suantai>(fp::Kind::IterationScheme, "suantai",
-                          "the Suantai three-step iteration (2005, paper 02 eq. (5)): p <- (1 - alpha "
-                          "- beta) p + alpha T(u) + beta T(v), u = (1 - a - b) p + a T(v) + b T(p), "
-                          "v = (1 - gamma) p + gamma T(p)",
-                          Suantai::params))
+FIXPOINT_PLUGIN(fp::scheme::describe<Suantai>(
+    "suantai", "the Suantai three-step iteration (2005, paper 02 eq. (5)): p <- (1 - alpha "
+               "- beta) p + alpha T(u) + beta T(v), u = (1 - a - b) p + a T(v) + b T(p), "
+               "v = (1 - gamma) p + gamma T(p)"))

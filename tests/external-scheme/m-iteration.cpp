@@ -13,14 +13,12 @@
 
 namespace {
 
-class MIteration final : public fp::SchemeBase<MIteration> {
-public:
-    // The parameters, written once: the number system and one sequence per coefficient.
+struct MIteration final : fp::SchemeBase<MIteration> {
+    // The coefficients, written once: one sequence each (describe below puts `numbers`, the
+    // number system, in front; SchemeBase reads them all).
     static constexpr fp::ParamSpec params[] = {
-        fp::scheme::numbers_param,
         fp::scheme::seq("a", "0.5", "a_n: weight of T(p_n) in z_n = (1 - a_n) p_n + a_n T(p_n)"),
     };
-    using SchemeBase::SchemeBase; // reads `numbers` and every sequence of `params`
 
     unsigned applications() const override { return 3; } // T(p), T(z), T(y)
 
@@ -39,7 +37,6 @@ public:
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::describe<MIteration>(fp::Kind::IterationScheme, "m-iteration",
-                                         "the M-iteration (Ullah-Arshad 2018): p <- T(y), y = T(z), "
-                                         "z = (1 - a) p + a T(p)",
-                                         MIteration::params))
+FIXPOINT_PLUGIN(fp::scheme::describe<MIteration>("m-iteration",
+                                                 "the M-iteration (Ullah-Arshad 2018): p <- T(y), "
+                                                 "y = T(z), z = (1 - a) p + a T(p)"))

@@ -13,16 +13,13 @@
 // this representation ((x, y) <-> x + qy), so "Q o T o R" is simply T.
 //
 // A scheme derives from fp::SchemeBase<Derived>, declares its parameters once, as the public
-// static member `params` (fp::scheme::numbers_param and a fp::scheme::seq per coefficient,
-// plus any other parameter it reads itself), and writes one step for a chunk of points:
+// static member `params` (a fp::scheme::seq per coefficient, plus any other parameter it reads
+// itself in a constructor of its own), and writes one step for a chunk of points:
 //
-//   class Mann final : public fp::SchemeBase<Mann> {
-//   public:
+//   struct Mann final : fp::SchemeBase<Mann> {
 //       static constexpr fp::ParamSpec params[] = {
-//           fp::scheme::numbers_param,
 //           fp::scheme::seq("alpha", "0.5", "alpha_n: weight of T(p_n)"),
 //       };
-//       using SchemeBase::SchemeBase;
 //
 //       template <class T>
 //       void kernel(Chunk<T>& c, const Coefs& k, std::uint64_t n) const {
@@ -32,9 +29,12 @@
 //           c.lin(c.p, identity - alpha, c.p, alpha, tp); // p <- (1 - alpha) p + alpha T(p)
 //       }
 //   };
-//   FIXPOINT_PLUGIN(fp::describe<Mann>(fp::Kind::IterationScheme, "mann", "...", Mann::params))
+//   FIXPOINT_PLUGIN(fp::scheme::describe<Mann>("mann", "..."))
 //
-// SchemeBase reads `numbers` and every sequence parameter of `params` (refusing q-numbers when
+// fp::scheme::describe publishes `numbers` (fp::scheme::numbers_param) before `params` (a
+// scheme written before it lists numbers_param itself, and declares `using
+// SchemeBase::SchemeBase;`: both still work). SchemeBase reads `numbers` and every sequence
+// parameter of `params` (refusing q-numbers when
 // the scheme computes in the reals), and per batch turns each sequence's value at step n into
 // its matrix. k["alpha"] finds the matrix by name at compile time: a name that `params` does
 // not declare as a sequence does not compile, and a bare index is refused. c.p holds the
@@ -57,6 +57,7 @@
 #include <fixpoint/iteration.hpp>
 #include <fixpoint/number_system.hpp>
 #include <fixpoint/params.hpp>
+#include <fixpoint/plugin.hpp>
 #include <fixpoint/scheme_program.hpp>
 #include <fixpoint/transform.hpp>
 #include <fixpoint/types.hpp>
@@ -72,6 +73,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 // The chunks' point loops, once per instruction set (scheme-inl.hpp), dispatched at run time.
@@ -261,8 +263,8 @@ private:
 constexpr Mat2 identity{1, 0, 0, 1};
 constexpr Mat2 zero{0, 0, 0, 0};
 
-/// `numbers`, the number system a scheme computes in: SchemeBase reads it, so every scheme
-/// lists it in its `params`.
+/// `numbers`, the number system a scheme computes in: SchemeBase reads it. fp::scheme::describe
+/// puts it first in the scheme's parameters unless the scheme lists it itself.
 constexpr ParamSpec numbers_param =
     param::object("numbers", Kind::NumberSystem,
                   "the numbers the iteration computes in (paper 02 Sec. 4): real, complex or q-system")
@@ -290,7 +292,7 @@ inline std::string format_number(Vec2 v) {
 namespace fp {
 
 /// The base of a scheme D written as linear combinations (see the top of this file). D has
-///   static constexpr ParamSpec params[];  // numbers_param, seq(...) per coefficient, others
+///   static constexpr ParamSpec params[];  // seq(...) per coefficient, others (numbers implied)
 ///   template <class T> void kernel(Chunk<T>& c, const Coefs& k, std::uint64_t n) const;
 template <class D>
 class SchemeBase : public IterationScheme {
@@ -326,20 +328,17 @@ public:
     };
 
     /// Reads `numbers` and every sequence parameter of D::params, in their order.
-    explicit SchemeBase(const ParamBag& p) : numbers_(p.object<NumberSystem>("numbers")) {
-        static_assert(scheme::detail::declares_numbers(D::params),
-                      "a scheme's params declare `numbers` (list fp::scheme::numbers_param)");
-        const bool real = numbers_->is_real();
-        for (const ParamSpec& s : D::params) {
-            if (s.type != ParamType::Sequence) continue;
-            seqs_.push_back(p.sequence(s.name).resolve(real));
-            if (real)
-                for (Vec2 v : seqs_.back().values)
-                    if (v.y != 0)
-                        throw ParamError(s.name, scheme::format_number(v) +
-                                                     " is a q-system number, but the scheme computes in the "
-                                                     "real numbers (set numbers: {type: q-system, A: ..., B: "
-                                                     "...})");
+    explicit SchemeBase(const ParamBag& p) { read(p); }
+
+    /// Builds D for fp::scheme::describe: by D's constructor from a ParamBag where it has one,
+    /// else default-built (a scheme that declares no constructor) and read here.
+    static Object* create(const ParamBag& p) {
+        if constexpr (std::is_constructible_v<D, const ParamBag&>) {
+            return new D(p);
+        } else {
+            auto d = std::make_unique<D>();
+            d->read(p);
+            return d.release();
         }
     }
 
@@ -358,6 +357,9 @@ public:
     }
 
 protected:
+    /// For a scheme that declares no constructor (fp::scheme::describe reads its parameters).
+    SchemeBase() = default;
+
     /// The matrices of the sequence parameters at step n.
     Coefs coefs(std::uint64_t n) const {
         Coefs k;
@@ -367,6 +369,22 @@ protected:
     const NumberSystem& numbers() const { return *numbers_; }
 
 private:
+    void read(const ParamBag& p) {
+        numbers_ = p.object<NumberSystem>("numbers");
+        const bool real = numbers_->is_real();
+        for (const ParamSpec& s : D::params) {
+            if (s.type != ParamType::Sequence) continue;
+            seqs_.push_back(p.sequence(s.name).resolve(real));
+            if (real)
+                for (Vec2 v : seqs_.back().values)
+                    if (v.y != 0)
+                        throw ParamError(s.name, scheme::format_number(v) +
+                                                     " is a q-system number, but the scheme computes in the "
+                                                     "real numbers (set numbers: {type: q-system, A: ..., B: "
+                                                     "...})");
+        }
+    }
+
     template <class T>
     bool record(const Transform& t, std::uint64_t n, SchemeProgram& out) const {
         scheme::Chunk<T> c(t, 0);
@@ -396,3 +414,36 @@ private:
 };
 
 } // namespace fp
+
+namespace fp::scheme {
+
+/// Scheme D's parameters as the host sees them: `numbers` (numbers_param) first unless D::params
+/// lists it, then D::params in their order.
+template <class D>
+inline constexpr auto all_params = [] {
+    constexpr bool listed = detail::declares_numbers(D::params);
+    std::array<ParamSpec, std::size(D::params) + (listed ? 0 : 1)> a{};
+    std::size_t i = 0;
+    if (!listed) a[i++] = numbers_param;
+    for (const ParamSpec& s : D::params) a[i++] = s;
+    return a;
+}();
+
+/// The descriptor of scheme D (an fp::SchemeBase<D>): kind, name, summary and all_params<D>.
+/// D is built from its parameters by its own constructor from a ParamBag where it declares one
+/// (`using SchemeBase::SchemeBase;`, or one that reads more), else default-built and read by
+/// SchemeBase:
+///   FIXPOINT_PLUGIN(fp::scheme::describe<Mann>("mann", "the Mann iteration ..."))
+template <class D>
+constexpr PluginDescriptor describe(const char* name, const char* summary) {
+    PluginDescriptor d;
+    d.name = name;
+    d.kind = Kind::IterationScheme;
+    d.summary = summary;
+    d.params = all_params<D>.data();
+    d.n_params = std::uint32_t(all_params<D>.size());
+    d.create = &SchemeBase<D>::create;
+    return d;
+}
+
+} // namespace fp::scheme
