@@ -64,6 +64,10 @@ using std::uint64_t;
 #include "lean-inl.hpp"
 
 // ---------------------------------------------------------------- the entry points
+// Compiled in three translation units, so that two cores share the plugin's heaviest code
+// (FP_CHAOS_ENTRIES: 1 the stages, kernels.cpp; 2 the fused step in float, kernels_fused_f.cpp;
+// 3 in double, kernels_fused_d.cpp); undefined, all of them (the kernel tests).
+#if !defined(FP_CHAOS_ENTRIES) || FP_CHAOS_ENTRIES == 1
 void draw_rules(const fp_chaos::DrawArgs& a) { draw_rules_t(hn::ScalableTag<uint32_t>(), a); }
 void draw_alias(const fp_chaos::DrawArgs& a) { draw_alias_t(a); }
 
@@ -85,14 +89,19 @@ size_t deposit_colour(uint32_t* bins, const uint32_t* idx, const uint64_t* dep, 
     return deposit_colour_t(bins, idx, dep, from, nb, spill);
 }
 
+#endif
+#if !defined(FP_CHAOS_ENTRIES) || FP_CHAOS_ENTRIES == 2
 fp_chaos::Counts fused_f(const fp_chaos::FusedArgs<float>& f) { return fused_any(f); }
-fp_chaos::Counts fused_d(const fp_chaos::FusedArgs<double>& f) { return fused_any(f); }
 fp_chaos::RunCounts fused_run_f(const fp_chaos::FusedArgs<float>& f, uint64_t steps) {
     return fused_run_any(f, steps);
 }
+#endif
+#if !defined(FP_CHAOS_ENTRIES) || FP_CHAOS_ENTRIES == 3
+fp_chaos::Counts fused_d(const fp_chaos::FusedArgs<double>& f) { return fused_any(f); }
 fp_chaos::RunCounts fused_run_d(const fp_chaos::FusedArgs<double>& f, uint64_t steps) {
     return fused_run_any(f, steps);
 }
+#endif
 
 } // namespace fp_chaos::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

@@ -1,5 +1,7 @@
 // chaos-game's kernels (kernels-inl.hpp: every stage of a step), compiled once per instruction set
-// of the build and dispatched at run time: the functions kernels.hpp declares.
+// of the build and dispatched at run time: the functions kernels.hpp declares. Here the stages;
+// the fused step in kernels_fused_f.cpp and kernels_fused_d.cpp (two cores share the three).
+#define FP_CHAOS_ENTRIES 1
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "chaos-game/kernels-inl.hpp"
 #include <hwy/foreach_target.h> // IWYU pragma: keep
@@ -16,10 +18,6 @@ HWY_EXPORT(scatter_d);
 HWY_EXPORT(bookkeep_f);
 HWY_EXPORT(bookkeep_d);
 HWY_EXPORT(deposit_colour);
-HWY_EXPORT(fused_f);
-HWY_EXPORT(fused_d);
-HWY_EXPORT(fused_run_f);
-HWY_EXPORT(fused_run_d);
 
 void draw_by_rules(const DrawArgs& a) { HWY_DYNAMIC_DISPATCH(draw_rules)(a); }
 void draw_by_alias(const DrawArgs& a) { HWY_DYNAMIC_DISPATCH(draw_alias)(a); }
@@ -38,13 +36,5 @@ Counts bookkeep(const BookArgs<double>& a, bool colour) {
 size_t deposit_colours(uint32_t* bins, const uint32_t* idx, const uint64_t* dep, size_t from, size_t nb,
                        uint32_t spill) {
     return HWY_DYNAMIC_DISPATCH(deposit_colour)(bins, idx, dep, from, nb, spill);
-}
-Counts fused(const FusedArgs<float>& a) { return HWY_DYNAMIC_DISPATCH(fused_f)(a); }
-Counts fused(const FusedArgs<double>& a) { return HWY_DYNAMIC_DISPATCH(fused_d)(a); }
-RunCounts fused_run(const FusedArgs<float>& a, uint64_t steps) {
-    return HWY_DYNAMIC_DISPATCH(fused_run_f)(a, steps);
-}
-RunCounts fused_run(const FusedArgs<double>& a, uint64_t steps) {
-    return HWY_DYNAMIC_DISPATCH(fused_run_d)(a, steps);
 }
 } // namespace fp_chaos
