@@ -83,8 +83,16 @@ void serve_request(const Context& c, const std::string& text) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     static const std::filesystem::path root =
         std::filesystem::canonical(std::filesystem::temp_directory_path());
+    // The plugins, as serve has them: its checks ask each `type:` what its plugin declares
+    // (code it runs, files it reads).
+    static const fp::host::Registry* const reg = [] {
+        static fp::host::Registry r;
+        for (const auto& d : fp::host::Registry::default_dirs()) r.load_dir(d);
+        return &r;
+    }();
     Context c;
     c.root = root;
+    c.reg = reg;
     const bool loopback = size == 0 || (data[0] & 1) == 0;
     c.host = loopback ? "127.0.0.1" : "192.0.2.1";
     c.port = 8420;

@@ -599,7 +599,7 @@ PWN = '{type: python-scheme, code: "open(\'pwned\', \'w\')\\ndef step(T, x, y, n
 
 def has_python_scheme(s):
     """Whether the build has the plugin (FIXPOINT_PYTHON): serve asks its descriptor whether it runs
-    code; without it the config is refused as naming an unknown plugin."""
+    code; without it the config is refused as naming an unknown iteration-scheme."""
     return "python-scheme" in s.api("api/plugins").get("iteration-scheme", [])
 
 
@@ -613,7 +613,7 @@ def test_python_scheme_is_refused_without_allow_python(srv, endpoint):
                                              "--allow-python",
                        "line": line, "column": col}
     else:
-        assert got["ok"] is False and "unknown plugin 'python-scheme'" in got["error"], got
+        assert got["ok"] is False and "unknown iteration-scheme 'python-scheme'" in got["error"], got
     assert not os.path.exists(os.path.join(srv.root, "pwned"))
     assert not os.path.exists(os.path.join(srv.root, "py.png"))
 

@@ -139,12 +139,18 @@ public:
 
 private:
     // Ready within the per-read (or per-write) timeout and before the deadline; polled in
-    // steps, so that a stopping server is noticed.
+    // steps, so that a stopping server is noticed. Once it stops, reads end, and a write goes
+    // out only if the socket takes it at once: the answer of a handler that ends as the server
+    // stops (a render's "the server is stopping") still reaches its client, and a client that
+    // reads nothing cannot hold the stop.
     bool wait(short events) const {
         const Clock::time_point now = Clock::now();
         const Clock::time_point end = std::min(deadline_, now + timeout_);
         for (;;) {
-            if (closing_.load()) return false;
+            if (closing_.load()) {
+                pollfd p{sock_, events, 0};
+                return events == POLLOUT && ::poll(&p, 1, 0) > 0;
+            }
             const Clock::time_point t = Clock::now();
             if (t >= end) return false;
             pollfd p{sock_, events, 0};

@@ -51,7 +51,8 @@ public:
     GatedServer& operator=(const GatedServer&) = delete;
 
     /// After stop() and the listener's end: the waiting room closes its connections, the
-    /// reads and writes in flight fail within 0.1 s, and the request threads end.
+    /// reads in flight fail within 0.1 s (a write goes out if the socket takes it at once), and
+    /// the request threads end.
     void close_gate();
 
     /// In the pre-routing handler, once the request is admitted: whether its body may be
