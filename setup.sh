@@ -129,7 +129,7 @@ stage "sanitizer build (build-asan)"
 
 # Every test but the style check, the out-of-tree plugins, the guide's code blocks and the
 # preview page in the browser (nothing sanitizer-specific in them: the page's JavaScript is the
-# same, and the server under it is tested under the sanitizers by serve_http; its full-size
+# same, and the server under it is tested under the sanitizers by serve_requests, serve_access and serve_http; its full-size
 # renders would take minutes in this build).
 # (No Python in this build: an interpreter not built with ASan under an ASan executable
 # reports its own allocator's habits; the Release build runs the Python tests.)
