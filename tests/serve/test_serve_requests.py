@@ -20,6 +20,7 @@ from conftest import SOURCE, Server, fig4a_text, cli, position
     ("", "index.html", "text/html; charset=utf-8"),
     ("index.html", "index.html", "text/html; charset=utf-8"),
     ("app.js", "app.js", "text/javascript; charset=utf-8"),
+    ("panel.js", "panel.js", "text/javascript; charset=utf-8"),
     ("style.css", "style.css", "text/css; charset=utf-8"),
 ])
 def test_page_files_come_from_the_binary(srv, path, name, ctype):

@@ -90,13 +90,17 @@ httplib::Server::Handler guarded(const Context& c, Body body, F f) {
 void serve_asset(const Context& c, const WebAsset& a, httplib::Response& res) {
     std::string bytes(a.bytes);
     if (!c.token.empty() && a.path == "/index.html") {
-        // The page's own files need the token too: the page links them with it.
-        for (const std::string name : {"app.js", "style.css"})
+        // The page's own files need the token too: the page links them with it (every file of
+        // web/ that is built in, by its name).
+        for (const WebAsset& linked : web_assets()) {
+            if (linked.path == "/index.html") continue;
+            const std::string name(linked.path.substr(1));
             for (const std::string& form : {"\"" + name + "\"", "\"./" + name + "\"", "\"/" + name + "\""})
                 for (std::size_t at = bytes.find(form); at != std::string::npos;
                      at = bytes.find(form, at + 1))
                     bytes.replace(at, form.size(),
                                   form.substr(0, form.size() - 1) + "?token=" + c.token + "\"");
+        }
     }
     res.set_header("Cache-Control", "no-store");
     res.set_header("X-Content-Type-Options", "nosniff");
