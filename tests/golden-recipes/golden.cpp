@@ -3,6 +3,7 @@
 // of the render version (host/core/render_version.hpp); this program holds the build to that.
 //
 //   fixpoint_golden DIR            render every DIR/*.yaml, compare with DIR/SHA256SUMS
+//                                  (FIXPOINT_SIMD=T: on instruction set T, as the CLI's --simd)
 //   fixpoint_golden DIR --record   write the hashes that changed, each at this build's render
 //                                  version: refused for a recipe whose pixels changed while the
 //                                  version stayed, or whose plugins no change since names
@@ -17,12 +18,14 @@
 #include <fixpoint/host/core/pipeline.hpp>
 #include <fixpoint/host/core/render_version.hpp>
 #include <fixpoint/host/job/render_job.hpp>
+#include <fixpoint/simd.hpp>
 
 #include <openssl/evp.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -103,6 +106,11 @@ std::map<std::string, Recorded> read_sums(const fs::path& file) {
 int main(int argc, char** argv) {
     if (argc < 2 || argc > 3 || (argc == 3 && std::string(argv[2]) != "--record")) {
         std::fprintf(stderr, "usage: fixpoint_golden DIR [--record]\n");
+        return 2;
+    }
+    // FIXPOINT_SIMD pins the kernels to one instruction set, as for the CLI (every-target.sh).
+    if (const char* t = std::getenv("FIXPOINT_SIMD"); t && *t && !fp::simd::force_target(t)) {
+        std::fprintf(stderr, "fixpoint_golden: FIXPOINT_SIMD: %s is not an instruction set of this CPU\n", t);
         return 2;
     }
     const fs::path dir = argv[1];
