@@ -21,6 +21,7 @@
 // It reads only the hit counts (needs_colour() is false): the colour is a function of the
 // position, not of the maps a chain used, so update() has nothing to carry and the renderer
 // may skip the colour sums.
+#include "finishing.hpp"
 #include "tone_map.hpp"
 
 #include <array>
@@ -64,31 +65,57 @@ public:
     // histogram as for any strip of its rows); each pixel from its own bin.
     void run(const fp::Histogram& h, int row0, const fp::HistogramSummary& whole, fp::Rgb background,
              float* rgb, fp::RenderContext* ctx) const {
+        const Centre c(whole);
         const std::size_t W = std::size_t(h.width);
-        // Centroid: the hit-weighted mean column and row (pixel centres add 1/2).
-        const double cx = whole.hits ? double(whole.hits_column) / double(whole.hits) + 0.5 : 0;
-        const double cy = whole.hits ? double(whole.hits_row) / double(whole.hits) + 0.5 : 0;
-        auto dist2 = [&](std::size_t col, std::size_t row) {
-            const double dx = double(col) + 0.5 - cx, dy = double(row) + 0.5 - cy;
-            return dx * dx + dy * dy;
-        };
-        // The hit bin farthest from the centroid: in each row, |dx| is largest at the row's first
-        // or last hit column, so those two bins per row give the maximum over all hit bins.
-        double dmax2 = 0;
-        for (std::size_t r = 0; r < whole.first.size(); ++r)
-            if (whole.first[r] >= 0)
-                dmax2 = std::max(
-                    {dmax2, dist2(std::size_t(whole.first[r]), r), dist2(std::size_t(whole.last[r]), r)});
-        const double inv_dmax = dmax2 > 0 ? 1.0 / std::sqrt(dmax2) : 0.0;
         const fp_colourers::LogDensity density(whole.max_hits, gamma_, ctx);
         fp_colourers::shade_bins(ctx, h, background, rgb, [&](std::size_t i, std::uint64_t hits) {
-            const fp::Rgb c =
-                colour_at(std::min(1.0, std::sqrt(dist2(i % W, std::size_t(row0) + i / W)) * inv_dmax));
+            const fp::Rgb col = colour_at(c.t(i % W, std::size_t(row0) + i / W));
             double k = brightness_;
             if (log_) k *= density(hits);
-            return std::array<double, 3>{double(c.r) * k, double(c.g) * k, double(c.b) * k};
+            return std::array<double, 3>{double(col.r) * k, double(col.g) * k, double(col.b) * k};
         });
     }
+
+    bool finishes() const override { return true; }
+    void linear(const fp::Histogram& h, int row0, const fp::HistogramSummary& whole, double scale,
+                std::size_t i0, std::size_t i1, float* out) const override {
+        const Centre c(whole);
+        const std::size_t W = std::size_t(h.width);
+        fp_colourers::linear_bins(h, whole, scale, log_, i0, i1, out, [&](std::size_t i, std::uint64_t) {
+            return colour_at(c.t(i % W, std::size_t(row0) + i / W));
+        });
+    }
+    void display(const float* in, std::size_t n, fp::Rgb background, float* rgb) const override {
+        fp_colourers::display_shaded(in, n, background, rgb, log_, gamma_, brightness_);
+    }
+
+    /// The centroid and the largest distance, from the whole histogram's summary (integer sums
+    /// and per-row extents: exact in any order, on any workers, and the same for the whole
+    /// histogram as for any strip of its rows).
+    struct Centre {
+        double cx, cy, inv_dmax;
+        explicit Centre(const fp::HistogramSummary& whole) {
+            // The hit-weighted mean column and row (pixel centres add 1/2).
+            cx = whole.hits ? double(whole.hits_column) / double(whole.hits) + 0.5 : 0;
+            cy = whole.hits ? double(whole.hits_row) / double(whole.hits) + 0.5 : 0;
+            // The hit bin farthest from the centroid: in each row, |dx| is largest at the row's
+            // first or last hit column, so those two bins per row give the maximum.
+            double dmax2 = 0;
+            for (std::size_t r = 0; r < whole.first.size(); ++r)
+                if (whole.first[r] >= 0)
+                    dmax2 = std::max(
+                        {dmax2, dist2(std::size_t(whole.first[r]), r), dist2(std::size_t(whole.last[r]), r)});
+            inv_dmax = dmax2 > 0 ? 1.0 / std::sqrt(dmax2) : 0.0;
+        }
+        double dist2(std::size_t col, std::size_t row) const {
+            const double dx = double(col) + 0.5 - cx, dy = double(row) + 0.5 - cy;
+            return dx * dx + dy * dy;
+        }
+        /// t in [0, 1] of the bin at (col, row).
+        double t(std::size_t col, std::size_t row) const {
+            return std::min(1.0, std::sqrt(dist2(col, row)) * inv_dmax);
+        }
+    };
 
     /// The colour map at t in [0, 1]: inner -> (middle ->) outer, linear in RGB.
     fp::Rgb colour_at(double t) const {

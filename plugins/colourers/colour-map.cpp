@@ -37,6 +37,7 @@
 // Errors: preset together with colours/ratios; neither; colours not r, g, b triples; fewer than
 // two base colours; ratios not one per base colour or not strictly increasing. The schema
 // refuses E <= 0, Nc < 2, ratios outside [0, 1] and colour values outside [0, 255].
+#include "finishing.hpp"
 #include "tone_map.hpp"
 
 #include <algorithm>
@@ -172,6 +173,28 @@ public:
                 rgb[3 * i + 2] = c.b;
             }
         });
+    }
+
+    bool finishes() const override { return true; }
+    void linear(const fp::Histogram& h, int, const fp::HistogramSummary& whole, double scale, std::size_t i0,
+                std::size_t i1, float* out) const override {
+        fp_colourers::linear_bins(h, whole, scale, true, i0, i1, out,
+                                  [](std::size_t, std::uint64_t) { return fp::Rgb{}; });
+    }
+    /// The colour of the mean density where hit (density a / coverage), over the background by
+    /// the coverage: a colour map is a lookup, not light that adds.
+    void display(const float* in, std::size_t n, fp::Rgb background, float* rgb) const override {
+        const double inv_gamma = 1.0 / gamma_;
+        for (std::size_t i = 0; i < n; ++i) {
+            const float* p = in + 5 * i;
+            const double cov = p[4];
+            const fp::Rgb c = cov > 0 && p[0] > 0
+                                  ? table_[index(std::pow(std::min(1.0, p[0] / cov), inv_gamma))]
+                                  : background;
+            rgb[3 * i] = float(cov * c.r + (1 - cov) * background.r);
+            rgb[3 * i + 1] = float(cov * c.g + (1 - cov) * background.g);
+            rgb[3 * i + 2] = float(cov * c.b + (1 - cov) * background.b);
+        }
     }
 
     const std::vector<fp::Rgb>& table() const { return table_; }

@@ -8,6 +8,7 @@
 // It reads only the hit counts (needs_colour() is false), so a renderer may skip the colour
 // state and the colour sums and deposit hit counts alone: the cheapest histogram, the same
 // work as the reference kernels.
+#include "finishing.hpp"
 #include "tone_map.hpp"
 
 #include <array>
@@ -42,6 +43,16 @@ public:
             const double k = density(hits);
             return std::array<double, 3>{double(colour_.r) * k, double(colour_.g) * k, double(colour_.b) * k};
         });
+    }
+
+    bool finishes() const override { return true; }
+    void linear(const fp::Histogram& h, int, const fp::HistogramSummary& whole, double scale, std::size_t i0,
+                std::size_t i1, float* out) const override {
+        fp_colourers::linear_bins(h, whole, scale, true, i0, i1, out,
+                                  [&](std::size_t, std::uint64_t) { return colour_; });
+    }
+    void display(const float* in, std::size_t n, fp::Rgb background, float* rgb) const override {
+        fp_colourers::display_shaded(in, n, background, rgb, true, gamma_, 1.0);
     }
 
 private:

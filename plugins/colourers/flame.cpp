@@ -21,6 +21,7 @@
 //               the set that produced its last point, shaded like the others.
 // `last` and `set-colour` need a renderer that keeps the last colours (chaos-game; the
 // superfractal renderer refuses them); `last` runs chaos-game's generic path.
+#include "finishing.hpp"
 #include "tone_map.hpp"
 
 // update() once per instruction set (update-inl.hpp), dispatched at run time.
@@ -50,6 +51,24 @@ constexpr fp::ParamSpec params[] = {
                               "that produced its last point)")
         .def("mean")
         .one_of("mean|last|set-colour"),
+    fp::param::real("vibrancy",
+                    "flam3's vibrancy: 1 applies gamma to the density alone (saturated colours), 0 "
+                    "to each channel (paler)")
+        .def("1")
+        .min(0)
+        .max(1),
+    fp::param::real("highlight_power",
+                    "flam3's highlight_power: where a colour saturates, >= 0 turns it towards "
+                    "white by that power, -1 clips each channel")
+        .def("-1")
+        .min(-1)
+        .max(16),
+    fp::param::real("gamma_threshold",
+                    "flam3's gamma_threshold: below this density the gamma curve is blended "
+                    "with a line, so sparse pixels are not lifted (0: none)")
+        .def("0")
+        .min(0)
+        .max(1),
 };
 
 class Flame final : public fp_colourers::Resolving<Flame> {
@@ -58,7 +77,10 @@ public:
         : gamma_(p.real("gamma")), brightness_(p.real("brightness")),
           mode_(p.string("mode") == "last"         ? Mode::last
                 : p.string("mode") == "set-colour" ? Mode::set_colour
-                                                   : Mode::mean) {}
+                                                   : Mode::mean) {
+        tone_.gamma = gamma_, tone_.brightness = brightness_, tone_.vibrancy = p.real("vibrancy");
+        tone_.highlight_power = p.real("highlight_power"), tone_.gamma_threshold = p.real("gamma_threshold");
+    }
 
     void update(const std::uint32_t* map, fp::ColourState s, const fp::Rgb* map_colours,
                 const unsigned char* mask) const override {
@@ -78,14 +100,48 @@ public:
     /// The work of resolve() and resolve_parallel() (tone_map.hpp's Resolving); ctx null: serial.
     void run(const fp::Histogram& h, int, const fp::HistogramSummary& whole, fp::Rgb background, float* rgb,
              fp::RenderContext* ctx) const {
-        fp_colourers::tone_map(h, whole, background, rgb, true, gamma_, brightness_, mode_ != Mode::mean,
-                               ctx);
+        const bool last = mode_ != Mode::mean;
+        if (tone_.plain())
+            return fp_colourers::tone_map(h, whole, background, rgb, true, gamma_, brightness_, last, ctx);
+        // flam3's tone on each bin as a pixel of its own (coverage 1), as display() on a finished one.
+        if (last && h.last.size() != h.bins.size())
+            throw fp::InternalError(
+                "the renderer gave no last colours for a colourer whose pixel rule is last");
+        const fp_colourers::LinearDensity density(whole.max_hits, 1.0);
+        fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
+            for (std::size_t i = i0; i < i1; ++i) {
+                const std::uint64_t hits = h.hits_at(i);
+                float* px = rgb + 3 * i;
+                if (hits == 0) {
+                    px[0] = background.r, px[1] = background.g, px[2] = background.b;
+                    continue;
+                }
+                const fp::Rgb c = fp_colourers::bin_colour(h, i, hits, last);
+                const float p[5] = {density(hits), c.r, c.g, c.b, 1.0f};
+                tone_.pixel(p, background, px);
+            }
+        });
+    }
+
+    bool finishes() const override { return true; }
+    void linear(const fp::Histogram& h, int, const fp::HistogramSummary& whole, double scale, std::size_t i0,
+                std::size_t i1, float* out) const override {
+        const bool last = mode_ != Mode::mean;
+        fp_colourers::linear_bins(h, whole, scale, true, i0, i1, out, [&](std::size_t i, std::uint64_t hits) {
+            return fp_colourers::bin_colour(h, i, hits, last);
+        });
+    }
+    void display(const float* in, std::size_t n, fp::Rgb background, float* rgb) const override {
+        if (tone_.plain())
+            return fp_colourers::display_shaded(in, n, background, rgb, true, gamma_, brightness_);
+        for (std::size_t i = 0; i < n; ++i) tone_.pixel(in + 5 * i, background, rgb + 3 * i);
     }
 
 private:
     enum class Mode { mean, last, set_colour };
     double gamma_, brightness_;
     Mode mode_;
+    fp_colourers::Flam3Tone tone_;
 };
 
 } // namespace

@@ -8,6 +8,7 @@
 // density `log` it is darkened by (log2(1 + h) / log2(1 + max h))^(1/gamma) as in paper 02,
 // eq. (28), which brings out the structure of sparse regions; with `flat` every hit pixel
 // shows its full colour, like the paper 01 figures. Empty bins take the background.
+#include "finishing.hpp"
 #include "tone_map.hpp"
 
 #include <string>
@@ -48,6 +49,17 @@ public:
     void run(const fp::Histogram& h, int, const fp::HistogramSummary& whole, fp::Rgb background, float* rgb,
              fp::RenderContext* ctx) const {
         fp_colourers::tone_map(h, whole, background, rgb, log_, gamma_, 1.0, false, ctx);
+    }
+
+    bool finishes() const override { return true; }
+    void linear(const fp::Histogram& h, int, const fp::HistogramSummary& whole, double scale, std::size_t i0,
+                std::size_t i1, float* out) const override {
+        fp_colourers::linear_bins(h, whole, scale, log_, i0, i1, out, [&](std::size_t i, std::uint64_t hits) {
+            return fp_colourers::bin_colour(h, i, hits, false);
+        });
+    }
+    void display(const float* in, std::size_t n, fp::Rgb background, float* rgb) const override {
+        fp_colourers::display_shaded(in, n, background, rgb, log_, gamma_, 1.0);
     }
 
 private:

@@ -250,6 +250,25 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         frame_.region.ymax = v.ymax;
     }
 
+    // The finishing stage (fixpoint/finish.hpp): the histogram is N times the image in each
+    // direction (hist_), finished down to it.
+    finish_ = fp::FinishSpec::read(p);
+    hist_ = frame_;
+    if (finish_.active()) {
+        if (!colourer_->finishes())
+            throw fp::ParamError("colourer",
+                                 "this colourer cannot finish a supersampled, filtered or estimated "
+                                 "histogram (supersample, filter, estimator_radius)");
+        if (sets_ == Sets::only)
+            throw fp::ParamError("supersample", "sets: only draws no histogram to finish");
+        const int N = finish_.supersample;
+        if (uint64_t(frame_.width) * uint64_t(N) * uint64_t(frame_.height) * uint64_t(N) >= 0xffffffffull)
+            throw fp::ParamError("supersample", "the supersampled histogram is too large: width * height * "
+                                                "supersample^2 must be below 4294967295 bins");
+        hist_.width *= N;
+        hist_.height *= N;
+    }
+
     // Integer weights for the draw among the allowed maps: sum below 2^32, each at least 1.
     double sum = 0;
     for (double x : w) sum += x;
@@ -330,7 +349,7 @@ void ChaosGame::setup_fused(const std::vector<fp::KnownKernel>& kk, fp::ColourRu
         fill(*lanes_d_);
         // (The fused step indexes the counters by map * plane + bin in 32 bits.)
         if (colour_ && crule == fp::ColourRule::map && k <= fp_chaos::tally_maps &&
-            (uint64_t(frame_.width) * uint64_t(frame_.height) + 1) * k <= 0xffffffffull) {
+            (uint64_t(hist_.width) * uint64_t(hist_.height) + 1) * k <= 0xffffffffull) {
             auto t = std::make_shared<Tallies>();
             t->k = uint32_t(k);
             for (size_t j = 0; j < k; ++j)
@@ -405,6 +424,11 @@ constexpr fp::ParamSpec params[] = {
         .def("float")
         .one_of("float|double"),
     fp::param::colour("background", "colour of pixels no point reached").def("[0, 0, 0]"),
+    fp::supersample_param,
+    fp::filter_param,
+    fp::estimator_radius_param,
+    fp::estimator_minimum_param,
+    fp::estimator_curve_param,
     fp::param::string(
         "sets", "draw the sets of the maps with their centres (paper 01's left panels): over the fractal, "
                 "beside it (an image twice as wide: the sets left, the fractal right), or only the sets "

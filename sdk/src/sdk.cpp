@@ -22,6 +22,7 @@ IterationScheme::~IterationScheme() = default;
 NumberSystem::~NumberSystem() = default;
 Metric::~Metric() = default;
 Trap::~Trap() = default;
+Filter::~Filter() = default;
 Colourer::~Colourer() = default;
 Renderer::~Renderer() = default;
 RenderContext::~RenderContext() = default;
@@ -172,6 +173,14 @@ bool Colourer::reads_hits_only() const { return false; }
 ColourRule Colourer::colour_rule() const { return ColourRule::none; }
 PixelRule Colourer::pixel_rule() const { return PixelRule::mean; }
 bool Colourer::colours_trap_hits() const { return false; }
+bool Colourer::finishes() const { return false; }
+void Colourer::linear(const Histogram&, int, const HistogramSummary&, double, std::size_t, std::size_t,
+                      float*) const {
+    throw Error("this colourer does not finish a supersampled or filtered histogram");
+}
+void Colourer::display(const float*, std::size_t, Rgb, float*) const {
+    throw Error("this colourer does not finish a supersampled or filtered histogram");
+}
 void Colourer::colour_hits(const std::int32_t*, const float*, const std::uint32_t*, std::size_t, const Rgb*,
                            float*) const {
     throw Error("this colourer cannot colour orbit-trap hits");

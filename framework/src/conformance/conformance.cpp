@@ -77,6 +77,7 @@ void check_kind(const Object& obj, Kind kind, Findings& f) {
     case Kind::Metric: check_metric(dynamic_cast<const Metric&>(obj), f); break;
     case Kind::Colourer: check_colourer(dynamic_cast<const Colourer&>(obj), f); break;
     case Kind::Renderer: check_renderer(dynamic_cast<const Renderer&>(obj), f); break;
+    case Kind::Filter: check_filter(dynamic_cast<const Filter&>(obj), f); break;
     }
     f.record(std::string(kind_name(kind)) + ": the kind's checks", before);
 }

@@ -117,6 +117,7 @@ void check_trap(const Trap& t, Findings& f);
 void check_numbers(const NumberSystem& ns, Findings& f);
 void check_colourer(const Colourer& c, Findings& f);
 void check_renderer(const Renderer& r, Findings& f);
+void check_filter(const Filter& flt, Findings& f);
 void check_scheme(const IterationScheme& s, Findings& f);
 
 } // namespace fp::host::detail

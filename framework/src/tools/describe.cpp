@@ -14,7 +14,7 @@ namespace {
 // (kind_name) go beside them.
 constexpr std::string_view kind_titles[kind_count] = {
     "Shapes", "Transforms", "Iteration schemes", "Number systems",
-    "Traps",  "Metrics",    "Colourers",         "Renderers",
+    "Traps",  "Metrics",    "Colourers",         "Renderers",      "Filters",
 };
 
 // Text in a table cell: a '|' would end the cell (GitHub reads "\|" as a pipe, in code spans

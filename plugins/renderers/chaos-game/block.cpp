@@ -63,7 +63,7 @@ private:
     /// The bookkeeping's window: the view, its scale to pixels, the rows binned (a strip), the
     /// dummy bin of the points not plotted.
     void set_window(uint32_t row0, uint32_t rows) {
-        const fp::Frame& f = g_.frame_;
+        const fp::Frame& f = g_.hist_;
         bv_.xmin = T(f.region.xmin), bv_.xmax = T(f.region.xmax), bv_.ymin = T(f.region.ymin),
         bv_.ymax = T(f.region.ymax);
         bv_.scx = T(double(f.width) / (f.region.xmax - f.region.xmin)),

@@ -20,7 +20,7 @@ void ChaosGame::save(fp::RenderContext& ctx, const std::vector<Task>& tasks, con
     PayloadHead head;
     head.precision = uint32_t(sizeof(T));
     head.points = points_, head.chains = chains_;
-    head.width = uint32_t(frame_.width), head.rows = uint32_t(total.height);
+    head.width = uint32_t(hist_.width), head.rows = uint32_t(total.height);
     head.colour = colour_ ? 1 : 0, head.last = last.empty() ? 0 : 1;
     head.samples = base.plotted, head.restarts = base.restarts, head.bad = base.bad;
     for (const Task& t : tasks) {
@@ -59,7 +59,7 @@ void ChaosGame::resume(fp::CheckpointSource& in, std::vector<Task>& tasks, Keepi
     in.read(&head, sizeof head);
     // The envelope matched the recipe (but points): these only fail for a damaged payload.
     if (head.version != PayloadHead{}.version || head.precision != sizeof(T) || head.chains != chains_ ||
-        head.width != uint32_t(frame_.width) || head.rows != uint32_t(total.height) ||
+        head.width != uint32_t(hist_.width) || head.rows != uint32_t(total.height) ||
         head.colour != (colour_ ? 1u : 0u) || head.last != (last.empty() ? 0u : 1u) ||
         head.points > points_ || head.tasks > chains_ || head.finals > chains_)
         throw fp::InputError("the checkpoint's payload does not fit this render (damaged?)");

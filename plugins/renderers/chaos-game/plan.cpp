@@ -38,7 +38,7 @@ uint64_t ChaosGame::work_units() const {
 }
 
 uint64_t ChaosGame::strip_bytes(unsigned workers, uint64_t rows, bool colour, bool hits_total) const {
-    const uint64_t px = uint64_t(frame_.width) * rows;
+    const uint64_t px = uint64_t(hist_.width) * rows;
     // The workers' 32-bit histograms, the total, the spill lists (at most one entry per
     // 65536 points); hits only: 32-bit counters, and 64-bit ones once a worker could
     // have deposited hits_flush points, and a total of hit counts alone with hits_total.
@@ -63,29 +63,38 @@ uint64_t ChaosGame::scratch_bytes(unsigned workers) const {
 
 uint64_t ChaosGame::memory_bytes(unsigned workers) const {
     const uint64_t px = uint64_t(frame_.width) * uint64_t(frame_.height);
-    // (The sets beside: a second picture of the same size, and the two side by side.)
-    const uint64_t image = px * 3 * sizeof(float) * (sets_ == Sets::beside ? 3 : 1);
+    // (The sets beside: a second picture of the same size, and the two side by side; and the
+    // finishing stage's buffers.)
+    const uint64_t image = px * 3 * sizeof(float) * (sets_ == Sets::beside ? 3 : 1) +
+                           (finish_.active() ? finish_.bytes(frame_.width, frame_.height) : 0);
     // (A whole render's total counted as fp::HistBin bins even where it is hit counts alone: a
     // checkpointed render keeps the bins.)
-    return strip_bytes(workers, uint64_t(frame_.height), colour_, false) + image + scratch_bytes(workers);
+    return strip_bytes(workers, uint64_t(hist_.height), colour_, false) + image + scratch_bytes(workers);
 }
 
 ChaosGame::Plan ChaosGame::plan(unsigned workers, uint64_t budget) const {
-    const uint32_t H = uint32_t(frame_.height);
+    // The summary pass's rows are the histogram's; the colour pass's the image's (with the
+    // finishing stage, each strip's histogram is its N rows a row and the halo its filter and
+    // estimator read: FinishSpec::halo).
+    const uint32_t H = uint32_t(hist_.height), image_rows = uint32_t(frame_.height);
+    const bool finishing = finish_.active();
+    const uint64_t N = uint64_t(finish_.supersample), halo = finishing ? uint64_t(finish_.halo()) : 0;
     // The block state and the summary (two 32-bit columns per row) stay; the strips' bytes grow
     // linearly with their rows, in the colour pass with the strip's pixels (3 floats each).
     const uint64_t fixed = scratch_bytes(workers) + uint64_t(H) * 8;
     const uint64_t pixel_row = uint64_t(frame_.width) * 3 * sizeof(float);
     // The pass that counts hits (the summary) and the pass that shades (colour sums when the
-    // colourer needs them, and the strip's pixels).
+    // colourer needs them, the finishing stage's buffers, and the strip's pixels).
     auto bytes = [&](uint64_t rows, bool shading) {
-        return shading ? strip_bytes(workers, rows, colour_, colourer_->reads_hits_only()) + rows * pixel_row
-                       : strip_bytes(workers, rows, false, true);
+        if (!shading) return strip_bytes(workers, rows, false, true);
+        const uint64_t hist_rows = finishing ? std::min<uint64_t>(H, rows * N + 2 * halo) : rows;
+        return strip_bytes(workers, hist_rows, colour_, colourer_->reads_hits_only()) + rows * pixel_row +
+               (finishing ? finish_.bytes(frame_.width, int(rows)) : 0);
     };
     auto rows_within = [&](bool shading) -> uint32_t {
         const uint64_t one = bytes(1, shading), per_row = bytes(2, shading) - one;
         if (budget < fixed + one) return 0;
-        return uint32_t(std::min<uint64_t>(H, 1 + (budget - fixed - one) / per_row));
+        return uint32_t(std::min<uint64_t>(shading ? image_rows : H, 1 + (budget - fixed - one) / per_row));
     };
     const uint32_t summary_rows = rows_within(false), rows = rows_within(true);
     if (summary_rows == 0 || rows == 0) return {1, 1, fixed + std::max(bytes(1, false), bytes(1, true))};
@@ -149,8 +158,9 @@ void ChaosGame::render_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::
 template <class T>
 void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink,
                               uint32_t summary_rows, uint32_t rows) const {
-    const uint32_t W = uint32_t(frame_.width), H = uint32_t(frame_.height);
-    PassOfStrips pass(ctx, (H + summary_rows - 1) / summary_rows + (H + rows - 1) / rows);
+    const uint32_t W = uint32_t(hist_.width), H = uint32_t(hist_.height),
+                   image_rows = uint32_t(frame_.height);
+    PassOfStrips pass(ctx, (H + summary_rows - 1) / summary_rows + (image_rows + rows - 1) / rows);
     // Rank 0 adds up the summary, shades the strips and hands their rows on; the others lend
     // their chains to each strip.
     const bool root = ctx.rank() == 0;
@@ -164,22 +174,32 @@ void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, fp
         if (ctx.cancelled()) throw fp::Cancelled();
         if (root) whole.add(part, int(r0), &ctx);
     }
-    for (uint32_t r0 = 0; r0 < H; r0 += rows) {
+    // (With the finishing stage: strip r0's image rows from the histogram's rows of them and
+    // their halo.)
+    const bool finishing = finish_.active();
+    const uint32_t N = uint32_t(finish_.supersample), halo = finishing ? uint32_t(finish_.halo()) : 0;
+    for (uint32_t r0 = 0; r0 < image_rows; r0 += rows) {
         fp::Histogram part;
         fp::RenderStats st;
-        render_t<T>(pass, st, part, nullptr, r0, std::min(rows, H - r0), colour_,
-                    colourer_->reads_hits_only());
+        const uint32_t on = std::min(rows, image_rows - r0);
+        const uint32_t p0 = finishing ? r0 * N - std::min(r0 * N, halo) : r0;
+        const uint32_t p1 = finishing ? std::min(H, (r0 + on) * N + halo) : r0 + on;
+        render_t<T>(pass, st, part, nullptr, p0, p1 - p0, colour_, colourer_->reads_hits_only());
         // Every strip runs every chain: the counts of one, and the points drawn of all.
         const uint64_t drawn = r0 == 0 ? 0 : stats.drawn;
         if (r0 == 0) stats = st;
         stats.drawn = drawn + st.drawn;
         if (ctx.cancelled()) throw fp::Cancelled();
         if (!root) continue;
-        pixels.resize(size_t(part.height) * W * 3);
-        colourer_->resolve_rows(part, int(r0), whole, frame_.background, pixels.data(), ctx);
-        sink.rows(int(r0), part.height, pixels.data());
+        pixels.resize(size_t(on) * size_t(frame_.width) * 3);
+        if (finishing)
+            fp::finish(finish_, *colourer_, part, int(p0), whole, frame_.width, int(r0), int(on),
+                       frame_.background, pixels.data(), &ctx);
+        else
+            colourer_->resolve_rows(part, int(r0), whole, frame_.background, pixels.data(), ctx);
+        sink.rows(int(r0), int(on), pixels.data());
     }
-    const uint32_t strips = (H + rows - 1) / rows, counts = (H + summary_rows - 1) / summary_rows;
+    const uint32_t strips = (image_rows + rows - 1) / rows, counts = (H + summary_rows - 1) / summary_rows;
     stats.how = "in " + std::to_string(strips) + " strips of " + std::to_string(rows) +
                 (rows == 1 ? " row" : " rows") + " after " + std::to_string(counts) + " pass" +
                 (counts == 1 ? "" : "es") + " counting hits";

@@ -62,7 +62,7 @@ fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) cons
     img.width = frame_.width;
     img.height = frame_.height;
     img.channels = 3;
-    const uint32_t H = uint32_t(frame_.height);
+    const uint32_t H = uint32_t(hist_.height);
     fp::Histogram total;
     if (double_)
         render_t<double>(ctx, stats, total, &img.pixels, 0, H, colour_, colourer_->reads_hits_only());
@@ -70,7 +70,11 @@ fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) cons
         render_t<float>(ctx, stats, total, &img.pixels, 0, H, colour_, colourer_->reads_hits_only());
     if (ctx.cancelled()) throw fp::Cancelled();
     if (ctx.rank() != 0) return img; // its share is in rank 0's histogram, which rank 0 resolves
-    colourer_->resolve_parallel(total, frame_.background, img.pixels.data(), ctx);
+    if (finish_.active())
+        fp::finish(finish_, *colourer_, total, 0, fp::HistogramSummary::of(total, &ctx), frame_.width, 0,
+                   frame_.height, frame_.background, img.pixels.data(), &ctx);
+    else
+        colourer_->resolve_parallel(total, frame_.background, img.pixels.data(), ctx);
     auto draw = [&](cairo_t* cr) {
         draw_sets(cr, set_drawings_, frame_.region, frame_.width, frame_.height, set_style_);
     };
@@ -96,7 +100,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                          std::vector<float>* pixels, uint32_t row0, uint32_t rows, bool colour,
                          bool hits_total) const {
     const unsigned workers = std::max(1u, ctx.workers());
-    const size_t px = size_t(frame_.width) * size_t(rows);
+    const size_t px = size_t(hist_.width) * size_t(rows);
     const bool last = colour && last_;
     // Over several ranks (MPI), the blocks are cut the same way on every rank whatever its
     // thread count (as for 2 workers a rank), and rank r runs blocks r, r + N, r + 2N, ...;
@@ -112,7 +116,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
     // refuses the rest) keeps the chains' final states and stops for each checkpoint.
     std::unique_ptr<Keeping> keeping;
     if (ctx.checkpointing() || ctx.resume_from()) {
-        if (ranks > 1 || row0 != 0 || rows != uint32_t(frame_.height))
+        if (ranks > 1 || row0 != 0 || rows != uint32_t(hist_.height))
             throw fp::InputError("checkpoints are kept of a whole render on one process (not in strips, not "
                                  "over MPI ranks)");
         keeping = std::make_unique<Keeping>();
@@ -132,7 +136,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
     };
     if (keep) {
         // The histogram first (a resumed one is read into it).
-        total.width = frame_.width;
+        total.width = hist_.width;
         total.height = int(rows);
         assign_huge(total.bins, px, poll);
         if (last) {
@@ -174,7 +178,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                 if (ctx.cancelled()) throw fp::Cancelled();
                 if (it == 0 && head) {
                     if (keep) continue; // (made above)
-                    total.width = frame_.width;
+                    total.width = hist_.width;
                     total.height = int(rows);
                     if (hits8)
                         assign_huge(total.hits, px, poll);
@@ -230,7 +234,7 @@ void ChaosGame::sum_workers(fp::RenderContext& ctx, fp::RenderStats& stats, std:
                             fp::Histogram& total, const std::vector<LastWrite>& folded_last,
                             const uint32_t rows, const bool hits8, const bool last,
                             std::vector<LastWrite>& rank_last) const {
-    const size_t px = size_t(frame_.width) * size_t(rows);
+    const size_t px = size_t(hist_.width) * size_t(rows);
     const auto poll = [&ctx] {
         if (ctx.cancelled()) throw fp::Cancelled();
     };
@@ -242,8 +246,8 @@ void ChaosGame::sum_workers(fp::RenderContext& ctx, fp::RenderStats& stats, std:
     std::vector<uint64_t> drawn(tasks, 0);
     ctx.parallel_for(tasks, [&](size_t t, unsigned) {
         poll();
-        const size_t b0 = t * rows_per_task * size_t(frame_.width);
-        const size_t b1 = std::min(px, b0 + rows_per_task * size_t(frame_.width));
+        const size_t b0 = t * rows_per_task * size_t(hist_.width);
+        const size_t b1 = std::min(px, b0 + rows_per_task * size_t(hist_.width));
         if (hits8) {
             uint64_t* out = total.hits.data();
             for (auto& h : hists) h.add_hits_to(out, b0, b1);

@@ -40,7 +40,9 @@ public:
         return frame_.has_region ? std::optional(frame_.region) : std::nullopt;
     }
     uint64_t memory_bytes(unsigned workers) const override;
-    bool streams_rows() const override { return sets_ == Sets::none && colourer_->resolves_rows(); }
+    bool streams_rows() const override {
+        return sets_ == Sets::none && (finish_.active() || colourer_->resolves_rows());
+    }
     uint64_t memory_within(unsigned workers, uint64_t budget) const override;
     void render_rows(fp::RenderContext& ctx, fp::RenderStats& stats, fp::RowSink& sink) const override;
     uint64_t work_units() const override;
@@ -157,7 +159,9 @@ private:
     std::optional<fp::Box> set_view_; ///< the region of the sets' own picture (beside, only); else the view
     std::vector<SetDrawing> set_drawings_;
 
-    fp::Frame frame_; ///< width, height, view (region), background
+    fp::Frame frame_; ///< width, height, view (region), background: the image's
+    fp::Frame hist_;  ///< the histogram's: frame_ with supersample times its width and height
+    fp::FinishSpec finish_;
     uint64_t points_ = 1000000, seed_ = 1, skip_ = 20, chains_ = 4096;
     bool has_start_ = false;
     fp::Vec2 start_;

@@ -91,6 +91,22 @@ public:
     /// mean.
     virtual PixelRule pixel_rule() const;
 
+    /// The finishing stage (fixpoint/finish.hpp), for a renderer that supersamples, filters
+    /// or density-estimates its histogram: true when linear() and display() work. The default
+    /// is false, and such a renderer refuses the colourer. (Added in ABI 17.)
+    virtual bool finishes() const;
+    /// Bins [i0, i1) of `rows` (rows row0, ... of the histogram that `whole` summarises), 4
+    /// floats a bin: its density a in [0, 1] (0 for a bin without hits) and its colour (r, g,
+    /// b), before any filter, with each bin's hits read as `scale` times its own (supersampled
+    /// bins: scale = N^2, the hits of an image pixel). The default throws fp::Error.
+    virtual void linear(const Histogram& rows, int row0, const HistogramSummary& whole, double scale,
+                        std::size_t i0, std::size_t i1, float* out) const;
+    /// n pixels from their filtered channels, 5 floats each: density a, colour (r, g, b) (the
+    /// density-weighted mean of the bins' colours), coverage in [0, 1] (the filtered share of
+    /// bins with hits); writes 3 floats each, display values in [0, 1], over `background`. The
+    /// default throws fp::Error.
+    virtual void display(const float* in, std::size_t n, Rgb background, float* rgb) const;
+
     /// True when the colourer can colour orbit-trap hits (colour_hits); the default is false,
     /// and an orbit-trap renderer refuses such a colourer when it is built.
     virtual bool colours_trap_hits() const;

@@ -4,6 +4,8 @@
 #include <fixpoint/batch.hpp>
 #include <fixpoint/colourer.hpp>
 #include <fixpoint/errors.hpp>
+#include <fixpoint/filter.hpp>
+#include <fixpoint/finish.hpp>
 #include <fixpoint/frame.hpp>
 #include <fixpoint/histogram.hpp>
 #include <fixpoint/iteration.hpp>

@@ -45,6 +45,7 @@ enum class Kind : std::uint32_t {
     Metric,
     Colourer,
     Renderer,
+    Filter, ///< (ABI 17)
 };
 
 /// Kebab-case name of a kind, as written on the command line (`--kind shape`).
@@ -58,10 +59,11 @@ constexpr std::string_view kind_name(Kind k) {
     case Kind::Metric: return "metric";
     case Kind::Colourer: return "colourer";
     case Kind::Renderer: return "renderer";
+    case Kind::Filter: return "filter";
     }
     return "?";
 }
 
-constexpr int kind_count = 8;
+constexpr int kind_count = 9;
 
 } // namespace fp

@@ -71,5 +71,9 @@ template <>
 constexpr Kind Host::kind_of<Renderer>() {
     return Kind::Renderer;
 }
+template <>
+constexpr Kind Host::kind_of<Filter>() {
+    return Kind::Filter;
+}
 
 } // namespace fp::host
