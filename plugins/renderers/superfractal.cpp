@@ -166,6 +166,15 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
         throw fp::ParamError("colourer",
                              "the superfractal renderer keeps the mean colour of a pixel's points: "
                              "this colourer's mode needs the last one (chaos-game keeps it)");
+    finish_ = fp::FinishSpec::read(p);
+    if (finish_.active() && !colourer_->finishes())
+        throw fp::ParamError("colourer", "this colourer cannot finish a supersampled, filtered or estimated "
+                                         "histogram (supersample, filter, estimator_radius)");
+    if (uint64_t(frame_.width) * uint64_t(frame_.height) *
+            uint64_t(finish_.supersample * finish_.supersample) >=
+        0xffffffffull)
+        throw fp::ParamError("supersample", "the supersampled histogram is too large: width * height * "
+                                            "supersample^2 must be below 4294967295 bins");
     if (p.has("picture")) {
         steal_ = true;
         if (!colour_)
@@ -239,13 +248,15 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
 }
 
 uint64_t Superfractal::memory_bytes(unsigned) const {
-    const uint64_t px = uint64_t(frame_.width) * uint64_t(frame_.height);
+    const uint64_t N = uint64_t(finish_.supersample);
+    const uint64_t px = uint64_t(frame_.width) * uint64_t(frame_.height) * N * N;
     const uint64_t per_point =
         2 * sizeof(double) + (rgb_ ? 3 * sizeof(float) : 0) + (steal_ ? 2 * sizeof(double) : 0);
     const uint64_t buffers = 2 * buffers_ * points_ * per_point; // two generations
     // (Hit counts alone, 8 bytes a bin, for a colourer that reads no more: as the child is plotted.)
     const uint64_t hist = px * (colourer_->reads_hits_only() ? sizeof(uint64_t) : sizeof(fp::HistBin));
-    const uint64_t image = px * 3 * sizeof(float);
+    const uint64_t image = uint64_t(frame_.width) * uint64_t(frame_.height) * 3 * sizeof(float) +
+                           (finish_.active() ? finish_.bytes(frame_.width, frame_.height) : 0);
     // No per-worker state: a task's scratch is on the stack.
     return buffers + hist + image + picture_.rgb.size();
 }
@@ -314,6 +325,11 @@ constexpr fp::ParamSpec params[] = {
     fp::param::object("colourer", fp::Kind::Colourer, "how points are coloured and the histogram tone-mapped")
         .def("{type: map-colour}"),
     fp::param::colour("background", "colour of pixels no point reached").def("[0, 0, 0]"),
+    fp::supersample_param,
+    fp::filter_param,
+    fp::estimator_radius_param,
+    fp::estimator_minimum_param,
+    fp::estimator_curve_param,
     fp::param::string("picture", "colour stealing (Barnsley): each point takes the colour of this picture at "
                                  "the point of the colour IFS (the maps' colour_map) run with the same "
                                  "choices; hues (built in) or a PNG file relative to the working folder")

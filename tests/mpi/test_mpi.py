@@ -328,3 +328,12 @@ def test_without_mpi_a_build_refuses_ranks(tmp_path):
     assert r.returncode == 2
     assert "fixpoint: launched as 2 MPI ranks, but this build has no MPI" in r.stderr, r.stderr
     assert not (tmp_path / "x.png").exists()
+
+
+def test_chaos_game_finished(tmp_path):
+    # The finishing stage (docs/finishing.md) on rank 0 after the ranks' exact sum: supersampled,
+    # filtered and density-estimated, whole and in strips, the same bytes as one process.
+    stage = sets(supersample=2, estimator_radius=2) + ["--set", "renderer.filter={type: gaussian, radius: 0.75}"]
+    config = SOURCE / "configs/inversion/fig6a.yaml"
+    same_on_every_rank_count(tmp_path, config, *sets(width=200, height=200, points=1000000), *stage)
+    same_in_pieces_on_ranks(tmp_path, config, "strips", *sets(width=400, height=400, points=1000000), *stage)

@@ -57,7 +57,7 @@ TEST(ParamList, EntriesOfASmallConfig) {
                                       "renderer.maps[0].weight",
                                       "renderer.maps[0].colour"};
     const auto got = paths(all);
-    ASSERT_EQ(got.size(), 1 + 10 + 1 + 8 * item0.size() + 1 + 4 + 8);
+    ASSERT_EQ(got.size(), 1 + 10 + 1 + 8 * item0.size() + 1 + 7 + 13);
     EXPECT_EQ(std::vector<std::string>(got.begin(), got.begin() + 12),
               (std::vector<std::string>{"renderer", "renderer.width", "renderer.height", "renderer.view",
                                         "renderer.points", "renderer.seed", "renderer.skip", "renderer.start",
@@ -66,11 +66,27 @@ TEST(ParamList, EntriesOfASmallConfig) {
     EXPECT_EQ(std::vector<std::string>(got.begin() + 12, got.begin() + 19), item0);
     EXPECT_EQ(got[12 + 7 * 7], "renderer.maps[7]");
     EXPECT_EQ(std::vector<std::string>(got.begin() + 12 + 8 * 7, got.end()),
-              (std::vector<std::string>{"renderer.iteration", "renderer.colourer", "renderer.colourer.gamma",
-                                        "renderer.colourer.brightness", "renderer.colourer.mode",
-                                        "renderer.inversion_rules", "renderer.precision",
-                                        "renderer.background", "renderer.sets", "renderer.set_view",
-                                        "renderer.set_line", "renderer.set_fill", "renderer.kernels"}));
+              (std::vector<std::string>{"renderer.iteration",
+                                        "renderer.colourer",
+                                        "renderer.colourer.gamma",
+                                        "renderer.colourer.brightness",
+                                        "renderer.colourer.mode",
+                                        "renderer.colourer.vibrancy",
+                                        "renderer.colourer.highlight_power",
+                                        "renderer.colourer.gamma_threshold",
+                                        "renderer.inversion_rules",
+                                        "renderer.precision",
+                                        "renderer.background",
+                                        "renderer.supersample",
+                                        "renderer.filter",
+                                        "renderer.estimator_radius",
+                                        "renderer.estimator_minimum",
+                                        "renderer.estimator_curve",
+                                        "renderer.sets",
+                                        "renderer.set_view",
+                                        "renderer.set_line",
+                                        "renderer.set_fill",
+                                        "renderer.kernels"}));
 
     const ParamEntry& r = all[0];
     EXPECT_EQ(r.name, "renderer");

@@ -52,7 +52,8 @@ private:
                         uint32_t ifs, const uint32_t* src) const;
     uint64_t repair(Generation& g, size_t b, uint64_t stream) const;
 
-    fp::Frame frame_;                                      ///< width, height, view (region), background
+    fp::Frame frame_;       ///< width, height, view (region), background
+    fp::FinishSpec finish_; ///< the child's histogram is supersample times the image, finished down to it
     double sxmin_ = 0, sxmax_ = 1, symin_ = 0, symax_ = 1; ///< start box
     uint64_t seed_ = 1, steps_ = 30, points_ = 100000, buffers_ = 2, child_ = 0;
     bool colour_ = true; ///< the colourer reads the colour sums

@@ -233,16 +233,18 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
     // A colourer that reads hit counts alone gets them alone (fp::Histogram::hits): a quarter
     // of the memory, and of the work of filling, summarising and shading the bins.
     const bool hits_only = colourer_->reads_hits_only();
+    // (With the finishing stage, supersample times the image: fixpoint/finish.hpp.)
+    const int N = finish_.supersample, W = frame_.width * N, H = frame_.height * N;
     fp::Histogram hist;
     if (hits_only) {
-        hist.width = frame_.width;
-        hist.height = frame_.height;
-        hist.hits.assign(size_t(frame_.width) * size_t(frame_.height), 0);
+        hist.width = W;
+        hist.height = H;
+        hist.hits.assign(size_t(W) * size_t(H), 0);
     } else {
-        hist.resize(frame_.width, frame_.height);
+        hist.resize(W, H);
     }
-    const double scx = double(frame_.width) / (frame_.region.xmax - frame_.region.xmin),
-                 scy = double(frame_.height) / (frame_.region.ymax - frame_.region.ymin);
+    const double scx = double(W) / (frame_.region.xmax - frame_.region.xmin),
+                 scy = double(H) / (frame_.region.ymax - frame_.region.ymin);
     const size_t base = size_t(child_) * n;
     const auto quant = fp::quantise_colour;
     uint64_t drawn = 0;
@@ -252,9 +254,9 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
         if (!(x >= frame_.region.xmin && x < frame_.region.xmax && y > frame_.region.ymin &&
               y <= frame_.region.ymax))
             continue;
-        const auto ix = std::min(uint32_t((x - frame_.region.xmin) * scx), uint32_t(frame_.width - 1));
-        const auto iy = std::min(uint32_t((frame_.region.ymax - y) * scy), uint32_t(frame_.height - 1));
-        const size_t at = size_t(iy) * size_t(frame_.width) + ix;
+        const auto ix = std::min(uint32_t((x - frame_.region.xmin) * scx), uint32_t(W - 1));
+        const auto iy = std::min(uint32_t((frame_.region.ymax - y) * scy), uint32_t(H - 1));
+        const size_t at = size_t(iy) * size_t(W) + ix;
         ++drawn;
         if (hits_only) {
             ++hist.hits[at];
@@ -282,7 +284,11 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
     img.height = frame_.height;
     img.channels = 3;
     img.pixels.assign(size_t(frame_.width) * size_t(frame_.height) * 3, 0.0f);
-    colourer_->resolve_parallel(hist, frame_.background, img.pixels.data(), ctx);
+    if (finish_.active())
+        fp::finish(finish_, *colourer_, hist, 0, fp::HistogramSummary::of(hist, &ctx), frame_.width, 0,
+                   frame_.height, frame_.background, img.pixels.data(), &ctx);
+    else
+        colourer_->resolve_parallel(hist, frame_.background, img.pixels.data(), ctx);
     return img;
 }
 

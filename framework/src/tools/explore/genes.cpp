@@ -293,10 +293,21 @@ std::vector<Dim> random_dims(const Index& idx, const std::string& path, const st
         throw InputError(shown + ": " + quote(config, 200) + " has no plugin at " + quote(path, 100) +
                          (near.empty() ? "" : " (did you mean '" + near[0] + "'?)"));
     }
-    // The size and quality of a render are not searched.
-    static const std::set<std::string> render_size = {"width",   "height",         "points",
-                                                      "chains",  "skip",           "seed",
-                                                      "samples", "max_iterations", "points_per_buffer"};
+    // The size and quality of a render are not searched (the finishing stage's settings among
+    // them: they change how the pattern is shown, not the pattern).
+    static const std::set<std::string> render_size = {"width",
+                                                      "height",
+                                                      "points",
+                                                      "chains",
+                                                      "skip",
+                                                      "seed",
+                                                      "samples",
+                                                      "max_iterations",
+                                                      "points_per_buffer",
+                                                      "supersample",
+                                                      "estimator_radius",
+                                                      "estimator_minimum",
+                                                      "estimator_curve"};
     const bool renderer = it->second->plugin->desc->kind == Kind::Renderer;
     std::vector<Dim> out;
     for (const auto& p : it->second->params) {
