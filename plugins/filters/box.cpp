@@ -10,5 +10,5 @@ constexpr fp::ParamSpec params[] = {fp_filters::radius_param("1")};
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::describe<fp_filters::Kernel<box, 0.5>>(
+FIXPOINT_PLUGIN(fp::describe<fp_filters::Kernel<box, 1>>(
     fp::Kind::Filter, "box", "box filter: the mean over a square of radius pixels (flam3's box)", params))

@@ -14,13 +14,14 @@ constexpr fp::ParamSpec radius_param(const char* def) {
         .max(16);
 }
 
-/// A filter whose kernel is F(x) on [-S, S].
-template <double (*F)(double), double S>
+/// A filter whose kernel is F(x) (F zero where it ends), of support Halves / 2. (Halves, an
+/// integer: clang 14 takes no floating-point template arguments.)
+template <double (*F)(double), int Halves>
 class Kernel final : public fp::Filter {
 public:
     explicit Kernel(const fp::ParamBag& p) : radius_(p.real("radius")) {}
-    double value(double x) const override { return x < -S || x > S ? 0.0 : F(x); }
-    double support() const override { return S; }
+    double value(double x) const override { return F(x); }
+    double support() const override { return Halves / 2.0; }
     double radius() const override { return radius_; }
 
 private:

@@ -14,11 +14,11 @@ double sinc(double x) {
     return std::sin(px) / px;
 }
 
-double lanczos(double x) { return sinc(x) * sinc(x / 3.0); }
+double lanczos(double x) { return x <= -3 || x >= 3 ? 0.0 : sinc(x) * sinc(x / 3.0); }
 
 constexpr fp::ParamSpec params[] = {fp_filters::radius_param("1")};
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::describe<fp_filters::Kernel<lanczos, 3.0>>(
+FIXPOINT_PLUGIN(fp::describe<fp_filters::Kernel<lanczos, 6>>(
     fp::Kind::Filter, "lanczos", "Lanczos-3 windowed sinc, support 3 radius pixels", params))

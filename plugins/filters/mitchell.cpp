@@ -21,5 +21,5 @@ constexpr fp::ParamSpec params[] = {fp_filters::radius_param("1")};
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::describe<fp_filters::Kernel<mitchell, 2.0>>(
+FIXPOINT_PLUGIN(fp::describe<fp_filters::Kernel<mitchell, 4>>(
     fp::Kind::Filter, "mitchell", "Mitchell-Netravali cubic (B = C = 1/3), support 2 radius pixels", params))

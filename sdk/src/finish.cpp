@@ -195,17 +195,25 @@ FinishSpec FinishSpec::read(const ParamBag& p) {
     return s;
 }
 
-void finish(const FinishSpec& spec, const Colourer& colourer, const Histogram& part, int p0,
-            const HistogramSummary& whole, int width, int o0, int on, Rgb background, float* rgb,
-            RenderContext* ctx) {
+namespace {
+
+// What every band of a finish shares: the filter's taps, the density kernels.
+struct Plan {
+    std::vector<double> taps;
+    DensityKernels de;
+};
+
+// finish() of the image rows [o0, o0 + on): on ctx's workers within the strip, or serially.
+void finish_rows(const FinishSpec& spec, const Plan& plan, const Colourer& colourer, const Histogram& part,
+                 int p0, const HistogramSummary& whole, int width, int o0, int on, Rgb background, float* rgb,
+                 RenderContext* ctx) {
     const int N = spec.supersample;
     const std::size_t Ws = std::size_t(width) * std::size_t(N);
     const int Hs = whole.height, p1 = p0 + part.height;
-    if (part.width != int(Ws)) throw InternalError("finish: the histogram is not the image's width times N");
-    const std::vector<double> taps = spatial_taps(spec.filter.get(), N);
+    const std::vector<double>& taps = plan.taps;
     const int off = (int(taps.size()) - N) / 2;
     // The estimate's rows the filter reads, [q0, q1), and the bins they read, [s0, s1).
-    const DensityKernels de = DensityKernels::make(spec);
+    const DensityKernels& de = plan.de;
     const int reach = spec.estimates() ? de.kernels.front().reach : 0;
     const int q0 = std::max(0, o0 * N - off), q1 = std::min(Hs, (o0 + on) * N + off);
     const int s0 = std::max(p0, q0 - reach), s1 = std::min(p1, q1 + reach);
@@ -214,29 +222,32 @@ void finish(const FinishSpec& spec, const Colourer& colourer, const Histogram& p
     const std::size_t rows_in = std::size_t(std::max(0, s1 - s0)), rows_q = std::size_t(q1 - q0);
     const double scale = double(N) * double(N);
 
-    // Linear: (a, a r, a g, a b, coverage) per bin, rows [s0, s1).
-    std::vector<float> lin(rows_in * Ws * C);
+    // The channels in planes (a, a r, a g, a b, coverage), each rows x Ws, so that the estimate's
+    // scatter and the filter's sums run along contiguous rows (the compiler's vectors).
+    // Linear: rows [s0, s1).
+    const std::size_t plane_in = rows_in * Ws;
+    std::vector<float> lin(plane_in * C);
     each(ctx, rows_in, [&](std::size_t r) {
-        float four[4 * 256];
+        std::vector<float> four(4 * Ws);
         const std::size_t i_row = (std::size_t(s0 - p0) + r) * Ws;
-        float* out = lin.data() + r * Ws * C;
-        for (std::size_t x0 = 0; x0 < Ws; x0 += 256) {
-            const std::size_t n = std::min<std::size_t>(256, Ws - x0);
-            colourer.linear(part, p0, whole, scale, i_row + x0, i_row + x0 + n, four);
-            for (std::size_t j = 0; j < n; ++j) {
-                const float a = part.hits_at(i_row + x0 + j) ? four[4 * j] : 0.0f;
-                float* o = out + (x0 + j) * C;
-                o[0] = a, o[1] = a * four[4 * j + 1], o[2] = a * four[4 * j + 2], o[3] = a * four[4 * j + 3];
-                o[4] = part.hits_at(i_row + x0 + j) ? 1.0f : 0.0f;
-            }
+        colourer.linear(part, p0, whole, scale, i_row, i_row + Ws, four.data());
+        float* o[C];
+        for (int ch = 0; ch < C; ++ch) o[ch] = lin.data() + std::size_t(ch) * plane_in + r * Ws;
+        for (std::size_t x = 0; x < Ws; ++x) {
+            const bool hit = part.hits_at(i_row + x) != 0;
+            const float a = hit ? four[4 * x] : 0.0f;
+            o[0][x] = a, o[1][x] = a * four[4 * x + 1], o[2][x] = a * four[4 * x + 2];
+            o[3][x] = a * four[4 * x + 3], o[4][x] = hit ? 1.0f : 0.0f;
         }
     });
 
     // Estimate: the rows [q0, q1), from the sources [s0, s1), in bands of rows.
     std::vector<float> est;
-    const float* src = lin.data() + std::size_t(q0 - s0) * Ws * C; // row q0 of the channels
+    const float* src = lin.data() + std::size_t(q0 - s0) * Ws; // row q0 of plane 0
+    std::size_t plane_src = plane_in;
     if (spec.estimates()) {
-        est.assign(rows_q * Ws * C, 0.0f);
+        const std::size_t plane_q = rows_q * Ws;
+        est.assign(plane_q * C, 0.0f);
         const std::size_t band = 32, bands = (rows_q + band - 1) / band;
         each(ctx, bands, [&](std::size_t b) {
             const int b0 = q0 + int(b * band), b1 = std::min(q1, b0 + int(band));
@@ -255,59 +266,101 @@ void finish(const FinishSpec& spec, const Colourer& colourer, const Histogram& p
                     const DensityKernels::Kernel& K = de.kernels[de.index(c)];
                     const int r = K.reach, side = 2 * r + 1;
                     if (y + r < b0 || y - r >= b1) continue;
-                    const float* v = lin.data() + (std::size_t(y - s0) * Ws + x) * C;
-                    const int dx0 = -int(std::min<std::size_t>(x, std::size_t(r)));
-                    const int dx1 = int(std::min<std::size_t>(Ws - 1 - x, std::size_t(r)));
+                    const std::size_t at = std::size_t(y - s0) * Ws + x;
+                    float v[C];
+                    for (int ch = 0; ch < C; ++ch) v[ch] = lin[std::size_t(ch) * plane_in + at];
+                    const std::size_t dx0 = std::min<std::size_t>(x, std::size_t(r));
+                    const std::size_t dx1 = std::min<std::size_t>(Ws - 1 - x, std::size_t(r));
+                    const std::size_t n = dx0 + dx1 + 1;
                     for (int dy = std::max(-r, b0 - y); dy <= std::min(r, b1 - 1 - y); ++dy) {
-                        const float* k = K.coefs.data() + std::size_t((dy + r) * side + r);
-                        float* o = est.data() + (std::size_t(y + dy - q0) * Ws + x) * C;
-                        for (int dx = dx0; dx <= dx1; ++dx) {
-                            const float kc = k[dx];
-                            float* od = o + std::ptrdiff_t(dx) * C;
-                            for (int ch = 0; ch < C; ++ch) od[ch] += kc * v[ch];
+                        const float* k = K.coefs.data() + std::size_t((dy + r) * side + r) - dx0;
+                        const std::size_t o0 = std::size_t(y + dy - q0) * Ws + x - dx0;
+                        for (int ch = 0; ch < C; ++ch) {
+                            float* __restrict o = est.data() + std::size_t(ch) * plane_q + o0;
+                            const float vc = v[ch];
+                            for (std::size_t i = 0; i < n; ++i) o[i] += k[i] * vc;
                         }
                     }
                 }
             }
         });
         src = est.data();
+        plane_src = plane_q;
         lin.clear();
         lin.shrink_to_fit();
     }
 
     // The filter along the rows: rows [q0, q1) at the image's width.
     const Axis ax = make_axis(taps, N, 0, width, int(Ws));
-    std::vector<float> rowpass(rows_q * std::size_t(width) * C);
+    const std::size_t W = std::size_t(width), plane_row = rows_q * W;
+    std::vector<float> rowpass(plane_row * C);
     each(ctx, rows_q, [&](std::size_t r) {
-        const float* in = src + r * Ws * C;
-        float* out = rowpass.data() + r * std::size_t(width) * C;
-        for (std::size_t o = 0; o < std::size_t(width); ++o) {
-            float acc[C] = {0, 0, 0, 0, 0};
-            const float* w = ax.w.data() + o * ax.taps;
-            const float* b = in + std::size_t(ax.first[o]) * C;
-            for (int t = 0; t < ax.count[o]; ++t)
-                for (int ch = 0; ch < C; ++ch) acc[ch] += w[t] * b[std::size_t(t) * C + std::size_t(ch)];
-            std::copy_n(acc, C, out + o * C);
+        for (int ch = 0; ch < C; ++ch) {
+            const float* in = src + std::size_t(ch) * plane_src + r * Ws;
+            float* out = rowpass.data() + std::size_t(ch) * plane_row + r * W;
+            for (std::size_t o = 0; o < W; ++o) {
+                const float* w = ax.w.data() + o * ax.taps;
+                const float* b = in + std::size_t(ax.first[o]);
+                float acc = 0;
+                for (int t = 0; t < ax.count[o]; ++t) acc += w[t] * b[t];
+                out[o] = acc;
+            }
         }
     });
     // Down the columns, then the pixels.
     const Axis ay = make_axis(taps, N, o0, on, Hs);
     each(ctx, std::size_t(on), [&](std::size_t o) {
-        std::vector<float> px(std::size_t(width) * C, 0.0f);
+        std::vector<float> col(W * C, 0.0f), px(W * C);
         const float* w = ay.w.data() + o * ay.taps;
-        for (int t = 0; t < ay.count[o]; ++t) {
-            const float* in = rowpass.data() + std::size_t(ay.first[o] + t - q0) * std::size_t(width) * C;
-            const float wt = w[t];
-            for (std::size_t i = 0; i < std::size_t(width) * C; ++i) px[i] += wt * in[i];
+        for (int ch = 0; ch < C; ++ch) {
+            float* __restrict acc = col.data() + std::size_t(ch) * W;
+            for (int t = 0; t < ay.count[o]; ++t) {
+                const float* in =
+                    rowpass.data() + std::size_t(ch) * plane_row + std::size_t(ay.first[o] + t - q0) * W;
+                const float wt = w[t];
+                for (std::size_t x = 0; x < W; ++x) acc[x] += wt * in[x];
+            }
         }
-        for (std::size_t x = 0; x < std::size_t(width); ++x) {
+        for (std::size_t x = 0; x < W; ++x) {
             float* p = px.data() + x * C;
-            const float a = p[0], inv = a > 0 ? 1.0f / a : 0.0f;
-            p[1] *= inv, p[2] *= inv, p[3] *= inv;
-            p[4] = std::clamp(p[4], 0.0f, 1.0f);
-            if (!(a > 0)) p[0] = 0, p[1] = p[2] = p[3] = 0;
+            const float a = col[x], inv = a > 0 ? 1.0f / a : 0.0f;
+            p[0] = a > 0 ? a : 0.0f;
+            p[1] = a > 0 ? col[W + x] * inv : 0.0f;
+            p[2] = a > 0 ? col[2 * W + x] * inv : 0.0f;
+            p[3] = a > 0 ? col[3 * W + x] * inv : 0.0f;
+            p[4] = std::clamp(col[4 * W + x], 0.0f, 1.0f);
         }
-        colourer.display(px.data(), std::size_t(width), background, rgb + o * std::size_t(width) * 3);
+        colourer.display(px.data(), W, background, rgb + o * W * 3);
+    });
+}
+
+} // namespace
+
+void finish(const FinishSpec& spec, const Colourer& colourer, const Histogram& part, int p0,
+            const HistogramSummary& whole, int width, int o0, int on, Rgb background, float* rgb,
+            RenderContext* ctx) {
+    if (part.width != width * spec.supersample)
+        throw InternalError("finish: the histogram is not the image's width times N");
+    const Plan plan{spatial_taps(spec.filter.get(), spec.supersample), DensityKernels::make(spec)};
+    // In bands of image rows, one a worker, each finished from its own rows of the histogram
+    // and their halo (as a strip: the same bytes), in buffers a fraction of the image's, so
+    // that they stay in cache and their pages are few.
+    constexpr int band = 64;
+    const int bands = (on + band - 1) / band;
+    if (bands <= 1 || !ctx || ctx->workers() <= 1) {
+        for (int b = 0; b < bands; ++b) {
+            const int b0 = o0 + b * band;
+            finish_rows(spec, plan, colourer, part, p0, whole, width, b0, std::min(band, o0 + on - b0),
+                        background, rgb + std::size_t(b0 - o0) * std::size_t(width) * 3,
+                        bands <= 1 ? ctx : nullptr);
+            if (ctx && ctx->cancelled()) throw Cancelled();
+        }
+        return;
+    }
+    each(ctx, std::size_t(bands), [&](std::size_t b) {
+        const int b0 = o0 + int(b) * band;
+        finish_rows(spec, plan, colourer, part, p0, whole, width, b0, std::min(band, o0 + on - b0),
+                    background, rgb + std::size_t(b0 - o0) * std::size_t(width) * 3, nullptr);
     });
 }
 
