@@ -153,6 +153,22 @@ INSTANTIATE_TEST_SUITE_P(
                           "--set renderer.supersample=17: renderer.supersample: must be in [1, 16], got 17"}),
     [](const auto& info) { return std::string(info.param.name); });
 
+// A config's finishing can be taken back from the command line: an optional parameter set to
+// null is unset, and the render is the raw one, byte for byte.
+TEST(Finishing, NullUnsetsTheConfigsFilter) {
+    const std::string dir = scratch_dir("finishing_null");
+    const std::vector<std::string> keys = {"width: 64", "height: 64", "points: 20000", "chains: 64"};
+    std::vector<std::string> finished = keys;
+    finished.insert(finished.end(), {"supersample: 2", "filter: {type: gaussian, radius: 0.5}"});
+    write_file(dir + "/raw.yaml", chaos_game(keys, three_circles("0.9")));
+    write_file(dir + "/fin.yaml", chaos_game(finished, three_circles("0.9")));
+    ASSERT_EQ(run_cli({"render", "--quiet", dir + "/raw.yaml", "-o", dir + "/raw.png"}).rc, 0);
+    const auto r = run_cli({"render", "--quiet", dir + "/fin.yaml", "--set", "renderer.filter=null", "--set",
+                            "renderer.supersample=1", "-o", dir + "/unset.png"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(read_file(dir + "/unset.png"), read_file(dir + "/raw.png"));
+}
+
 // In the file, the line names its place there.
 TEST(Finishing, ABadFilterInTheFileIsPlaced) {
     const std::string yaml = chaos_game({"width: 64", "height: 64", "points: 20000", "chains: 64",

@@ -242,7 +242,12 @@ std::vector<TParam> validate_params(const Registry& reg, const ParamSpec* specs,
     for (std::size_t j = 0; j < n_specs; ++j) {
         const ParamSpec& s = specs[j];
         const std::string p = path.empty() ? s.name : path + "." + s.name;
-        if (const CNode* v = node.find(s.name)) {
+        const CNode* v = node.find(s.name);
+        // An optional parameter without a default written as null (`filter: null`, `--set
+        // renderer.filter=null`) is unset, so that a config's choice can be taken back.
+        // (Not a colour whose '#' began a comment: that one's hint is given below.)
+        if (v && v->type == CNode::Type::Null && !v->hex_comment && s.optional && !s.default_yaml) continue;
+        if (v) {
             out.push_back(validate_param(reg, s, *v, p));
         } else if (s.default_yaml) {
             CNode d = parse_yaml(s.default_yaml, std::string("<default of ") + owner + "." + s.name + ">");
