@@ -12,8 +12,8 @@ import pytest
 from conftest import SOURCE, Page, Server, pixels, run_cli
 
 # fig4a.yaml's lines (1-based) that the tests change.
-MAP0 = 24  # - {type: inversion, shape: {type: circle, centre: [1, 1], radius: 1}, colour: "#ff6b6b"}
-MAP4 = 29  # - {..., centre: [0.30667, 0], radius: 0.21685}, colour: "#ff9f43"}
+MAP0 = 29  # - {type: inversion, shape: {type: circle, centre: [1, 1], radius: 1}, colour: "#ff6b6b"}
+MAP4 = 34  # - {..., centre: [0.30667, 0], radius: 0.21685}, colour: "#ff9f43"}
 VIEW = 20  # view: [-1.75, 1.75, -1.75, 1.75]
 
 
@@ -118,8 +118,8 @@ def test_typo_shows_the_cli_error_at_its_line(page, tmp_path):
     r = run_cli("render", "fig4a.yaml", "-o", "x.png", cwd=cli)
     assert r.returncode == 2
     assert shown == r.stderr.decode().strip()
-    assert shown.startswith("fig4a.yaml:25:")
-    assert page.js("return [...document.querySelectorAll('#gutter .error')].map((e) => e.textContent)") == ["25"]
+    assert shown.startswith("fig4a.yaml:30:")
+    assert page.js("return [...document.querySelectorAll('#gutter .error')].map((e) => e.textContent)") == ["30"]
     assert page.js("return document.getElementById('error-band').hidden") is False
     # The last good image stays.
     assert page.js("return document.getElementById('frame').src") == src
@@ -273,15 +273,15 @@ def test_maps_remove_and_add(page):
     page.js("document.querySelector('button[data-path=\"renderer.maps[7]\"]').click()")
     page.wait(lambda: page.text() != text, what="the item removed")
     removed = page.text()
-    assert removed.split("\n") == lines[:31] + lines[32:]
+    assert removed.split("\n") == lines[:36] + lines[37:]
     page.wait(lambda: page.js("return document.querySelector('button[data-path=\"renderer.maps[7]\"]')") is None,
               what="the panel without maps[7]")
     # "add" appends a copy of the last item (now maps[6]) from its written values.
     page.js("document.querySelector('button[data-path=\"renderer.maps\"]').click()")
     page.wait(lambda: page.text() != removed, what="the item added")
     added = page.text().split("\n")
-    assert added[:31] == lines[:31]
-    assert added[31] == ('    - {type: inversion, shape: {type: circle, centre: [-0.30667, 0], radius: 0.21685}, '
+    assert added[:36] == lines[:36]
+    assert added[36] == ('    - {type: inversion, shape: {type: circle, centre: [-0.30667, 0], radius: 0.21685}, '
                          'colour: "#48dbfb"}')
     page.wait(lambda: page.js("return document.querySelector('button[data-path=\"renderer.maps[7]\"]')") is not None,
               what="the panel with maps[7] again")

@@ -57,7 +57,7 @@ TEST(ParamList, EntriesOfASmallConfig) {
                                       "renderer.maps[0].weight",
                                       "renderer.maps[0].colour"};
     const auto got = paths(all);
-    ASSERT_EQ(got.size(), 1 + 10 + 1 + 8 * item0.size() + 1 + 7 + 13);
+    ASSERT_EQ(got.size(), 1 + 10 + 1 + 8 * item0.size() + 1 + 7 + 14);
     EXPECT_EQ(std::vector<std::string>(got.begin(), got.begin() + 12),
               (std::vector<std::string>{"renderer", "renderer.width", "renderer.height", "renderer.view",
                                         "renderer.points", "renderer.seed", "renderer.skip", "renderer.start",
@@ -79,6 +79,7 @@ TEST(ParamList, EntriesOfASmallConfig) {
                                         "renderer.background",
                                         "renderer.supersample",
                                         "renderer.filter",
+                                        "renderer.filter.radius",
                                         "renderer.estimator_radius",
                                         "renderer.estimator_minimum",
                                         "renderer.estimator_curve",

@@ -13,8 +13,8 @@ namespace {
 // Headings for the kinds, in the SDK's order of Kind (types.hpp); the command line's names
 // (kind_name) go beside them.
 constexpr std::string_view kind_titles[kind_count] = {
-    "Shapes", "Transforms", "Iteration schemes", "Number systems",
-    "Traps",  "Metrics",    "Colourers",         "Renderers",      "Filters",
+    "Shapes",  "Transforms", "Iteration schemes", "Number systems", "Traps",
+    "Metrics", "Colourers",  "Renderers",         "Filters",
 };
 
 // Text in a table cell: a '|' would end the cell (GitHub reads "\|" as a pipe, in code spans
