@@ -242,6 +242,7 @@ async function follow(job) {
     showFrame(blob, job, {
       stage: k, stages: Number(h('X-Stages')), width: Number(h('X-Width')), height: Number(h('X-Height')),
       spp: Number(h('X-Samples-Per-Pixel')), seconds: Number(h('X-Seconds')), done,
+      retoned: h('X-Retoned') === '1',
     });
     after = k;
     if (done) return;
@@ -272,8 +273,11 @@ function showFrame(blob, job, f) {
   S.frameW = f.width;
   S.frameH = f.height;
   fit();
+  // A change of finishing parameters alone is finished from the kept histogram: say so.
   caption.textContent = `stage ${f.stage + 1}/${f.stages} · ${f.width}×${f.height} · ` +
-      `${number(f.spp)} samples/px · ${f.seconds.toFixed(2)} s`;
+      `${number(f.spp)} samples/px · ${f.seconds.toFixed(2)} s` +
+      (f.retoned ? ' · re-toned, no iterating' : '');
+  img.dataset.retoned = f.retoned ? '1' : '0';
   caption.classList.toggle('done', f.done);
   const region = S.jobRegion.get(job) || null;
   if (S.pending && S.pending.sent && sameRegion(S.pending, region)) S.pending = null;

@@ -35,6 +35,7 @@ struct Options {
     std::string memory; ///< --memory SIZE ("": what the machine has available)
     /// --checkpoint FILE, --checkpoint-every TIME ("": 5m), --resume FILE
     std::string checkpoint, checkpoint_every, resume;
+    std::string histogram; ///< render --histogram FILE.fph
     int columns = 0;
     unsigned threads = 0;
     bool quiet = false, force = false, check = false, verbose = false, draft = false, no_draft = false;

@@ -33,8 +33,10 @@ void print_params(const ParamSpec* ps, std::size_t n, const std::string& indent)
                           : s.optional   ? "optional"
                                          : "required";
         const std::string range = range_of(s);
-        std::printf("%s%-16s %s; %s%s%s\n", indent.c_str(), s.name, type.c_str(), def.c_str(),
-                    range.empty() ? "" : "; range ", range.c_str());
+        // (finishing: `fixpoint tone` may change it on a kept histogram, docs/histograms.md.)
+        std::printf("%s%-16s %s; %s%s%s%s\n", indent.c_str(), s.name, type.c_str(), def.c_str(),
+                    range.empty() ? "" : "; range ", range.c_str(),
+                    s.role == ParamRole::finish ? "; finishing" : "");
         std::printf("%s%-16s %s\n", indent.c_str(), "", s.doc ? s.doc : "");
         if (s.type == ParamType::Objects && s.n_item_params) {
             std::printf("%s%-16s each item also takes:\n", indent.c_str(), "");

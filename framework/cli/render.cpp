@@ -3,12 +3,14 @@
 // turns the command line into requests.
 #include "cli.hpp"
 
+#include <fixpoint/host/core/histogram_file.hpp>
 #include <fixpoint/host/core/ranks.hpp>
 #include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/host/job/collection.hpp>
 #include <fixpoint/host/job/draft.hpp>
 #include <fixpoint/host/tools/animate.hpp>
 #include <fixpoint/host/tools/watch.hpp>
+#include <fixpoint/text.hpp>
 
 #include <spdlog/spdlog.h>
 
@@ -41,8 +43,38 @@ RenderRequest render_request(const Options& o) {
     r.distributed = true;
     r.print = o.print;
     r.checkpoint = o.checkpoint, r.checkpoint_every = o.checkpoint_every, r.resume = o.resume;
+    r.histogram = o.histogram;
     r.strict = o.strict;
     return r;
+}
+
+// tone: the image finished again from a kept histogram (host/core/histogram_file.hpp), with the
+// finishing parameters --set changes; the render job checks that nothing else changed.
+int cmd_tone(const Options& o) {
+    install_sigint();
+    if (!is_histogram_file(o.config))
+        throw InputError("tone: " + quote(o.config, 200) +
+                         " is not a histogram file: name one (.fph) that render --histogram wrote");
+    const Registry reg = make_registry(o);
+    RenderRequest r;
+    r.output = o.out;
+    r.default_file = true;
+    r.force = o.force;
+    r.source = o.config;
+    r.threads = o.threads;
+    r.memory = o.memory.empty() ? 0 : parse_size(o.memory, "--memory");
+    r.may_stream = false;
+    r.replace_hint = "name it with -o to replace it, or add --force";
+    // The recipe first (its errors at their place), then the bins.
+    Pipeline p = load_pipeline(reg, o.config, o.sets, "", o.allow_python);
+    told(p);
+    r.tone = std::make_shared<HistogramFile>(
+        read_histogram_file(o.config, r.memory ? r.memory : available_memory()));
+    RenderPlan plan = plan_render(p, std::move(r), &interrupted());
+    const RenderResult res = run_render(plan, render_hooks(o.quiet));
+    tell(res.warnings);
+    if (!o.quiet) spdlog::info("{}", summary_line(plan, res));
+    return 0;
 }
 
 int cmd_collection(const Options& o, bool validate_only) {
@@ -70,6 +102,8 @@ int cmd_render(const Options& o, bool validate_only) {
             "--memory bounds one render (in strips): not with --vary, whose children render whole");
     if (!o.vary.empty() && (!o.checkpoint.empty() || !o.resume.empty()))
         throw InputError("--checkpoint and --resume keep one render: not with --vary");
+    if (!o.vary.empty() && !o.histogram.empty())
+        throw InputError("--histogram keeps one render's histogram: not with --vary");
     if (!o.vary.empty()) return cmd_collection(o, validate_only);
     if (o.draft && (o.print.dpi > 0 || !o.print.print_size.empty()))
         throw InputError("--draft: a quick small image: not with --dpi or --print-size");
@@ -154,6 +188,10 @@ void add_render_commands(CLI::App& app, Options& o, std::vector<Command>& table)
                        "Continue the render saved in FILE (the same bytes as one uninterrupted render), or a "
                        "finished one to more points with --set renderer.points=N; checkpoints go on in FILE "
                        "unless --checkpoint names another");
+    render->add_option("--histogram", o.histogram,
+                       "Keep the render's histogram in FILE.fph too, so that `fixpoint tone FILE.fph` "
+                       "finishes it again with other tone, filter or density estimation, with no "
+                       "iterating (chaos-game; docs/histograms.md)");
     render->add_flag("-q,--quiet", o.quiet, "No progress bar, no summary");
     render->add_flag("--allow-python", o.allow_python,
                      "Run the Python of a python-scheme in a recipe read from an image (refused by default: "
@@ -189,6 +227,24 @@ void add_render_commands(CLI::App& app, Options& o, std::vector<Command>& table)
                        "the size in pixels, alone the resolution written (pixels / size); a 16-bit TIFF "
                        "for print: -o out.tif --set output.bit_depth=16");
     table.push_back({render, [&o] { return cmd_render(o, false); }});
+
+    auto* tone = app.add_subcommand(
+        "tone", "Finish a kept histogram (render --histogram) into an image again, with other finishing "
+                "parameters, with no iterating: the bytes of a render of that recipe");
+    tone->add_option("histogram", o.config, "Histogram file (.fph) that render --histogram wrote")
+        ->required();
+    tone->add_option("-o,--output", o.out, "Output image (.png, .exr, .tif); default: <histogram>.png");
+    add_sets(tone, o.sets,
+             "Change a finishing parameter: renderer.filter=..., renderer.estimator_radius=..., "
+             "renderer.background=..., renderer.colourer.gamma=... (repeatable; describe marks them)");
+    add_threads(tone, o.threads, "Worker threads (default: all cores); the image does not depend on it");
+    tone->add_option("--memory", o.memory, "Memory the histogram and image may take (as render --memory)");
+    tone->add_flag("-q,--quiet", o.quiet, "No summary");
+    tone->add_flag("--allow-python", o.allow_python,
+                   "Build a python-scheme of the histogram's recipe (refused by default: "
+                   "a file may come from anywhere)");
+    tone->add_flag("--force", o.force, "Replace an existing output that was not named with -o");
+    table.push_back({tone, [&o] { return cmd_tone(o); }});
 
     auto* validate = app.add_subcommand("validate", "Check everything a render would check; render nothing");
     validate->add_option("config", o.config, "Pipeline file (YAML)")->required();

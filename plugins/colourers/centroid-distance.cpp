@@ -37,14 +37,21 @@
 namespace {
 
 constexpr fp::ParamSpec params[] = {
-    fp::param::colour("inner", "colour at the centre of mass (t = 0)").def("\"#ffe066\""),
-    fp::param::colour("middle", "colour halfway out (t = 1/2); default: none, inner to outer directly").opt(),
-    fp::param::colour("outer", "colour at the farthest hit pixel (t = 1)").def("\"#3a0ca3\""),
-    fp_colourers::density_param,
-    fp_colourers::gamma_param,
+    fp::param::colour("inner", "colour at the centre of mass (t = 0)")
+        .def("\"#ffe066\"")
+        .as(fp::ParamRole::finish),
+    fp::param::colour("middle", "colour halfway out (t = 1/2); default: none, inner to outer directly")
+        .opt()
+        .as(fp::ParamRole::finish),
+    fp::param::colour("outer", "colour at the farthest hit pixel (t = 1)")
+        .def("\"#3a0ca3\"")
+        .as(fp::ParamRole::finish),
+    fp_colourers::density_param.as(fp::ParamRole::finish),
+    fp_colourers::gamma_param.as(fp::ParamRole::finish),
     fp::param::real("brightness", "factor on the final colour (clamped to [0, 1] afterwards)")
         .def("1")
-        .above(0),
+        .above(0)
+        .as(fp::ParamRole::finish),
 };
 
 class CentroidDistance final : public fp_colourers::Resolving<CentroidDistance> {

@@ -87,20 +87,30 @@ Map preset(const std::string& name) {
 constexpr fp::ParamSpec params[] = {
     fp::param::string("preset", "one of the colour maps of Table 1 (Fig. 4): fig-4a, fig-4b, fig-4c, fig-4d")
         .one_of("fig-4a|fig-4b|fig-4c|fig-4d")
-        .opt(),
+        .opt()
+        .as(fp::ParamRole::finish),
     fp::param::reals("colours",
                      "base colours b_0..b_N as in Table 1: r, g, b triples of numbers in [0, 255], "
                      "one flat list")
         .min(0)
         .max(255)
-        .opt(),
+        .opt()
+        .as(fp::ParamRole::finish),
     fp::param::reals("ratios", "colour ratios q_0 < q_1 < ... < q_N in [0, 1], one per base colour")
         .min(0)
         .max(1)
-        .opt(),
-    fp::param::integer("Nc", "number of colours in the table").def("3000").min(2).max(16777216),
-    fp::param::real("E", "exponent E of Algorithm 1 and of the index rule").def("16").above(0),
-    fp_colourers::gamma_param,
+        .opt()
+        .as(fp::ParamRole::finish),
+    fp::param::integer("Nc", "number of colours in the table")
+        .def("3000")
+        .min(2)
+        .max(16777216)
+        .as(fp::ParamRole::finish),
+    fp::param::real("E", "exponent E of Algorithm 1 and of the index rule")
+        .def("16")
+        .above(0)
+        .as(fp::ParamRole::finish),
+    fp_colourers::gamma_param.as(fp::ParamRole::finish),
 };
 
 class ColourMap final : public fp_colourers::Resolving<ColourMap> {

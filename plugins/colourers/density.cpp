@@ -21,8 +21,11 @@
 namespace {
 
 constexpr fp::ParamSpec params[] = {
-    fp::param::colour("colour", "colour of the densest bins").def("[1, 1, 1]"),
-    fp::param::real("gamma", "gamma of the log-density shading, eq. (28)").def("2.2").above(0),
+    fp::param::colour("colour", "colour of the densest bins").def("[1, 1, 1]").as(fp::ParamRole::finish),
+    fp::param::real("gamma", "gamma of the log-density shading, eq. (28)")
+        .def("2.2")
+        .above(0)
+        .as(fp::ParamRole::finish),
 };
 
 class Density final : public fp_colourers::Resolving<Density> {

@@ -42,10 +42,14 @@ namespace {
 using namespace fp_colourers;
 
 constexpr fp::ParamSpec params[] = {
-    fp::param::real("gamma", "gamma of the log-density shading, eq. (28)").def("2.2").above(0),
+    fp::param::real("gamma", "gamma of the log-density shading, eq. (28)")
+        .def("2.2")
+        .above(0)
+        .as(fp::ParamRole::finish),
     fp::param::real("brightness", "factor on the final colour (clamped to [0, 1] afterwards)")
         .def("1")
-        .above(0),
+        .above(0)
+        .as(fp::ParamRole::finish),
     fp::param::string("mode", "which colour a pixel shows: mean (of its hits), last (written, eq. (28) as "
                               "written: random start colour) or set-colour (paper 01: the colour of the set "
                               "that produced its last point)")
@@ -56,19 +60,22 @@ constexpr fp::ParamSpec params[] = {
                     "to each channel (paler)")
         .def("1")
         .min(0)
-        .max(1),
+        .max(1)
+        .as(fp::ParamRole::finish),
     fp::param::real("highlight_power",
                     "flam3's highlight_power: where a colour saturates, >= 0 turns it towards "
                     "white by that power, -1 clips each channel")
         .def("-1")
         .min(-1)
-        .max(16),
+        .max(16)
+        .as(fp::ParamRole::finish),
     fp::param::real("gamma_threshold",
                     "flam3's gamma_threshold: below this density the gamma curve is blended "
                     "with a line, so sparse pixels are not lifted (0: none)")
         .def("0")
         .min(0)
-        .max(1),
+        .max(1)
+        .as(fp::ParamRole::finish),
 };
 
 class Flame final : public fp_colourers::Resolving<Flame> {

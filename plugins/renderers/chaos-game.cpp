@@ -423,7 +423,9 @@ constexpr fp::ParamSpec params[] = {
                       "arithmetic of the chains: float (twice the SIMD width) or double (deep zooms)")
         .def("float")
         .one_of("float|double"),
-    fp::param::colour("background", "colour of pixels no point reached").def("[0, 0, 0]"),
+    fp::param::colour("background", "colour of pixels no point reached")
+        .def("[0, 0, 0]")
+        .as(fp::ParamRole::finish),
     fp::supersample_param,
     fp::filter_param,
     fp::estimator_radius_param,

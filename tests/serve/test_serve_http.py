@@ -352,3 +352,35 @@ def test_a_port_in_use_is_refused(srv, tmp_path):
                        capture_output=True, text=True, timeout=60)
     assert (r.returncode, r.stdout) == (2, "")
     assert r.stderr == f"--host '127.0.0.1' --port {srv.port}: cannot listen there (is the port in use?)\n"
+
+
+def test_a_change_of_tone_alone_is_finished_from_the_kept_histogram(tmp_path):
+    # A server of its own: which histogram is kept depends on the previews before.
+    (tmp_path / "fig4a.yaml").write_text(fig4a_text())
+    s = Server(tmp_path, "fig4a.yaml")
+    try:
+        text = fig4a_text().replace("points: 4000000\n", "points: 1000000\n")
+        first = s.api("api/preview", {"text": text})
+        assert first["retoned"] is False and first["stages"] == 4
+        frames(s, first["job"])
+        # Only finishing parameters change: one stage, finished from the kept histogram.
+        toned_text = text.replace("renderer:\n", "renderer:\n  estimator_radius: 3\n", 1)
+        toned_text = toned_text.replace("type: flame", "type: flame, gamma: 3.5", 1)
+        assert toned_text.count("estimator_radius") == 1 and "gamma: 3.5" in toned_text
+        toned = s.api("api/preview", {"text": toned_text})
+        assert toned["retoned"] is True and toned["stages"] == 1
+        [(h, png)] = frames(s, toned["job"])
+        assert h["X-Retoned"] == "1" and h["X-Done"] == "1"
+        assert (int(h["X-Width"]), int(h["X-Height"])) == (1024, 1024)
+        # The bytes `fixpoint render` writes for that text.
+        (tmp_path / "toned.yaml").write_text(toned_text)
+        rc, _, err = cli("render", "toned.yaml", "-o", "toned.png", "-q", cwd=str(tmp_path))
+        assert rc == 0, err
+        assert png == (tmp_path / "toned.png").read_bytes()
+        # A change of the sums (the points) renders again, stage by stage.
+        more = s.api("api/preview", {"text": toned_text.replace("points: 1000000\n", "points: 1100000\n")})
+        assert more["retoned"] is False and more["stages"] == 4
+        got = frames(s, more["job"])
+        assert [h["X-Retoned"] for h, _ in got] == ["0", "0", "0", "0"]
+    finally:
+        assert s.stop() == 0

@@ -503,19 +503,25 @@ std::shared_ptr<const Object> build(const Registry& reg, const TObject& t) {
 
 namespace {
 
-CNode value_node(const TParam& p);
+CNode value_node(const TParam& p, bool skip_finish);
 
-CNode object_node(const TObject& t, const std::vector<TParam>* extras = nullptr) {
+// skip_finish: without the parameters whose role is finish, at every depth (a histogram's
+// identity).
+CNode object_node(const TObject& t, const std::vector<TParam>* extras, bool skip_finish) {
     CNode m = map_node();
     m.keys.emplace_back("type", scalar_node(t.plugin->desc->name));
-    for (const auto& p : t.params) m.keys.emplace_back(p.spec->name, value_node(p));
+    for (const auto& p : t.params)
+        if (!skip_finish || p.spec->role != ParamRole::finish)
+            m.keys.emplace_back(p.spec->name, value_node(p, skip_finish));
     if (extras)
-        for (const auto& p : *extras) m.keys.emplace_back(p.spec->name, value_node(p));
+        for (const auto& p : *extras)
+            if (!skip_finish || p.spec->role != ParamRole::finish)
+                m.keys.emplace_back(p.spec->name, value_node(p, skip_finish));
     m.key_marks.resize(m.keys.size());
     return m;
 }
 
-CNode value_node(const TParam& p) {
+CNode value_node(const TParam& p, bool skip_finish) {
     struct V {
         CNode operator()(bool b) const { return scalar_node(b ? "true" : "false"); }
         CNode operator()(std::int64_t i) const { return scalar_node(std::to_string(i)); }
@@ -568,10 +574,10 @@ CNode value_node(const TParam& p) {
         CNode operator()(const std::shared_ptr<const Object>&) const { return {}; }
         CNode operator()(const std::vector<ObjectItem>&) const { return {}; }
     };
-    if (p.spec->type == ParamType::Object) return object_node(*p.object);
+    if (p.spec->type == ParamType::Object) return object_node(*p.object, nullptr, skip_finish);
     if (p.spec->type == ParamType::Objects) {
         CNode s = seq_node();
-        for (const auto& it : p.items) s.items.push_back(object_node(*it.object, &it.extras));
+        for (const auto& it : p.items) s.items.push_back(object_node(*it.object, &it.extras, skip_finish));
         return s;
     }
     return std::visit(V{}, p.value);
@@ -579,6 +585,6 @@ CNode value_node(const TParam& p) {
 
 } // namespace
 
-CNode resolved(const TObject& t) { return object_node(t); }
+CNode resolved(const TObject& t, bool without_finish) { return object_node(t, nullptr, without_finish); }
 
 } // namespace fp::host

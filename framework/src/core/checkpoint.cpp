@@ -221,26 +221,10 @@ void CheckpointFile::check_against(const CheckpointHeader& want) const {
     if (header_.renderer != want.renderer)
         throw InputError(who + " is a checkpoint of a " + header_.renderer + " render, not of this " +
                          want.renderer + " one");
-    if (header_.identity != want.identity) {
-        // The first line that differs says what changed.
-        std::istringstream a(header_.identity), b(want.identity);
-        std::string la, lb;
-        int line = 0;
-        while (true) {
-            const bool ga = bool(std::getline(a, la)), gb = bool(std::getline(b, lb));
-            ++line;
-            if (!ga) la = "(the end)";
-            if (!gb) lb = "(the end)";
-            if (la != lb || (!ga && !gb)) break;
-        }
-        const auto trim = [](std::string s) {
-            const auto p = s.find_first_not_of(' ');
-            return quote(p == std::string::npos ? s : s.substr(p), 80);
-        };
-        throw InputError(who + " is a checkpoint of another recipe (its line " + std::to_string(line) +
-                         " is " + trim(la) + ", this recipe's " + trim(lb) +
+    if (header_.identity != want.identity)
+        throw InputError(who + " is a checkpoint of another recipe (" +
+                         recipe_difference(header_.identity, want.identity) +
                          "); only renderer.points may differ, and only upwards");
-    }
     if (want.points < header_.points)
         throw InputError(who + " holds " + std::to_string(header_.points) +
                          " points, more than renderer.points " + std::to_string(want.points) +
@@ -251,6 +235,25 @@ void CheckpointFile::read(void* data, std::size_t bytes) {
     if (bytes > left_ || std::fread(data, 1, bytes, f_) != bytes)
         throw InputError("the checkpoint " + quote(path_, 200) + " ends early");
     left_ -= bytes;
+}
+
+std::string recipe_difference(const std::string& had, const std::string& want) {
+    // The first line that differs says what changed.
+    std::istringstream a(had), b(want);
+    std::string la, lb;
+    int line = 0;
+    while (true) {
+        const bool ga = bool(std::getline(a, la)), gb = bool(std::getline(b, lb));
+        ++line;
+        if (!ga) la = "(the end)";
+        if (!gb) lb = "(the end)";
+        if (la != lb || (!ga && !gb)) break;
+    }
+    const auto trim = [](std::string s) {
+        const auto p = s.find_first_not_of(' ');
+        return quote(p == std::string::npos ? s : s.substr(p), 80);
+    };
+    return "its line " + std::to_string(line) + " is " + trim(la) + ", this recipe's " + trim(lb);
 }
 
 double parse_duration(const std::string& text, const std::string& option) {

@@ -1,4 +1,5 @@
 // The top level of a config file.
+#include <fixpoint/host/core/histogram_file.hpp>
 #include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/host/core/pipeline.hpp>
 #include <fixpoint/host/core/ranks.hpp>
@@ -44,20 +45,27 @@ std::string file_hash(const std::filesystem::path& f) {
     return known.emplace(f, hash_file(f)).first->second;
 }
 
-/// The plugins a validated tree uses, by name.
-void used_plugins(const TObject& t, std::map<std::string, const PluginEntry*>& out) {
+/// The plugins a validated tree uses, by name; skip_finish: not those of the parameters whose
+/// role is finish (a filter: a kept histogram does not depend on it).
+void used_plugins(const TObject& t, std::map<std::string, const PluginEntry*>& out,
+                  bool skip_finish = false) {
     out.emplace(t.plugin->desc->name, t.plugin);
     for (const auto& p : t.params) {
-        if (p.object) used_plugins(*p.object, out);
-        for (const auto& it : p.items) used_plugins(*it.object, out);
+        if (skip_finish && p.spec->role == ParamRole::finish) continue;
+        if (p.object) used_plugins(*p.object, out, skip_finish);
+        for (const auto& it : p.items) used_plugins(*it.object, out, skip_finish);
     }
 }
 
 } // namespace
 
 CNode load_config(const std::string& path, bool allow_code) {
-    const bool image = is_recipe_image(path);
-    CNode root = parse_config(image ? read_recipe(path) : read_yaml_text(path), path);
+    // A histogram file (render --histogram) carries its recipe as an image does.
+    const bool histogram = is_histogram_file(path), image = histogram || is_recipe_image(path);
+    CNode root = parse_config(histogram ? read_histogram_header(path).recipe
+                              : image   ? read_recipe(path)
+                                        : read_yaml_text(path),
+                              path);
     if (!image) return root;
     if (CNode* out = root.find("output"); out && out->is_map())
         for (std::size_t i = 0; i < out->keys.size(); ++i)
@@ -220,6 +228,20 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
         break;
     }
     p.identity = emit_yaml(recipe);
+    // What a kept histogram depends on: the recipe without its finishing parameters (but with
+    // its points, which the histogram counts).
+    CNode sums = map_node();
+    for (std::size_t i = 0; i < 2; ++i) sums.keys.push_back(recipe.keys[i]);
+    std::map<std::string, const PluginEntry*> summed;
+    used_plugins(*typed, summed, true);
+    CNode sums_record = map_node();
+    for (const auto& [name, e] : summed)
+        if (const CNode* had = recipe.keys[2].second.find(name)) sums_record.keys.emplace_back(name, *had);
+    sums_record.key_marks.resize(sums_record.keys.size());
+    sums.keys.emplace_back("plugins", std::move(sums_record));
+    sums.keys.emplace_back("renderer", resolved(*typed, true));
+    sums.key_marks.resize(sums.keys.size());
+    p.histogram_identity = emit_yaml(sums);
     return p;
 }
 

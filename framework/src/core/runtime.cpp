@@ -72,6 +72,34 @@ void Runtime::write_checkpoint(const std::function<void(CheckpointSink&)>& body)
                                                std::chrono::duration<double>(checkpoint_every_));
 }
 
+void Runtime::keep_histogram_in(Histogram* h, const HistogramShape& shape) {
+    kept_ = h;
+    kept_shape_ = shape;
+    const std::size_t n = std::size_t(shape.width) * std::size_t(shape.height);
+    h->width = shape.width, h->height = shape.height;
+    h->hits.assign(shape.hits_only ? n : 0, 0);
+    h->bins.assign(shape.hits_only ? 0 : n, HistBin{});
+    h->last.assign(shape.last ? n : 0, LastColour{});
+}
+
+void Runtime::keep_histogram(const Histogram& part, int part_row0, int row0, int rows) {
+    if (histogram_) histogram_->rows(part, part_row0, row0, rows);
+    if (!kept_) return;
+    // The rows copied in the form the shape gives (the file's: hit counts alone, or bins).
+    if (part.width != kept_->width || row0 < part_row0 || row0 + rows > part_row0 + part.height ||
+        row0 + rows > kept_->height || (!kept_shape_.hits_only && part.bins.empty()) ||
+        (kept_shape_.last && part.last.size() != part.size()))
+        throw InternalError("kept histogram: rows out of the histogram, or without what its form holds");
+    const std::size_t W = std::size_t(part.width), from = std::size_t(row0 - part_row0) * W,
+                      to = std::size_t(row0) * W, n = std::size_t(rows) * W;
+    if (kept_shape_.hits_only)
+        for (std::size_t i = 0; i < n; ++i) kept_->hits[to + i] = part.hits_at(from + i);
+    else
+        std::copy_n(part.bins.begin() + std::ptrdiff_t(from), n, kept_->bins.begin() + std::ptrdiff_t(to));
+    if (kept_shape_.last)
+        std::copy_n(part.last.begin() + std::ptrdiff_t(from), n, kept_->last.begin() + std::ptrdiff_t(to));
+}
+
 void Runtime::parallel_for(std::size_t n, const std::function<void(std::size_t, unsigned)>& task) {
     if (!impl_) {
         for (std::size_t i = 0; i < n; ++i) task(i, 0);

@@ -2,6 +2,7 @@
 // header gives them.
 #include <fixpoint/host/core/progress.hpp>
 #include <fixpoint/host/core/ranks.hpp>
+#include <fixpoint/host/core/render_version.hpp>
 #include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/host/job/render_job.hpp>
 #include <fixpoint/simd.hpp>
@@ -171,6 +172,68 @@ void check_checkpoints(RenderPlan& plan) {
         throw InputError(opt + ": cannot write " + quote(ck.path, 200) + ": " + std::strerror(errno));
 }
 
+// --histogram FILE.fph (the histogram kept beside the image) and tone (the image finished from a
+// kept histogram, with no iterating): checked before the render.
+void check_histograms(RenderPlan& plan) {
+    const RenderRequest& r = plan.request;
+    const Pipeline& p = plan.pipeline;
+    const HistogramShape shape = p.renderer->histogram_shape();
+    const auto none = [&](const std::string& opt) {
+        return InputError(p.renderer_mark.str() + ": renderer: " + p.renderer_type +
+                          (plan.vector ? " draws this picture without points" : " keeps no histogram") +
+                          " (" + opt + "; chaos-game renders keep one)");
+    };
+    if (r.tone) {
+        const HistogramFile& h = *r.tone;
+        const std::string who = quote(h.path, 200);
+        if (plan.vector || shape.width == 0) throw none("tone");
+        if (h.header.version != render_version_tag())
+            throw InputError(who + " was made by render version " + h.header.version + "; this fixpoint is " +
+                             render_version_tag() + ", which may finish other bytes: render it again");
+        if (h.header.renderer != p.renderer_type)
+            throw InputError(who + " is a histogram of a " + h.header.renderer + " render, not of this " +
+                             p.renderer_type + " one");
+        if (h.header.identity != p.histogram_identity)
+            throw InputError(who + " is a histogram of another recipe (" +
+                             recipe_difference(h.header.identity, p.histogram_identity) +
+                             "); tone changes only the finishing parameters (describe marks them)");
+        const HistogramShape& had = h.header.shape;
+        if (had.width != shape.width || had.height != shape.height || had.hits_only != shape.hits_only ||
+            had.last != shape.last)
+            throw InputError(who + ": its histogram is not the one this recipe keeps (damaged?)");
+        if (!r.histogram.empty()) throw InputError("--histogram: tone keeps no histogram; it reads one");
+        if (plan.memory.stream)
+            throw InputError("tone: this image is beyond the memory budget (see --memory); tone finishes a "
+                             "whole image");
+        return;
+    }
+    // (The preview keeps one where the renderer has one, and says nothing where it has none.)
+    if (r.keep_histogram && !plan.vector && shape.width > 0)
+        plan.histogram =
+            HistogramFileHeader{render_version_tag(), p.renderer_type, p.histogram_identity, p.recipe, shape};
+    if (r.histogram.empty()) return;
+    if (plan.vector || shape.width == 0) throw none("--histogram");
+    if (!is_histogram_file(r.histogram))
+        throw InputError("--histogram: " + quote(r.histogram, 200) + ": name the file NAME.fph");
+    for (const auto& [name, other] : {std::pair{"the output", plan.output}, std::pair{"the config", r.source},
+                                      std::pair{"the checkpoint", plan.checkpoints.path}})
+        if (!other.empty() && same_file(r.histogram, other))
+            throw InputError("--histogram: " + quote(r.histogram, 200) + " is " + name +
+                             ": a histogram needs a file of its own");
+    std::error_code ec;
+    if (!r.force && fs::exists(fs::symlink_status(r.histogram, ec)))
+        throw InputError("--histogram: " + quote(r.histogram, 200) + " exists: add --force to replace it");
+    const fs::path dir = fs::path(r.histogram).parent_path();
+    if (!dir.empty() && !fs::is_directory(dir, ec))
+        throw InputError("--histogram: cannot write " + quote(r.histogram, 200) + ": no folder " +
+                         quote(dir.string(), 200));
+    if (::access(dir.empty() ? "." : dir.c_str(), W_OK) != 0)
+        throw InputError("--histogram: cannot write " + quote(r.histogram, 200) + ": " +
+                         std::strerror(errno));
+    plan.histogram =
+        HistogramFileHeader{render_version_tag(), p.renderer_type, p.histogram_identity, p.recipe, shape};
+}
+
 } // namespace
 
 RenderPlan plan_render(const Pipeline& pipeline, RenderRequest request, const std::atomic<bool>* cancel) {
@@ -195,6 +258,7 @@ RenderPlan plan_render(const Pipeline& pipeline, RenderRequest request, const st
             print_resolution(r.print, plan.pipeline.renderer->width(), plan.pipeline.renderer->height());
     check_memory_plan(plan);
     check_checkpoints(plan);
+    check_histograms(plan);
     if (cancel && cancel->load()) throw Cancelled(); // during the checks above
     if (r.distributed) ranks::agree_checks(plan.pipeline.recipe);
     return plan;
@@ -261,6 +325,20 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
     CheckpointPlan& ck = plan.checkpoints;
     if (!ck.path.empty()) rt.set_checkpoints(ck.path, ck.every_s, ck.header, std::move(ck.resume));
 
+    // The kept histogram: rank 0 writes it, to a temporary file that takes its name once the
+    // render is done.
+    std::unique_ptr<HistogramWriter> kept;
+    if (!r.histogram.empty() && plan.histogram.shape.width > 0 && rt.rank() == 0) {
+        kept = std::make_unique<HistogramWriter>(r.histogram, plan.histogram);
+        rt.keep_histogram_in(kept.get());
+    }
+    std::shared_ptr<HistogramFile> in_memory;
+    if (r.keep_histogram && plan.histogram.shape.width > 0 && rt.rank() == 0) {
+        in_memory = std::make_shared<HistogramFile>();
+        in_memory->header = plan.histogram;
+        rt.keep_histogram_in(&in_memory->histogram, plan.histogram.shape);
+    }
+
     // A streamed image: rank 0 encodes the rows as they come, into a file that takes the
     // output's name only once it is whole; the other ranks' rows go nowhere.
     std::unique_ptr<StreamedImage> streamed;
@@ -284,6 +362,8 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
                 doc = R.render_vector(rt, res.stats,
                                       plan.format == Format::Svg ? VectorFormat::Svg : VectorFormat::Pdf,
                                       p.recipe);
+            else if (r.tone)
+                img = R.finish_histogram(r.tone->histogram, res.stats = r.tone->stats, rt);
             else if (plan.memory.stream)
                 R.render_rows(rt, res.stats, streamed ? static_cast<RowSink&>(*streamed) : discarded);
             else
@@ -300,6 +380,11 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
         if (std::string w = check_drawn(p, res.stats); !w.empty()) res.warnings.push_back(std::move(w));
     // The other ranks are done: rank 0's errors from here on are its own.
     if (rt.ranks() > 1) ranks::set_phase(ranks::Phase::free);
+    if (kept) kept->commit(res.stats);
+    if (in_memory) {
+        in_memory->stats = res.stats;
+        res.kept = std::move(in_memory);
+    }
 
     if (streamed) {
         if (hooks.partial) hooks.partial("");
@@ -328,6 +413,14 @@ std::string summary_line(const RenderPlan& plan, const RenderResult& r) {
     const auto plural = [](std::uint64_t n, const char* one) {
         return std::to_string(n) + " " + one + (n == 1 ? "" : "s");
     };
+    if (plan.request.tone) {
+        // No iterating: what the histogram holds, and the time of the finish alone.
+        char took[64];
+        std::snprintf(took, sizeof took, "%.3f s", r.seconds);
+        return (plan.output.empty() ? std::string("tone") : plan.output) + ": finished from " +
+               plan.request.tone->path + " (" + std::to_string(st.samples) + " " + st.unit + ") in " + took +
+               " (" + plural(plan.threads, "thread") + ", no iterating)";
+    }
     char rate[160];
     std::snprintf(rate, sizeof rate, "%.2f s (%.3g %s/s, ", r.seconds,
                   double(st.samples) / std::max(r.seconds, 1e-9), st.unit.c_str());
@@ -339,6 +432,7 @@ std::string summary_line(const RenderPlan& plan, const RenderResult& r) {
                        plural(st.bad_values, "bad value") + (st.how.empty() ? "" : ", " + st.how);
     if (!plan.checkpoints.path.empty())
         line += "; " + plural(r.checkpoints_written, "checkpoint") + " to " + plan.checkpoints.path;
+    if (!plan.request.histogram.empty()) line += "; histogram to " + plan.request.histogram;
     return line;
 }
 

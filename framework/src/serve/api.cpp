@@ -8,6 +8,7 @@
 
 #include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/host/core/param_list.hpp>
+#include <fixpoint/host/core/render_version.hpp>
 #include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/host/core/yaml_edit.hpp>
 #include <fixpoint/host/job/draft.hpp>
@@ -208,9 +209,24 @@ void api_preview(const Context& c, const httplib::Request& req, httplib::Respons
     request.encode = Format::Png;
     request.threads = c.threads;
     std::vector<RenderPlan> stages;
+    // A text whose histogram is the kept one (only finishing parameters changed: tone, filter,
+    // density estimation, background) is finished from it in one stage, with no iterating.
+    const std::shared_ptr<const HistogramFile> kept = c.preview->kept();
+    // (The same recipe again renders again, stage by stage, as it always has.)
+    const bool retone =
+        kept && kept->header.recipe != full.recipe && kept->header.identity == full.histogram_identity &&
+        kept->header.renderer == full.renderer_type && kept->header.version == render_version_tag();
+    if (retone) {
+        RenderRequest toned = request;
+        toned.tone = kept;
+        stages.push_back(plan_render(full, toned));
+    }
     for (const int f : preview_factors(full.renderer->width(), full.renderer->height())) {
+        if (retone) break;
         if (f == 1) {
-            stages.push_back(plan_render(full, request));
+            RenderRequest kept_one = request;
+            kept_one.keep_histogram = true;
+            stages.push_back(plan_render(full, kept_one));
             continue;
         }
         CNode draft = root;
@@ -227,6 +243,7 @@ void api_preview(const Context& c, const httplib::Request& req, httplib::Respons
     v["job"] = static_cast<unsigned long long>(id);
     v["stages"] = n;
     v["region"] = region;
+    v["retoned"] = retone;
     send_json(res, 200, v);
 }
 
@@ -256,6 +273,7 @@ void api_frame(const Context& c, const httplib::Request& req, httplib::Response&
         res.set_header("X-Height", std::to_string(a.frame->height));
         res.set_header("X-Samples-Per-Pixel", Json(a.frame->samples_per_pixel).dump());
         res.set_header("X-Seconds", Json(a.frame->seconds).dump());
+        res.set_header("X-Retoned", a.frame->retoned ? "1" : "0");
         res.set_content(a.frame->png, "image/png");
         return;
     }

@@ -54,6 +54,11 @@ std::uint64_t Previewer::start(std::vector<RenderPlan> stages) {
     return job->id;
 }
 
+std::shared_ptr<const HistogramFile> Previewer::kept() const {
+    std::lock_guard<std::mutex> lock(mu_);
+    return kept_;
+}
+
 Previewer::Answer Previewer::wait(std::uint64_t id, int after, std::chrono::milliseconds timeout) {
     const auto until = std::chrono::steady_clock::now() + timeout;
     std::unique_lock<std::mutex> lock(mu_);
@@ -130,7 +135,9 @@ void Previewer::render(Job& job) {
             frame->width = r.width, frame->height = r.height;
             frame->samples_per_pixel = samples_per_pixel(r.stats, frame->width, frame->height);
             frame->seconds = r.seconds;
+            frame->retoned = bool(plan.request.tone);
             std::lock_guard<std::mutex> lock(mu_);
+            if (r.kept) kept_ = std::move(r.kept);
             job.frames.push_back(std::move(frame));
             frame_cv_.notify_all();
         }

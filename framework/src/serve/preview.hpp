@@ -1,6 +1,8 @@
 // The preview of `fixpoint serve`: one worker thread renders the stages of one job at a time
 // (drafts, then the full render) through the render job, which encodes each stage's PNG in
 // memory for /api/frame. A new job cancels the running one through the render's cancel flag.
+// The full render's histogram is kept, so that a change of tone, filter or density estimation
+// is finished from it (fixpoint tone's way) in one stage, with no iterating.
 #pragma once
 
 #include <fixpoint/host/job/render_job.hpp>
@@ -23,6 +25,7 @@ struct Frame {
     std::string png;
     int width = 0, height = 0;
     double samples_per_pixel = 0, seconds = 0;
+    bool retoned = false; ///< finished from the kept histogram, with no iterating
 };
 
 class Previewer {
@@ -50,6 +53,10 @@ public:
     /// Cancel everything and wake every waiting request (the server is stopping).
     void shutdown();
 
+    /// The histogram of the last full render that kept one (RenderRequest::keep_histogram), or
+    /// null: a change of the text that touches only finishing parameters re-tones it.
+    std::shared_ptr<const HistogramFile> kept() const;
+
 private:
     struct Job {
         std::uint64_t id = 0;
@@ -63,7 +70,8 @@ private:
     void run();
     void render(Job& job);
 
-    std::mutex mu_;
+    mutable std::mutex mu_;
+    std::shared_ptr<const HistogramFile> kept_;
     std::condition_variable work_cv_, frame_cv_;
     std::deque<std::shared_ptr<Job>> jobs_; ///< the newest last; only a few kept
     std::shared_ptr<Job> next_;             ///< the job the worker takes next

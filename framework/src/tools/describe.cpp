@@ -74,7 +74,8 @@ void table(std::string& out, const ParamSpec* ps, std::size_t n) {
     for (std::size_t i = 0; i < n; ++i) {
         const ParamSpec& s = ps[i];
         out += "| " + code(s.name) + " | " + type_of(s) + " | " + default_of(s) + " | " + range_of(s) +
-               " | " + cell(s.doc ? s.doc : "") + " |\n";
+               " | " + cell(s.doc ? s.doc : "") +
+               (s.role == ParamRole::finish ? " *(finishing: `fixpoint tone` may change it)*" : "") + " |\n";
     }
 }
 

@@ -191,6 +191,11 @@ void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, fp
         stats.drawn = drawn + st.drawn;
         if (ctx.cancelled()) throw fp::Cancelled();
         if (!root) continue;
+        // The strip's own rows of the histogram, without its halo.
+        if (ctx.keeps_histogram()) {
+            const uint32_t n = finishing ? N : 1;
+            ctx.keep_histogram(part, int(p0), int(r0 * n), int(on * n));
+        }
         pixels.resize(size_t(on) * size_t(frame_.width) * 3);
         if (finishing)
             fp::finish(finish_, *colourer_, part, int(p0), whole, frame_.width, int(r0), int(on),

@@ -70,6 +70,42 @@ fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) cons
         render_t<float>(ctx, stats, total, &img.pixels, 0, H, colour_, colourer_->reads_hits_only());
     if (ctx.cancelled()) throw fp::Cancelled();
     if (ctx.rank() != 0) return img; // its share is in rank 0's histogram, which rank 0 resolves
+    if (ctx.keeps_histogram()) ctx.keep_histogram(total, 0, 0, total.height);
+    // (The image's buffer, made beside the chains, is the one image_of fills.)
+    return image_of(total, ctx, std::move(img.pixels));
+}
+
+fp::HistogramShape ChaosGame::histogram_shape() const {
+    if (sets_ == Sets::only) return {};
+    return fp::HistogramShape{hist_.width, hist_.height, !colour_, colour_ && last_};
+}
+
+fp::Image ChaosGame::finish_histogram(const fp::Histogram& h, const fp::RenderStats&,
+                                      fp::RenderContext& ctx) const {
+    const fp::HistogramShape shape = histogram_shape();
+    if (h.width != shape.width || h.height != shape.height || (!shape.hits_only && h.bins.empty()) ||
+        (shape.last && h.last.size() != h.size()))
+        throw fp::InternalError("chaos-game: a histogram of another shape to finish");
+    // Hits alone for a colourer that reads more: bins with those hits and no colour (the sums
+    // a render without colour makes).
+    if (!h.hits.empty() && !colourer_->reads_hits_only()) {
+        fp::Histogram bins;
+        bins.width = h.width, bins.height = h.height;
+        bins.bins.resize(h.hits.size());
+        for (size_t i = 0; i < h.hits.size(); ++i) bins.bins[i].hits = h.hits[i];
+        return image_of(bins, ctx, {});
+    }
+    return image_of(h, ctx, {});
+}
+
+fp::Image ChaosGame::image_of(const fp::Histogram& total, fp::RenderContext& ctx,
+                              std::vector<float> pixels) const {
+    fp::Image img;
+    img.width = frame_.width;
+    img.height = frame_.height;
+    img.channels = 3;
+    img.pixels = std::move(pixels);
+    img.pixels.resize(size_t(frame_.width) * size_t(frame_.height) * 3);
     if (finish_.active())
         fp::finish(finish_, *colourer_, total, 0, fp::HistogramSummary::of(total, &ctx), frame_.width, 0,
                    frame_.height, frame_.background, img.pixels.data(), &ctx);

@@ -49,6 +49,9 @@ public:
     fp::Image render(fp::RenderContext& ctx, fp::RenderStats& stats) const override;
     bool has_vector_output() const override { return sets_ == Sets::only; }
     bool keeps_checkpoints() const override { return sets_ != Sets::only; }
+    fp::HistogramShape histogram_shape() const override;
+    fp::Image finish_histogram(const fp::Histogram& h, const fp::RenderStats& stats,
+                               fp::RenderContext& ctx) const override;
     std::string render_vector(fp::RenderContext& ctx, fp::RenderStats& stats, fp::VectorFormat format,
                               const std::string& recipe) const override;
 
@@ -79,6 +82,9 @@ private:
     /// The ranks' shares folded into rank 0's.
     void combine_ranks(fp::RenderContext& ctx, fp::RenderStats& stats, fp::Histogram& total,
                        std::vector<LastWrite>& rank_last) const;
+    /// The image of a whole histogram (rank 0's, summed): finished or resolved, the sets
+    /// drawn over or beside it; `pixels`: the image's buffer when made already (else empty).
+    fp::Image image_of(const fp::Histogram& total, fp::RenderContext& ctx, std::vector<float> pixels) const;
     /// The sets of the maps on the background, as a width x height picture.
     void draw_set_panel(cairo_t* cr) const;
 

@@ -65,24 +65,28 @@ constexpr ParamSpec filter_param =
     param::object("filter", Kind::Filter,
                   "the reconstruction filter from the histogram to the image ({type: gaussian, radius: "
                   "0.5}: flam3's); unset: none (with supersample N, the mean of each pixel's N x N bins)")
-        .opt();
+        .opt()
+        .as(ParamRole::finish);
 constexpr ParamSpec estimator_radius_param =
     param::real("estimator_radius", "flam3's adaptive density estimation: the kernel radius, in image "
                                     "pixels, of a bin with one hit (0: none)")
         .def("0")
         .min(0)
-        .max(64);
+        .max(64)
+        .as(ParamRole::finish);
 constexpr ParamSpec estimator_minimum_param =
     param::real("estimator_minimum", "the smallest kernel radius of the density estimation, in image pixels")
         .def("0")
         .min(0)
-        .max(64);
+        .max(64)
+        .as(ParamRole::finish);
 constexpr ParamSpec estimator_curve_param =
     param::real("estimator_curve",
                 "how fast the kernel shrinks with the hits: radius / (hits + 1)^curve (flam3's)")
         .def("0.4")
         .above(0)
-        .max(4);
+        .max(4)
+        .as(ParamRole::finish);
 
 /// The spatial filter's taps as flam3 builds them (flam3_create_spatial_filter), one axis:
 /// with support s, radius r and supersample N, fw = 2 s N r; width = int(fw) + 1, raised by one

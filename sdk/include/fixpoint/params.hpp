@@ -54,6 +54,10 @@ enum class ParamRole : std::uint8_t {
     /// A file the plugin reads (a picture, a script), relative to the working folder: serve keeps
     /// it inside its root. `builtins` names the values that are not files ("hues").
     file,
+    /// Read only when the histogram is finished into an image (tone, filter, density estimation,
+    /// the background): `fixpoint tone` may change it on a kept histogram (`render --histogram`),
+    /// and a histogram file's recipe identity leaves it out. (ABI 18.)
+    finish,
 };
 
 struct ParamSpec {

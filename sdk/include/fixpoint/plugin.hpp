@@ -35,10 +35,12 @@ namespace fp {
 /// hit counts alone; ABI 15: PluginDescriptor::runs_code, so that the host refuses code from
 /// a recipe read from an image; ABI 16: ParamSpec::role and builtins, PluginDescriptor::abilities,
 /// so that the host asks what a plugin can do instead of testing its name; ABI 17: Kind::Filter
-/// and fp::Filter, Colourer::finishes, linear and display, the finishing stage (finish.hpp)):
+/// and fp::Filter, Colourer::finishes, linear and display, the finishing stage (finish.hpp);
+/// ABI 18: ParamRole::finish, RenderContext::keeps_histogram and keep_histogram,
+/// Renderer::histogram_shape and finish_histogram, for kept histograms and `fixpoint tone`):
 /// the host refuses a plugin built for another value ("rebuild it against this SDK"), so a
 /// plugin always matches the headers the host was built with.
-constexpr std::uint32_t abi_version = 17;
+constexpr std::uint32_t abi_version = 18;
 
 /// What a plugin can do that the host asks of its descriptor, as bits of
 /// PluginDescriptor::abilities: data, so that a new ability adds a bit here rather than a

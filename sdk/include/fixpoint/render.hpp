@@ -1,6 +1,7 @@
 // Renderer: turns a recipe into an image, on the host's thread pool.
 #pragma once
 
+#include <fixpoint/histogram.hpp>
 #include <fixpoint/object.hpp>
 #include <fixpoint/types.hpp>
 
@@ -99,6 +100,27 @@ public:
     /// The payload to continue from (`--resume`), positioned at its start, its envelope already
     /// checked against the recipe; null for a render from the beginning. Default: null.
     virtual CheckpointSource* resume_from();
+
+    // Kept histograms (added in ABI 18: `fixpoint render --histogram FILE`, then `fixpoint tone
+    // FILE`), for a renderer whose histogram_shape() is not empty. The host owns the file (its
+    // envelope, the recipe, compression and checksum); the renderer hands over its bins.
+
+    /// Whether the host keeps this render's histogram. Default: false.
+    virtual bool keeps_histogram() const;
+    /// Rows [row0, row0 + rows) of the render's whole histogram (of histogram_shape()), from
+    /// `part`, which holds its rows from part_row0 on (a strip with its halo, or the whole):
+    /// handed over by rank 0 after the ranks' sums, before the rows are finished, in order from
+    /// row 0 down, each row once. Called from the renderer's own thread. Default: nothing.
+    virtual void keep_histogram(const Histogram& part, int part_row0, int row0, int rows);
+};
+
+/// The histogram a renderer keeps (Renderer::histogram_shape): its size and what a bin holds.
+struct HistogramShape {
+    int width = 0, height = 0; ///< 0: the renderer keeps none
+    /// A bin's hits alone (a colourer that reads hits only), else {hits, r, g, b}.
+    bool hits_only = false;
+    /// Each bin's last colour too (PixelRule::last).
+    bool last = false;
 };
 
 /// Where a renderer writes its checkpoint's payload (RenderContext::write_checkpoint).
@@ -201,6 +223,14 @@ public:
     /// to more points with the bytes of a render of that many from the start. Default: false.
     /// (Added in ABI 12.)
     virtual bool keeps_checkpoints() const;
+
+    /// The histogram this render accumulates and hands to RenderContext::keep_histogram, for
+    /// `render --histogram`; empty (width 0) when it keeps none. Default: empty. (Added in ABI 18.)
+    virtual HistogramShape histogram_shape() const;
+    /// The image render() makes of the histogram `h` (of histogram_shape(); `stats`: the
+    /// render's, as kept with it): the same bytes as a render of this recipe whose sums are
+    /// `h`, with no iterating (`fixpoint tone`). Default: throws fp::Error.
+    virtual Image finish_histogram(const Histogram& h, const RenderStats& stats, RenderContext& ctx) const;
 };
 
 } // namespace fp

@@ -54,7 +54,9 @@ std::shared_ptr<const Object> build_from_text(const Registry& reg, Kind kind, co
 
 /// The tree with every default filled in, as YAML nodes (canonical numbers: shortest text
 /// that reads back to the same double).
-CNode resolved(const TObject& t);
+/// without_finish: leaves out the parameters whose role is finish (ParamRole::finish), at every
+/// depth: what a kept histogram depends on (Pipeline::histogram_identity).
+CNode resolved(const TObject& t, bool without_finish = false);
 
 /// Shortest decimal text that reads back as exactly `v`.
 std::string format_real(double v);

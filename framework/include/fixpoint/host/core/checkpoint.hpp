@@ -61,6 +61,10 @@ private:
     std::uint64_t left_ = 0;
 };
 
+/// Where two recipes (identities) first differ, for a refusal: "its line 12 is 'gamma: 2.2', this
+/// recipe's 'gamma: 3'".
+std::string recipe_difference(const std::string& had, const std::string& want);
+
 /// "30s", "5m", "1.5h", "90" (seconds): a time as --checkpoint-every takes it, in seconds;
 /// fp::InputError naming `option` otherwise.
 double parse_duration(const std::string& text, const std::string& option);

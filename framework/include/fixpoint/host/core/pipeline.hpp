@@ -40,6 +40,10 @@ struct Pipeline {
     /// checkpoint continues a render whose identity is the same, to as many points or more.
     std::string identity;
     std::int64_t points = -1;
+    /// The recipe without the parameters of the finishing stage (ParamRole::finish: tone,
+    /// filter, density estimation, background): a kept histogram (render --histogram) is
+    /// finished again (fixpoint tone) by a recipe whose histogram identity is the same.
+    std::string histogram_identity;
     /// Things to tell the user before rendering (a plugin that differs from the one the
     /// recipe was made with), one line each, without a "warning:" prefix.
     std::vector<std::string> warnings;

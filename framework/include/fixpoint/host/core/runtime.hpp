@@ -2,6 +2,7 @@
 #pragma once
 
 #include <fixpoint/host/core/checkpoint.hpp>
+#include <fixpoint/host/core/histogram_file.hpp>
 #include <fixpoint/render.hpp>
 
 #include <atomic>
@@ -52,6 +53,14 @@ public:
     /// Checkpoints written so far.
     unsigned checkpoints_written() const { return written_; }
 
+    // The kept histogram (`render --histogram`, host/core/histogram_file.hpp): the rows the
+    // renderer hands over go to `writer` (rank 0's; null: none kept).
+    void keep_histogram_in(HistogramWriter* writer) { histogram_ = writer; }
+    /// ... and (too) into `h`, made of `shape` (the preview's kept histogram).
+    void keep_histogram_in(Histogram* h, const HistogramShape& shape);
+    bool keeps_histogram() const override { return histogram_ != nullptr || kept_ != nullptr; }
+    void keep_histogram(const Histogram& part, int part_row0, int row0, int rows) override;
+
 private:
     struct Impl;
     unsigned threads_;
@@ -66,6 +75,9 @@ private:
     std::unique_ptr<CheckpointFile> resume_;
     std::chrono::steady_clock::time_point checkpoint_due_;
     unsigned written_ = 0;
+    HistogramWriter* histogram_ = nullptr;
+    Histogram* kept_ = nullptr;
+    HistogramShape kept_shape_;
     std::unique_ptr<Impl> impl_;
 };
 

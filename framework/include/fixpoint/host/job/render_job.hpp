@@ -13,13 +13,15 @@
 // vector (SVG and PDF only from a renderer with vector output), tiles (output.tiled for the
 // file's format), --repeat and the print size, the memory (whole, or in strips where the
 // output allows), checkpoints and resume (the checkpoint read whole and compared with the
-// recipe), and under mpirun the agreement of every rank. run_render renders on a Runtime of the
+// recipe), the kept histogram (--histogram) or the one finished again (tone), and under mpirun
+// the agreement of every rank. run_render renders on a Runtime of the
 // planned threads, polls the cancel flag, blames a plugin's refusal during the render on the
 // renderer in one place, refuses an image that drew nothing, and writes atomically (whole, as a
 // streamed image in strips, or a vector document) or returns the encoded bytes.
 #pragma once
 
 #include <fixpoint/host/core/checkpoint.hpp>
+#include <fixpoint/host/core/histogram_file.hpp>
 #include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/host/core/pipeline.hpp>
 #include <fixpoint/host/job/print.hpp>
@@ -94,6 +96,15 @@ struct RenderRequest {
 
     // ---- checkpoints (--checkpoint FILE, --checkpoint-every TIME, --resume FILE)
     std::string checkpoint, checkpoint_every, resume;
+
+    // ---- kept histograms (host/core/histogram_file.hpp)
+    /// --histogram FILE.fph: the render's histogram is kept there too.
+    std::string histogram;
+    /// `fixpoint tone`: no iterating; the image is finished from this histogram (read and
+    /// checked), which must be one of this pipeline's (its histogram identity).
+    std::shared_ptr<const HistogramFile> tone;
+    /// Keep the histogram in memory too (RenderResult::kept): the preview re-tones from it.
+    bool keep_histogram = false;
 };
 
 /// What --checkpoint and --resume ask of a render, checked (plan_render).
@@ -117,6 +128,8 @@ struct RenderPlan {
     Repeat repeat;
     Resolution resolution; ///< what the file declares (--dpi, --print-size)
     CheckpointPlan checkpoints;
+    /// What --histogram writes or keep_histogram keeps (its shape: width 0 for neither).
+    HistogramFileHeader histogram;
 };
 
 /// What a front end hears of a running render.
@@ -144,6 +157,8 @@ struct RenderResult {
     std::string bytes;         ///< with encode
     unsigned checkpoints_written = 0;
     bool wrote = false; ///< this process wrote the file (rank 0)
+    /// With keep_histogram: the render's histogram, as a histogram file would hold it (no path).
+    std::shared_ptr<const HistogramFile> kept;
 };
 
 /// Every check before a render (above). Throws fp::InputError at the config's place (output.path,

@@ -1,0 +1,221 @@
+// Kept histograms (docs/histograms.md): `render --histogram FILE.fph` keeps the render's sums,
+// and `fixpoint tone FILE.fph --set ...` finishes them again with other finishing parameters. Its
+// image is the bytes of a full render of the changed recipe, for every colourer, both precisions,
+// on 1, 2 and 3 threads and from a render in strips; and a histogram file that is cut short, of
+// another version or of another recipe gets one line, exit 2, and nothing written.
+#include "cli.hpp"
+#include "configs.hpp"
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <functional>
+#include <string>
+#include <vector>
+
+using namespace fp::test;
+
+namespace {
+
+std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
+    args.insert(args.end(), more.begin(), more.end());
+    return args;
+}
+
+// What tone changes: the whole finishing stage, the colourer's tone and the background.
+const std::vector<std::string> retone = {"--set", "renderer.filter={type: mitchell, radius: 1.5}",
+                                         "--set", "renderer.estimator_radius=3",
+                                         "--set", "renderer.colourer.gamma=3.1",
+                                         "--set", "renderer.background=[0.1, 0.05, 0.2]"};
+
+struct Case {
+    const char* name;
+    const char* config; ///< under the source tree
+    const char* points;
+    const char* memory; ///< small enough for several strips at this size
+    std::vector<std::string> extra;
+};
+
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+
+class Tone : public ::testing::TestWithParam<Case> {};
+
+TEST_P(Tone, EqualsTheFullRenderOnAnyThreadsAndStrips) {
+    const Case& c = GetParam();
+    const std::string dir = scratch_dir(std::string("tone_") + c.name);
+    const std::string config = source_dir() + "/" + c.config;
+    const std::vector<std::string> base =
+        with({config, "--set", std::string("renderer.points=") + c.points, "--set", "renderer.width=160",
+              "--set", "renderer.height=120", "--set", "renderer.supersample=2"},
+             c.extra);
+    // The histogram, kept by a render with the recipe's own finish, on 2 threads and on 3.
+    for (const char* t : {"2", "3"}) {
+        const auto r = run_cli(with({"render", "--threads", t, "-o", dir + "/first-" + t + ".png",
+                                     "--histogram", dir + "/h-" + t + ".fph"},
+                                    base));
+        ASSERT_EQ(r.rc, 0) << r.err;
+        EXPECT_NE(r.err.find("; histogram to " + dir + "/h-" + t + ".fph"), std::string::npos) << r.err;
+    }
+    EXPECT_EQ(read_file(dir + "/h-2.fph"), read_file(dir + "/h-3.fph")) << "the file depends on the threads";
+    // The full render of the changed recipe.
+    const auto full =
+        run_cli(with(with({"render", "--quiet", "--threads", "2", "-o", dir + "/full.png"}, base), retone));
+    ASSERT_EQ(full.rc, 0) << full.err;
+    EXPECT_NE(read_file(dir + "/full.png"), read_file(dir + "/first-2.png"))
+        << "the new finish changed nothing";
+    for (const char* t : {"1", "2", "3"}) {
+        const std::string out = dir + "/tone-" + t + ".png";
+        const auto r = run_cli(with({"tone", dir + "/h-2.fph", "--threads", t, "-o", out}, retone));
+        ASSERT_EQ(r.rc, 0) << r.err;
+        EXPECT_NE(r.err.find("no iterating"), std::string::npos) << r.err;
+        EXPECT_EQ(read_file(out), read_file(dir + "/full.png"))
+            << c.name << " toned on " << t << " thread(s)";
+    }
+    // Toned with nothing changed: the first render's bytes.
+    const auto same = run_cli({"tone", "--quiet", dir + "/h-2.fph", "-o", dir + "/same.png"});
+    ASSERT_EQ(same.rc, 0) << same.err;
+    EXPECT_EQ(read_file(dir + "/same.png"), read_file(dir + "/first-2.png"));
+    // Kept by a render in strips: the same sums, the same image.
+    const auto strips = run_cli(
+        with({"render", "--memory", c.memory, "-o", dir + "/strips.png", "--histogram", dir + "/strips.fph"},
+             base));
+    ASSERT_EQ(strips.rc, 0) << strips.err;
+    EXPECT_NE(strips.err.find(" strips of "), std::string::npos) << strips.err;
+    EXPECT_EQ(read_file(dir + "/strips.png"), read_file(dir + "/first-2.png"));
+    const auto r =
+        run_cli(with({"tone", "--quiet", dir + "/strips.fph", "-o", dir + "/tone-strips.png"}, retone));
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(read_file(dir + "/tone-strips.png"), read_file(dir + "/full.png")) << c.name << " from strips";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Colourers, Tone,
+    ::testing::Values(Case{"density", "bench/circles.yaml", "200000", "6M", {}},
+                      Case{"flame_mean", "bench/sierpinski.yaml", "200000", "9M", {}},
+                      Case{"flame_double",
+                           "bench/sierpinski.yaml",
+                           "200000",
+                           "9M",
+                           {"--set", "renderer.precision=double", "--set", "renderer.colourer.vibrancy=0.5"}},
+                      Case{"set_colour_last", "configs/inversion/fig6a.yaml", "200000", "9M", {}},
+                      Case{"centroid_double", "configs/gumowski-mira/fig6b.yaml", "20000", "6M", {}}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+// A histogram file in a fresh folder, from a small render; the folder's names before the bad
+// command.
+struct Kept {
+    std::string dir;
+    std::vector<std::string> before;
+};
+
+Kept kept(const std::string& name) {
+    Kept k{scratch_dir(name), {}};
+    write_file(k.dir + "/s.yaml",
+               chaos_game({"width: 48", "height: 32", "points: 20000", "chains: 64"}, sierpinski));
+    const auto r = run_cli(
+        {"render", "--quiet", k.dir + "/s.yaml", "-o", k.dir + "/s.png", "--histogram", k.dir + "/h.fph"});
+    EXPECT_EQ(r.rc, 0) << r.err;
+    k.before = files_in(k.dir);
+    return k;
+}
+
+// One line, exit 2, and the folder as it was. Returns the line.
+std::string refused(const Kept& k, const std::vector<std::string>& args) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.rc, 2) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(files_in(k.dir), k.before) << "something was written";
+    return r.err.empty() ? r.err : r.err.substr(0, r.err.size() - 1);
+}
+
+// The file with its bytes changed by `edit`, its checksum made right again (a forged file).
+void forge(const std::string& path, const std::function<void(std::string&)>& edit) {
+    std::string s = read_file(path);
+    edit(s);
+    const uLong crc =
+        crc32(crc32(0, nullptr, 0), reinterpret_cast<const Bytef*>(s.data()), uInt(s.size() - 4));
+    for (int i = 0; i < 4; ++i) s[s.size() - 4 + size_t(i)] = char((crc >> (8 * i)) & 0xff);
+    write_file(path, s);
+}
+
+TEST(ToneBadInput, AnotherRecipe) {
+    const Kept k = kept("tone_bad_recipe");
+    const std::string line =
+        refused(k, {"tone", k.dir + "/h.fph", "--set", "renderer.points=30000", "-o", k.dir + "/out.png"});
+    EXPECT_EQ(
+        line,
+        "'" + k.dir +
+            "/h.fph' is a histogram of another recipe (its line 13 is 'points: 20000', this "
+            "recipe's 'points: 30000'); tone changes only the finishing parameters (describe marks them)");
+}
+
+TEST(ToneBadInput, CutShort) {
+    const Kept k = kept("tone_bad_cut");
+    std::string s = read_file(k.dir + "/h.fph");
+    write_file(k.dir + "/h.fph", s.substr(0, s.size() / 2));
+    const std::string line = refused(k, {"tone", k.dir + "/h.fph", "-o", k.dir + "/out.png"});
+    EXPECT_NE(line.find("is not a histogram fixpoint can finish: "), std::string::npos) << line;
+}
+
+TEST(ToneBadInput, DamagedBins) {
+    const Kept k = kept("tone_bad_bins");
+    // A byte of the compressed bins changed and the checksum recomputed: zlib finds it.
+    forge(k.dir + "/h.fph", [](std::string& s) { s[s.size() - 60] = char(s[s.size() - 60] ^ 0x5a); });
+    const std::string line = refused(k, {"tone", k.dir + "/h.fph", "-o", k.dir + "/out.png"});
+    EXPECT_EQ(line, "'" + k.dir + "/h.fph' is not a histogram fixpoint can finish: its bins are damaged");
+}
+
+TEST(ToneBadInput, AnotherVersion) {
+    const Kept k = kept("tone_bad_version");
+    forge(k.dir + "/h.fph", [](std::string& s) {
+        // The version string follows the magic (19 bytes), the format (4) and its length (8).
+        s[19 + 4 + 8] = s[19 + 4 + 8] == 'x' ? 'y' : 'x';
+    });
+    const std::string line = refused(k, {"tone", k.dir + "/h.fph", "-o", k.dir + "/out.png"});
+    EXPECT_NE(line.find("h.fph' was made by render version x"), std::string::npos) << line;
+    EXPECT_NE(line.find("which may finish other bytes: render it again"), std::string::npos) << line;
+}
+
+TEST(ToneBadInput, NotAHistogramFile) {
+    const Kept k = kept("tone_bad_kind");
+    EXPECT_EQ(refused(k, {"tone", k.dir + "/s.yaml"}),
+              "tone: '" + k.dir +
+                  "/s.yaml' is not a histogram file: name one (.fph) that render --histogram wrote");
+    write_file(k.dir + "/x.fph", "renderer: {type: chaos-game}\n");
+    Kept k2 = k;
+    k2.before = files_in(k.dir);
+    EXPECT_EQ(refused(k2, {"tone", k.dir + "/x.fph"}),
+              "'" + k.dir +
+                  "/x.fph' is not a histogram fixpoint can finish: it is not a fixpoint histogram file");
+}
+
+TEST(ToneBadInput, RenderHistogramChecks) {
+    const Kept k = kept("tone_bad_render");
+    EXPECT_EQ(
+        refused(k, {"render", k.dir + "/s.yaml", "-o", k.dir + "/t.png", "--histogram", k.dir + "/h.bin"}),
+        "--histogram: '" + k.dir + "/h.bin': name the file NAME.fph");
+    EXPECT_EQ(
+        refused(k, {"render", k.dir + "/s.yaml", "-o", k.dir + "/t.png", "--histogram", k.dir + "/h.fph"}),
+        "--histogram: '" + k.dir + "/h.fph' exists: add --force to replace it");
+    EXPECT_EQ(refused(k, {"render", k.dir + "/s.yaml", "-o", k.dir + "/t.png", "--histogram",
+                          k.dir + "/none/h.fph"}),
+              "--histogram: cannot write '" + k.dir + "/none/h.fph': no folder '" + k.dir + "/none'");
+    const std::string trap = source_dir() + "/configs/orbit-trap/fig10a.yaml";
+    const std::string line =
+        refused(k, {"render", trap, "-o", k.dir + "/t.png", "--histogram", k.dir + "/t.fph"});
+    EXPECT_NE(line.find("renderer: orbit-trap keeps no histogram (--histogram; chaos-game renders keep one)"),
+              std::string::npos)
+        << line;
+}
+
+// The recipe in a histogram file is a config like an image's: `render h.fph` renders it from the
+// start, to the bytes of the render that kept it.
+TEST(Tone, HistogramFileRendersLikeItsRecipe) {
+    const Kept k = kept("tone_render_fph");
+    const auto r = run_cli({"render", "--quiet", k.dir + "/h.fph", "-o", k.dir + "/again.png"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(read_file(k.dir + "/again.png"), read_file(k.dir + "/s.png"));
+}
+
+} // namespace
