@@ -21,6 +21,7 @@
 
 #include <atomic>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -35,7 +36,8 @@ struct Options {
     std::string memory; ///< --memory SIZE ("": what the machine has available)
     /// --checkpoint FILE, --checkpoint-every TIME ("": 5m), --resume FILE
     std::string checkpoint, checkpoint_every, resume;
-    std::string histogram; ///< render --histogram FILE.fph
+    std::string histogram;                                     ///< render --histogram FILE.fph
+    double quality = std::numeric_limits<double>::quiet_NaN(); ///< render --quality Q (NaN: none)
     int columns = 0;
     unsigned threads = 0;
     bool quiet = false, force = false, check = false, verbose = false, draft = false, no_draft = false;

@@ -8,12 +8,14 @@
 #include <fixpoint/host/core/runtime.hpp>
 #include <fixpoint/host/job/collection.hpp>
 #include <fixpoint/host/job/draft.hpp>
+#include <fixpoint/host/job/quality.hpp>
 #include <fixpoint/host/tools/animate.hpp>
 #include <fixpoint/host/tools/watch.hpp>
 #include <fixpoint/text.hpp>
 
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <cstdio>
 
 using namespace fp::host;
@@ -46,6 +48,32 @@ RenderRequest render_request(const Options& o) {
     r.histogram = o.histogram;
     r.strict = o.strict;
     return r;
+}
+
+// render --quality Q: host/job/quality.hpp; the rounds' recipe is the config's with
+// renderer.points doubled each round.
+int cmd_quality(const Options& o) {
+    const Registry reg = make_registry(o);
+    QualityRequest q;
+    q.target = o.quality;
+    q.reload = [&](std::int64_t points) {
+        std::vector<std::string> sets = o.sets;
+        if (points > 0) sets.push_back("renderer.points=" + std::to_string(points));
+        Pipeline p = load_for_print(reg, o.config, sets, o.print, o.allow_python);
+        if (points == 0 && !o.strict) told(p);
+        return p;
+    };
+    if (!o.quiet) q.info = [](const std::string& l) { spdlog::info("{}", l); };
+    const QualityResult res = render_to_quality(q, render_request(o), render_hooks(o.quiet));
+    tell(res.result.warnings);
+    if (!o.quiet) {
+        char level[160];
+        std::snprintf(level, sizeof level,
+                      "; quality %.2f (log2 of %.3g points per lit pixel; target %g) after %d round%s",
+                      res.level, std::exp2(res.level), o.quality, res.rounds, res.rounds == 1 ? "" : "s");
+        spdlog::info("{}{}", summary_line(res.plan, res.result), level);
+    }
+    return 0;
 }
 
 // tone: the image finished again from a kept histogram (host/core/histogram_file.hpp), with the
@@ -104,6 +132,9 @@ int cmd_render(const Options& o, bool validate_only) {
         throw InputError("--checkpoint and --resume keep one render: not with --vary");
     if (!o.vary.empty() && !o.histogram.empty())
         throw InputError("--histogram keeps one render's histogram: not with --vary");
+    if (!std::isnan(o.quality) && (!o.vary.empty() || o.draft))
+        throw InputError("--quality renders one image to a sample level: not with --vary or --draft");
+    if (!std::isnan(o.quality) && !validate_only) return cmd_quality(o);
     if (!o.vary.empty()) return cmd_collection(o, validate_only);
     if (o.draft && (o.print.dpi > 0 || !o.print.print_size.empty()))
         throw InputError("--draft: a quick small image: not with --dpi or --print-size");
@@ -188,6 +219,11 @@ void add_render_commands(CLI::App& app, Options& o, std::vector<Command>& table)
                        "Continue the render saved in FILE (the same bytes as one uninterrupted render), or a "
                        "finished one to more points with --set renderer.points=N; checkpoints go on in FILE "
                        "unless --checkpoint names another");
+    render->add_option(
+        "--quality", o.quality,
+        "Go on until the sample level (log2 of the points drawn per lit pixel, Chaotica's "
+        "measure) reaches Q: the points double from renderer.points each round, and the image's "
+        "recipe holds the points it stopped at (chaos-game; docs/histograms.md)");
     render->add_option("--histogram", o.histogram,
                        "Keep the render's histogram in FILE.fph too, so that `fixpoint tone FILE.fph` "
                        "finishes it again with other tone, filter or density estimation, with no "

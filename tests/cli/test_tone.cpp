@@ -6,11 +6,15 @@
 #include "cli.hpp"
 #include "configs.hpp"
 
+#include <fixpoint/host/job/quality.hpp>
+
 #include <gtest/gtest.h>
 #include <zlib.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -219,3 +223,95 @@ TEST(Tone, HistogramFileRendersLikeItsRecipe) {
 }
 
 } // namespace
+
+// --quality Q (host/job/quality.hpp): the points double from renderer.points until the sample
+// level reaches Q; the image is the bytes of a plain render of the points it stopped at, and its
+// recipe says them.
+namespace {
+
+std::string points_of(const std::string& summary) {
+    const auto at = summary.find(": ");
+    const auto end = summary.find(" points in ");
+    return at == std::string::npos || end == std::string::npos ? "" : summary.substr(at + 2, end - at - 2);
+}
+
+} // namespace
+
+TEST(Quality, StopsAtTheFirstDoublingThatReachesItWithThePlainRendersBytes) {
+    const std::string dir = scratch_dir("quality_stops");
+    write_file(dir + "/s.yaml", chaos_game({"width: 64", "height: 48", "points: 3000", "chains: 64",
+                                            "supersample: 2", "filter: {type: gaussian, radius: 0.5}"},
+                                           sierpinski));
+    const auto q = run_cli({"render", dir + "/s.yaml", "-o", dir + "/q.png", "--quality", "5"});
+    ASSERT_EQ(q.rc, 0) << q.err;
+    // 3000 points doubled until log2(points per lit pixel) >= 5: the first round falls short.
+    EXPECT_NE(q.err.find(" of 5.00 at 3000 points: going on to 6000"), std::string::npos) << q.err;
+    const std::string last = q.err.substr(q.err.rfind("q.png: "));
+    const std::string points = points_of(last);
+    ASSERT_FALSE(points.empty()) << q.err;
+    const long long n = std::stoll(points);
+    EXPECT_EQ(n % 3000, 0);
+    EXPECT_GT(n, 3000);
+    EXPECT_NE(last.find("; quality "), std::string::npos) << last;
+    EXPECT_NE(last.find("target 5) after "), std::string::npos) << last;
+    // The plain render of those points: the same bytes (the recipe holds them).
+    const auto plain = run_cli({"render", "--quiet", dir + "/s.yaml", "--set", "renderer.points=" + points,
+                                "-o", dir + "/plain.png"});
+    ASSERT_EQ(plain.rc, 0) << plain.err;
+    EXPECT_EQ(read_file(dir + "/q.png"), read_file(dir + "/plain.png"));
+    EXPECT_EQ(files_in(dir), (std::vector<std::string>{"plain.png", "q.png", "s.yaml"}))
+        << "a round's checkpoint left";
+    // Started half-way, it stops at the same point.
+    const auto half = run_cli({"render", dir + "/s.yaml", "--set", "renderer.points=" + std::to_string(n / 2),
+                               "-o", dir + "/half.png", "--quality", "5"});
+    ASSERT_EQ(half.rc, 0) << half.err;
+    EXPECT_EQ(points_of(half.err.substr(half.err.rfind("half.png: "))), points) << half.err;
+    EXPECT_EQ(read_file(dir + "/half.png"), read_file(dir + "/q.png"));
+}
+
+TEST(Quality, BadRequestsGetOneLineAndNothingWritten) {
+    const Kept k = kept("quality_bad");
+    EXPECT_EQ(refused(k, {"render", k.dir + "/s.yaml", "-o", k.dir + "/t.png", "--quality", "0"}),
+              "--quality: expected a sample level in (0, 40] (log2 of the points per lit pixel), got 0");
+    EXPECT_EQ(refused(k, {"render", k.dir + "/s.yaml", "-o", k.dir + "/t.png", "--quality", "4",
+                          "--checkpoint", k.dir + "/c.ck"}),
+              "--quality: not with --checkpoint, --resume or --histogram: it continues its rounds through a "
+              "checkpoint of its own");
+    EXPECT_EQ(refused(k, {"render", k.dir + "/s.yaml", "-o", k.dir + "/t.png", "--quality", "4", "--draft"}),
+              "--quality renders one image to a sample level: not with --vary or --draft");
+    const std::string line = refused(k, {"render", source_dir() + "/configs/orbit-trap/fig10a.yaml", "-o",
+                                         k.dir + "/t.png", "--quality", "4"});
+    EXPECT_NE(
+        line.find("renderer: orbit-trap cannot go on to a quality (--quality needs points, checkpoints and a "
+                  "histogram: chaos-game has them)"),
+        std::string::npos)
+        << line;
+    // A view that misses the fractal: no point lands, ever.
+    write_file(k.dir + "/far.yaml",
+               chaos_game({"width: 16", "height: 16", "points: 1000", "chains: 8", "view: [50, 60, 50, 60]"},
+                          sierpinski));
+    Kept k2 = k;
+    k2.before = files_in(k.dir);
+    const std::string far =
+        refused(k2, {"render", k.dir + "/far.yaml", "-o", k.dir + "/t.png", "--quality", "4"});
+    EXPECT_EQ(far, k.dir +
+                       "/far.yaml:2:3: renderer: nothing was drawn (0 of 1000 points landed in the image); "
+                       "check the view and the parameters");
+}
+
+// The sample level by hand: a 2 x 2 image supersampled 2 x 2; pixel (0, 0) has hits in two of
+// its bins (3 + 1), pixel (1, 1) in one (4): 8 points over 2 lit pixels, log2(4) = 2.
+TEST(Quality, SampleLevelByHand) {
+    fp::host::HistogramFile h;
+    h.header.shape = fp::HistogramShape{4, 4, true, false};
+    h.histogram.width = h.histogram.height = 4;
+    h.histogram.hits.assign(16, 0);
+    h.histogram.hits[0] = 3;
+    h.histogram.hits[1 * 4 + 1] = 1;
+    h.histogram.hits[3 * 4 + 3] = 4;
+    EXPECT_DOUBLE_EQ(fp::host::sample_level(h, 2), 2.0);
+    // Read as a 4 x 4 image (no supersampling): 3 lit pixels.
+    EXPECT_DOUBLE_EQ(fp::host::sample_level(h, 4), std::log2(8.0 / 3.0));
+    h.histogram.hits.assign(16, 0);
+    EXPECT_EQ(fp::host::sample_level(h, 2), -std::numeric_limits<double>::infinity());
+}

@@ -237,6 +237,12 @@ void CheckpointFile::read(void* data, std::size_t bytes) {
     left_ -= bytes;
 }
 
+void MemoryCheckpoint::read(void* data, std::size_t bytes) {
+    if (bytes > left()) throw InputError("the checkpoint kept in memory ends early");
+    std::memcpy(data, payload_->data() + at_, bytes);
+    at_ += bytes;
+}
+
 std::string recipe_difference(const std::string& had, const std::string& want) {
     // The first line that differs says what changed.
     std::istringstream a(had), b(want);
@@ -249,7 +255,7 @@ std::string recipe_difference(const std::string& had, const std::string& want) {
         if (!gb) lb = "(the end)";
         if (la != lb || (!ga && !gb)) break;
     }
-    const auto trim = [](std::string s) {
+    const auto trim = [](const std::string& s) {
         const auto p = s.find_first_not_of(' ');
         return quote(p == std::string::npos ? s : s.substr(p), 80);
     };

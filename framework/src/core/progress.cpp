@@ -4,8 +4,9 @@
 
 namespace fp::host {
 
-ProgressBar::ProgressBar(std::uint64_t total, std::function<std::uint64_t()> done, bool enabled)
-    : total_(total ? total : 1), done_(std::move(done)), enabled_(enabled),
+ProgressBar::ProgressBar(std::uint64_t total, std::function<std::uint64_t()> done, bool enabled,
+                         std::string label)
+    : total_(total ? total : 1), done_(std::move(done)), enabled_(enabled), label_(std::move(label)),
       start_(std::chrono::steady_clock::now()) {
     if (!enabled_) return;
     thread_ = std::thread([this] {
@@ -38,7 +39,7 @@ void ProgressBar::draw() {
         const double left = elapsed * (1 - f) / f;
         std::snprintf(eta, sizeof eta, "%d:%02d", int(left) / 60, int(left) % 60);
     }
-    std::fprintf(stderr, "\r[%s] %5.1f%%  ETA %s", bar, 100 * f, eta);
+    std::fprintf(stderr, "\r%s[%s] %5.1f%%  ETA %s", label_.c_str(), bar, 100 * f, eta);
     std::fflush(stderr);
 }
 

@@ -48,7 +48,7 @@ void Runtime::combine(void* data, std::size_t bytes, std::size_t record,
 Runtime::~Runtime() = default;
 
 void Runtime::set_checkpoints(std::string path, double every_s, CheckpointHeader header,
-                              std::unique_ptr<CheckpointFile> resume) {
+                              std::unique_ptr<CheckpointSource> resume) {
     checkpoint_path_ = std::move(path);
     checkpoint_every_ = every_s;
     checkpoint_header_ = std::move(header);
@@ -59,12 +59,26 @@ void Runtime::set_checkpoints(std::string path, double every_s, CheckpointHeader
 }
 
 bool Runtime::checkpoint_due() const {
-    return !checkpoint_path_.empty() && std::chrono::steady_clock::now() >= checkpoint_due_;
+    return checkpointing() && std::chrono::steady_clock::now() >= checkpoint_due_;
 }
 
 void Runtime::write_checkpoint(const std::function<void(CheckpointSink&)>& body) {
-    if (checkpoint_path_.empty()) return;
-    write_checkpoint_file(checkpoint_path_, checkpoint_header_, body);
+    if (checkpoint_memory_) {
+        // (The payload alone: the rounds that read it are of the same recipe, in this process.)
+        struct Into final : CheckpointSink {
+            std::string* s;
+            void write(const void* data, std::size_t bytes) override {
+                s->append(static_cast<const char*>(data), bytes);
+            }
+        } into;
+        into.s = checkpoint_memory_.get();
+        checkpoint_memory_->clear();
+        body(into);
+    } else if (!checkpoint_path_.empty()) {
+        write_checkpoint_file(checkpoint_path_, checkpoint_header_, body);
+    } else {
+        return;
+    }
     ++written_;
     // The next one a whole period after this one ended (a slow disk does not make them pile up).
     checkpoint_due_ =
@@ -84,6 +98,7 @@ void Runtime::keep_histogram_in(Histogram* h, const HistogramShape& shape) {
 
 void Runtime::keep_histogram(const Histogram& part, int part_row0, int row0, int rows) {
     if (histogram_) histogram_->rows(part, part_row0, row0, rows);
+    if (rows_) rows_(part, part_row0, row0, rows);
     if (!kept_) return;
     // The rows copied in the form the shape gives (the file's: hit counts alone, or bins).
     if (part.width != kept_->width || row0 < part_row0 || row0 + rows > part_row0 + part.height ||

@@ -131,6 +131,22 @@ void check_checkpoints(RenderPlan& plan) {
     const RenderRequest& r = plan.request;
     const Pipeline& p = plan.pipeline;
     CheckpointPlan& ck = plan.checkpoints;
+    if (r.checkpoint_memory) {
+        // In memory, in this process: the rounds of one render (--quality), same recipe but points.
+        if (!r.checkpoint.empty() || !r.resume.empty())
+            throw InternalError("render job: checkpoints in memory and in a file at once");
+        if (ranks::size() > 1 || !p.renderer->keeps_checkpoints() || plan.vector || plan.memory.stream)
+            throw InternalError("render job: checkpoints in memory of a render that cannot keep them");
+        ck.memory = r.checkpoint_memory;
+        ck.every_s = 1e9;
+        ck.header = checkpoint_header(p);
+        // (The payload moves to the resume, which reads it whole before the render saves again.)
+        if (!ck.memory->empty())
+            ck.resume = std::make_unique<MemoryCheckpoint>(
+                std::make_shared<const std::string>(std::move(*ck.memory)));
+        ck.memory->clear();
+        return;
+    }
     if (r.checkpoint.empty() && r.resume.empty()) {
         if (!r.checkpoint_every.empty())
             throw InputError("--checkpoint-every: checkpoints go to a file: add --checkpoint FILE");
@@ -157,8 +173,9 @@ void check_checkpoints(RenderPlan& plan) {
                              ": a checkpoint needs a file of its own");
     std::error_code ec;
     if (!r.resume.empty()) {
-        ck.resume = std::make_unique<CheckpointFile>(r.resume);
-        ck.resume->check_against(ck.header);
+        auto file = std::make_unique<CheckpointFile>(r.resume);
+        file->check_against(ck.header);
+        ck.resume = std::move(file);
     } else if (!r.force && fs::exists(fs::symlink_status(ck.path, ec))) {
         throw InputError("--checkpoint: " + quote(ck.path, 200) +
                          " exists: continue it with --resume, or add --force to start over");
@@ -323,7 +340,9 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
     rt.set_memory_budget(plan.memory.budget);
     if (hooks.done) rt.count_progress_in(hooks.done);
     CheckpointPlan& ck = plan.checkpoints;
-    if (!ck.path.empty()) rt.set_checkpoints(ck.path, ck.every_s, ck.header, std::move(ck.resume));
+    if (!ck.path.empty() || ck.memory)
+        rt.set_checkpoints(ck.path, ck.every_s, ck.header, std::move(ck.resume));
+    if (ck.memory) rt.keep_checkpoints_in(ck.memory);
 
     // The kept histogram: rank 0 writes it, to a temporary file that takes its name once the
     // render is done.
@@ -333,6 +352,7 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
         rt.keep_histogram_in(kept.get());
     }
     std::shared_ptr<HistogramFile> in_memory;
+    if (hooks.histogram_rows && rt.rank() == 0) rt.keep_histogram_in(hooks.histogram_rows);
     if (r.keep_histogram && plan.histogram.shape.width > 0 && rt.rank() == 0) {
         in_memory = std::make_shared<HistogramFile>();
         in_memory->header = plan.histogram;
@@ -356,7 +376,8 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
     const auto t0 = std::chrono::steady_clock::now();
     {
         ProgressBar bar(
-            plan_work_units(plan), [&rt] { return rt.done(); }, hooks.progress_bar && rt.rank() == 0);
+            plan_work_units(plan), [&rt] { return rt.done(); }, hooks.progress_bar && rt.rank() == 0,
+            hooks.progress_label);
         blamed(p, [&] {
             if (plan.vector)
                 doc = R.render_vector(rt, res.stats,
@@ -394,18 +415,27 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
     }
     if (r.encode) res.bytes = encode_image(img, plan.format, p.bit_depth, p.recipe, plan.resolution, p.tiled);
     if (!plan.output.empty() && !r.defer_write) {
-        if (r.make_folder) make_folder_of(plan.output);
-        FileSet file(hooks.cancel); // (a Ctrl-C while it is encoded and written: no file)
-        if (plan.vector)
+        if (plan.vector) {
+            if (r.make_folder) make_folder_of(plan.output);
+            FileSet file(hooks.cancel);
             file.bytes(doc, plan.output);
-        else
-            file.image(repeat_image(img, plan.repeat), plan.output, p.bit_depth, file_recipe(plan), p.tiled,
-                       plan.resolution);
-        file.commit();
+            file.commit();
+        } else {
+            write_render(plan, img, hooks);
+        }
         res.wrote = true;
     }
     if (r.keep_image) res.image = std::move(img);
     return res;
+}
+
+void write_render(const RenderPlan& plan, const Image& img, const RenderHooks& hooks) {
+    const Pipeline& p = plan.pipeline;
+    if (plan.request.make_folder) make_folder_of(plan.output);
+    FileSet file(hooks.cancel); // (a Ctrl-C while it is encoded and written: no file)
+    file.image(repeat_image(img, plan.repeat), plan.output, p.bit_depth, file_recipe(plan), p.tiled,
+               plan.resolution);
+    file.commit();
 }
 
 std::string summary_line(const RenderPlan& plan, const RenderResult& r) {
@@ -413,7 +443,7 @@ std::string summary_line(const RenderPlan& plan, const RenderResult& r) {
     const auto plural = [](std::uint64_t n, const char* one) {
         return std::to_string(n) + " " + one + (n == 1 ? "" : "s");
     };
-    if (plan.request.tone) {
+    if (plan.request.tone && !plan.request.tone->path.empty()) {
         // No iterating: what the histogram holds, and the time of the finish alone.
         char took[64];
         std::snprintf(took, sizeof took, "%.3f s", r.seconds);

@@ -61,6 +61,19 @@ private:
     std::uint64_t left_ = 0;
 };
 
+/// A checkpoint's payload kept in memory (render --quality's rounds, which continue one another
+/// in one process): written by Runtime::write_checkpoint, read back as the next round's resume.
+class MemoryCheckpoint final : public CheckpointSource {
+public:
+    explicit MemoryCheckpoint(std::shared_ptr<const std::string> payload) : payload_(std::move(payload)) {}
+    void read(void* data, std::size_t bytes) override;
+    std::uint64_t left() const override { return payload_->size() - at_; }
+
+private:
+    std::shared_ptr<const std::string> payload_;
+    std::size_t at_ = 0;
+};
+
 /// Where two recipes (identities) first differ, for a refusal: "its line 12 is 'gamma: 2.2', this
 /// recipe's 'gamma: 3'".
 std::string recipe_difference(const std::string& had, const std::string& want);

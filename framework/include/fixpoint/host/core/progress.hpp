@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <thread>
 
 namespace fp::host {
@@ -13,7 +14,9 @@ class ProgressBar {
 public:
     /// Polls `done()` every 100 ms from its own thread and redraws; draws nothing unless
     /// `enabled` (stderr is a terminal and --quiet was not given).
-    ProgressBar(std::uint64_t total, std::function<std::uint64_t()> done, bool enabled);
+    /// `label` is drawn before the bar ("quality 5.2 of 7, "; empty: none).
+    ProgressBar(std::uint64_t total, std::function<std::uint64_t()> done, bool enabled,
+                std::string label = {});
     ~ProgressBar(); ///< stops and clears the line
 
 private:
@@ -21,6 +24,7 @@ private:
     std::uint64_t total_;
     std::function<std::uint64_t()> done_;
     bool enabled_;
+    std::string label_;
     std::atomic<bool> stop_{false};
     std::chrono::steady_clock::time_point start_;
     std::thread thread_;

@@ -45,8 +45,10 @@ public:
     // render ends, with `header`; `resume`: the checkpoint the render continues from (null: from
     // the start).
     void set_checkpoints(std::string path, double every_s, CheckpointHeader header,
-                         std::unique_ptr<CheckpointFile> resume);
-    bool checkpointing() const override { return !checkpoint_path_.empty(); }
+                         std::unique_ptr<CheckpointSource> resume);
+    /// Checkpoints written into `memory` instead of a file (its last payload; `path` empty).
+    void keep_checkpoints_in(std::shared_ptr<std::string> memory) { checkpoint_memory_ = std::move(memory); }
+    bool checkpointing() const override { return !checkpoint_path_.empty() || checkpoint_memory_ != nullptr; }
     bool checkpoint_due() const override;
     void write_checkpoint(const std::function<void(CheckpointSink&)>& body) override;
     CheckpointSource* resume_from() override { return resume_.get(); }
@@ -58,7 +60,11 @@ public:
     void keep_histogram_in(HistogramWriter* writer) { histogram_ = writer; }
     /// ... and (too) into `h`, made of `shape` (the preview's kept histogram).
     void keep_histogram_in(Histogram* h, const HistogramShape& shape);
-    bool keeps_histogram() const override { return histogram_ != nullptr || kept_ != nullptr; }
+    /// ... and (too) to `rows` as they come (RenderHooks::histogram_rows).
+    void keep_histogram_in(std::function<void(const Histogram&, int, int, int)> rows) {
+        rows_ = std::move(rows);
+    }
+    bool keeps_histogram() const override { return histogram_ != nullptr || kept_ != nullptr || bool(rows_); }
     void keep_histogram(const Histogram& part, int part_row0, int row0, int rows) override;
 
 private:
@@ -72,12 +78,14 @@ private:
     std::string checkpoint_path_;
     double checkpoint_every_ = 0;
     CheckpointHeader checkpoint_header_;
-    std::unique_ptr<CheckpointFile> resume_;
+    std::unique_ptr<CheckpointSource> resume_;
+    std::shared_ptr<std::string> checkpoint_memory_;
     std::chrono::steady_clock::time_point checkpoint_due_;
     unsigned written_ = 0;
     HistogramWriter* histogram_ = nullptr;
     Histogram* kept_ = nullptr;
     HistogramShape kept_shape_;
+    std::function<void(const Histogram&, int, int, int)> rows_;
     std::unique_ptr<Impl> impl_;
 };
 

@@ -96,6 +96,9 @@ struct RenderRequest {
 
     // ---- checkpoints (--checkpoint FILE, --checkpoint-every TIME, --resume FILE)
     std::string checkpoint, checkpoint_every, resume;
+    /// Checkpoints kept in memory instead (render --quality's rounds): written into it, and,
+    /// when it holds one, the render resumes from it.
+    std::shared_ptr<std::string> checkpoint_memory;
 
     // ---- kept histograms (host/core/histogram_file.hpp)
     /// --histogram FILE.fph: the render's histogram is kept there too.
@@ -112,7 +115,8 @@ struct CheckpointPlan {
     std::string path; ///< where checkpoints are written ("": none)
     double every_s = 300;
     CheckpointHeader header;
-    std::unique_ptr<CheckpointFile> resume; ///< the checkpoint continued (null: from the start)
+    std::unique_ptr<CheckpointSource> resume; ///< the checkpoint continued (null: from the start)
+    std::shared_ptr<std::string> memory;      ///< RenderRequest::checkpoint_memory
 };
 
 /// A render checked and ready to run.
@@ -139,8 +143,13 @@ struct RenderHooks {
     /// Where the render counts its work units (of plan_work_units); the caller may poll it from
     /// another thread (Python's progress callback). Null: counted inside.
     std::atomic<std::uint64_t>* done = nullptr;
-    /// Draw a progress bar on stderr (the CLI on a terminal, rank 0).
+    /// Draw a progress bar on stderr (the CLI on a terminal, rank 0), after `progress_label`.
     bool progress_bar = false;
+    std::string progress_label;
+    /// Hears the histogram's rows as the renderer hands them over (RenderContext::keep_histogram:
+    /// the part, its first row, the rows' first and their number), where the renderer keeps one;
+    /// render --quality counts its sample level so.
+    std::function<void(const Histogram&, int, int, int)> histogram_rows;
     /// The temporary file a streamed image is written to, when it is opened, and "" once it has
     /// its name (a signal handler removes it: under mpirun no destructor may run).
     std::function<void(const std::string& tmp)> partial;
@@ -189,6 +198,10 @@ void check_output_request(const RenderRequest& r, const std::string& out,
 /// write (WriteError, naming the file). Under mpirun with `distributed`, only rank 0's result
 /// holds the image and only rank 0 writes.
 RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks = {});
+
+/// Writes `img` as run_render writes a plan's raster image: atomically, repeated as --repeat
+/// asks, with the plan's recipe (--quality writes its last round's image so).
+void write_render(const RenderPlan& plan, const Image& img, const RenderHooks& hooks);
 
 /// Units of work this process reports over the plan's render (its rank's share).
 std::uint64_t plan_work_units(const RenderPlan& plan);

@@ -1,0 +1,140 @@
+// --quality Q: host/job/quality.hpp says what the sample level is and why the stop point is the
+// recipe's alone.
+#include <fixpoint/host/core/image_io.hpp>
+#include <fixpoint/host/core/ranks.hpp>
+#include <fixpoint/host/job/quality.hpp>
+#include <fixpoint/text.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <vector>
+
+namespace fp::host {
+
+void SampleLevel::rows(const Histogram& part, int part_row0, int row0, int rows) {
+    const std::size_t W = std::size_t(part.width);
+    if (lit_row_.size() != W / std::size_t(n_)) lit_row_.assign(W / std::size_t(n_), 0);
+    for (int y = row0; y < row0 + rows; ++y) {
+        if (y / n_ != pixel_row_) flush(), pixel_row_ = y / n_;
+        const std::size_t at = std::size_t(y - part_row0) * W;
+        for (std::size_t x = 0; x < lit_row_.size() * std::size_t(n_); ++x) {
+            const std::uint64_t k = part.hits_at(at + x);
+            drawn_ += k;
+            lit_row_[x / std::size_t(n_)] |= k != 0;
+        }
+    }
+}
+
+void SampleLevel::flush() {
+    for (unsigned char& c : lit_row_) lit_ += c, c = 0;
+}
+
+double SampleLevel::level() {
+    flush();
+    if (lit_ == 0) return -std::numeric_limits<double>::infinity();
+    return std::log2(double(drawn_) / double(lit_));
+}
+
+double sample_level(const HistogramFile& h, int height) {
+    const HistogramShape& s = h.header.shape;
+    SampleLevel count(height > 0 ? std::max(1, s.height / height) : 1);
+    count.rows(h.histogram, 0, 0, h.histogram.height);
+    return count.level();
+}
+
+namespace {
+
+std::string level_text(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.2f", v);
+    return b;
+}
+
+} // namespace
+
+QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& request,
+                                const RenderHooks& hooks) {
+    if (!(q.target > 0 && q.target <= 40)) {
+        char got[32];
+        std::snprintf(got, sizeof got, "%g", q.target);
+        throw InputError(
+            std::string(
+                "--quality: expected a sample level in (0, 40] (log2 of the points per lit pixel), got ") +
+            got);
+    }
+    if (!request.checkpoint.empty() || !request.resume.empty() || !request.histogram.empty())
+        throw InputError("--quality: not with --checkpoint, --resume or --histogram: it continues its rounds "
+                         "through a checkpoint of its own");
+    if (ranks::size() > 1)
+        throw InputError(
+            "--quality: its rounds continue through checkpoints, which are kept on one process: not "
+            "under mpirun");
+    Pipeline p = q.reload(0);
+    const Renderer& R = *p.renderer;
+    if (p.points <= 0 || !R.keeps_checkpoints() || R.histogram_shape().width == 0)
+        throw InputError(p.renderer_mark.str() + ": renderer: " + p.renderer_type +
+                         " cannot go on to a quality (--quality needs points, checkpoints and a histogram: "
+                         "chaos-game has them)");
+    // Every check of the final render (its output above all) before the first round.
+    const RenderPlan check = plan_render(p, request, hooks.cancel);
+    if (check.vector) throw InputError("--quality: a raster image: not " + quote(check.output, 200));
+    if (check.memory.stream)
+        throw InputError(
+            "--quality: this render is beyond the memory budget and streams in strips; its rounds "
+            "continue through checkpoints, which are kept of a render that fits (see --memory)");
+    // The rounds continue one another through a checkpoint kept in memory.
+    const auto ck = std::make_shared<std::string>();
+
+    QualityResult res;
+    double seconds = 0;
+    Image image;
+    std::string label = "quality ... of " + level_text(q.target) + " ";
+    for (std::int64_t points = p.points;; points *= 2) {
+        ++res.rounds;
+        if (res.rounds > 1) p = q.reload(points);
+        // Each round renders its image (kept, not written) and counts its level from the
+        // histogram's rows as they are handed over (no copy of the histogram).
+        RenderRequest round = request;
+        round.output.clear();
+        round.default_file = false;
+        round.encode.reset();
+        round.keep_image = true;
+        round.checkpoint_memory = ck; // (one at the end of the round)
+        RenderPlan plan = plan_render(p, round, hooks.cancel);
+        const HistogramShape shape = p.renderer->histogram_shape();
+        SampleLevel count(std::max(1, shape.height / std::max(1, p.renderer->height())));
+        RenderHooks h = hooks;
+        h.progress_label = label;
+        h.histogram_rows = [&count](const Histogram& part, int part_row0, int row0, int rows) {
+            count.rows(part, part_row0, row0, rows);
+        };
+        RenderResult r = run_render(plan, h);
+        seconds += r.seconds;
+        res.level = count.level();
+        if (res.level >= q.target) {
+            image = std::move(r.image);
+            res.result = std::move(r);
+            break;
+        }
+        // (A round that drew nothing was refused by the render job: the level is finite here.)
+        if (points > std::int64_t(5e14))
+            throw InputError("--quality " + level_text(q.target) + ": the sample level is " +
+                             level_text(res.level) + " at " + std::to_string(points) +
+                             " points; twice as many is beyond renderer.points' range (1e15)");
+        if (q.info)
+            q.info("quality " + level_text(res.level) + " of " + level_text(q.target) + " at " +
+                   std::to_string(points) + " points: going on to " + std::to_string(2 * points));
+        label = "quality " + level_text(res.level) + " of " + level_text(q.target) + " ";
+    }
+    // The last round's image, written as render writes it, with the recipe of the points it
+    // stopped at.
+    res.plan = plan_render(p, request, hooks.cancel);
+    write_render(res.plan, image, hooks);
+    res.result.wrote = true;
+    res.result.seconds = seconds;
+    return res;
+}
+
+} // namespace fp::host
