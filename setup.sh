@@ -38,6 +38,7 @@ packages=(
     nlohmann-json3-dev # fixpoint serve's JSON requests and answers (header-only)
     libssl-dev # the golden corpus's SHA-256 (tests/golden-recipes/; also pulled in by cpp-httplib)
     libopenmpi-dev openmpi-bin # mpirun -np N fixpoint render (FIXPOINT_MPI)
+    libtinyxml2-dev # flam3's palette file (palette: flam3:N)
 )
 quick=${FIXPOINT_QUICK:-}
 if [ -n "$quick" ] && [ -n "${CI:-}" ]; then
@@ -47,6 +48,8 @@ fi
 sanitize=
 # The Python tests: pytest, and Pillow to read the PNGs the CLI writes.
 [ "$mode" = test ] && packages+=(python3-pytest python3-pil)
+# flam3's palettes, read where Debian installs them (a test reads palette 0 of the real file).
+[ "$mode" = test ] && packages+=(flam3-palette)
 # The preview page's tests in a real browser: headless Chromium driven by Selenium.
 [ "$mode" = test ] && packages+=(chromium chromium-driver python3-selenium)
 # The linters, run by CTest (tests/lint/): clang-tidy on the changed C++ files, ESLint on web/,
@@ -144,4 +147,5 @@ started=$SECONDS
 tests/fuzz/run.sh build-asan 60 validate
 tests/fuzz/run.sh build-asan 30 serve
 tests/fuzz/run.sh build-asan 30 checkpoint
+tests/fuzz/run.sh build-asan 30 histogram
 stage "fuzzing (build-asan)"

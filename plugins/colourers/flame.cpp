@@ -24,6 +24,8 @@
 #include "finishing.hpp"
 #include "tone_map.hpp"
 
+#include <fixpoint/palette.hpp>
+
 // update() once per instruction set (update-inl.hpp), dispatched at run time.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "update-inl.hpp"
@@ -76,6 +78,9 @@ constexpr fp::ParamSpec params[] = {
         .min(0)
         .max(1)
         .as(fp::ParamRole::finish),
+    fp::palette_param,
+    fp::palette_stops_param,
+    fp::palette_mode_param,
 };
 
 class Flame final : public fp_colourers::Resolving<Flame> {
@@ -87,10 +92,18 @@ public:
                                                    : Mode::mean) {
         tone_.gamma = gamma_, tone_.brightness = brightness_, tone_.vibrancy = p.real("vibrancy");
         tone_.highlight_power = p.real("highlight_power"), tone_.gamma_threshold = p.real("gamma_threshold");
+        has_palette_ = fp::palette_of(p, palette_);
+        // flam3's index blends per point into the mean of a pixel's colours: mode mean alone.
+        if (has_palette_ && mode_ != Mode::mean)
+            throw fp::ParamError("mode",
+                                 "a palette colours each point by flam3's index, whose pixels show the "
+                                 "mean: mode mean, not " +
+                                     p.string("mode"));
     }
 
     void update(const std::uint32_t* map, fp::ColourState s, const fp::Rgb* map_colours,
                 const unsigned char* mask) const override {
+        if (has_palette_) return update_index(map, s, mask);
         if (mode_ == Mode::set_colour)
             HWY_DYNAMIC_DISPATCH(update_map)(map, s, map_colours, mask);
         else
@@ -98,8 +111,10 @@ public:
     }
 
     fp::ColourRule colour_rule() const override {
+        if (has_palette_) return fp::ColourRule::none; // (a rule of its own: update_index)
         return mode_ == Mode::set_colour ? fp::ColourRule::map : fp::ColourRule::average;
     }
+    bool palette_index() const override { return has_palette_; }
     fp::PixelRule pixel_rule() const override {
         return mode_ == Mode::mean ? fp::PixelRule::mean : fp::PixelRule::last;
     }
@@ -145,10 +160,28 @@ public:
     }
 
 private:
+    /// flam3's rule (variations.c): i' = s c_j + (1 - s) i with the map's color c_j and
+    /// color_speed s, then the chain's colour the palette's at i' (rect.c's lookup).
+    void update_index(const std::uint32_t* map, fp::ColourState s, const unsigned char* mask) const {
+        if (!s.index || !s.map_index || !s.map_speed)
+            throw fp::InternalError("flame: a palette, but the renderer gave no palette indices");
+        for (std::size_t i = 0; i < s.n; ++i) {
+            if (mask && !mask[i]) continue;
+            const std::uint32_t j = map[i];
+            const float sp = s.map_speed[j];
+            const float t = sp * s.map_index[j] + (1.0f - sp) * s.index[i];
+            s.index[i] = t;
+            const fp::Rgb c = palette_.at(t);
+            s.r[i] = c.r, s.g[i] = c.g, s.b[i] = c.b;
+        }
+    }
+
     enum class Mode { mean, last, set_colour };
     double gamma_, brightness_;
     Mode mode_;
     fp_colourers::Flam3Tone tone_;
+    bool has_palette_ = false;
+    fp::Palette palette_;
 };
 
 } // namespace

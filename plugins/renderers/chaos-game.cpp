@@ -156,6 +156,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     colour_ = colourer_->needs_colour();
     last_ = colourer_->pixel_rule() == fp::PixelRule::last;
     if (last_) colour_ = true;
+    palette_ = colourer_->palette_index();
 
     const auto& items = p.objects("maps");
     if (items.empty()) throw fp::ParamError("maps", "the list of maps is empty");
@@ -167,10 +168,22 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         if (const std::string why = m->plane_map_problem(); !why.empty())
             throw fp::ParamError("maps", "maps[" + std::to_string(j) + "]: " + why);
         fp::Rgb c = fp_render::palette_colour(j);
+        // flam3's palette index of the map: its `color`, else the maps spread over the palette.
+        float index = k > 1 ? float(double(j) / double(k - 1)) : 0.0f, speed = 0.5f;
         if (items[j].extras) {
             w[j] = items[j].extras->real("weight");
             if (items[j].extras->has("colour")) c = items[j].extras->colour("colour");
+            if (items[j].extras->has("color")) {
+                if (!palette_)
+                    throw fp::ParamError("maps", "maps[" + std::to_string(j) +
+                                                     "].color: a palette index (flam3's), but the colourer "
+                                                     "takes no palette (flame with palette: ...)");
+                index = float(items[j].extras->real("color"));
+            }
+            speed = float(items[j].extras->real("color_speed"));
         }
+        map_index_.push_back(index);
+        map_speed_.push_back(speed);
         if (!(w[j] > 0) || !std::isfinite(w[j]))
             throw fp::ParamError("maps", "maps[" + std::to_string(j) + "].weight must be a positive number");
         const bool region = m->has_region();
@@ -179,6 +192,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         colours_.push_back(c);
     }
     colours_.push_back(fp::Rgb{});
+    map_index_.push_back(0.0f), map_speed_.push_back(0.0f); // (the k-th: never used)
     for (size_t j = 0; j < k; ++j)
         map_q_.push_back({uint16_t(fp::quantise_colour(colours_[j].r)),
                           uint16_t(fp::quantise_colour(colours_[j].g)),
@@ -373,6 +387,17 @@ constexpr fp::ParamSpec map_item_params[] = {
     fp::param::colour("colour",
                       "colour of the points the map produces (default: a built-in palette by index)")
         .opt(),
+    fp::param::real("color", "flam3's color: the map's index into the colourer's palette (default: the maps "
+                             "spread evenly from 0 to 1)")
+        .min(0)
+        .max(1)
+        .opt(),
+    fp::param::real("color_speed",
+                    "flam3's color_speed: how far a chain's palette index moves toward the map's color at "
+                    "each step")
+        .def("0.5")
+        .min(0)
+        .max(1),
 };
 
 constexpr fp::ParamSpec params[] = {

@@ -68,6 +68,7 @@ void RenderContext::write_checkpoint(const std::function<void(CheckpointSink&)>&
 CheckpointSource* RenderContext::resume_from() { return nullptr; }
 bool Renderer::keeps_checkpoints() const { return false; }
 bool RenderContext::keeps_histogram() const { return false; }
+bool Colourer::palette_index() const { return false; }
 void RenderContext::keep_histogram(const Histogram&, int, int, int) {}
 HistogramShape Renderer::histogram_shape() const { return {}; }
 Image Renderer::finish_histogram(const Histogram&, const RenderStats&, RenderContext&) const {

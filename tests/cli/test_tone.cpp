@@ -315,3 +315,22 @@ TEST(Quality, SampleLevelByHand) {
     h.histogram.hits.assign(16, 0);
     EXPECT_EQ(fp::host::sample_level(h, 2), -std::numeric_limits<double>::infinity());
 }
+
+// A checkpointed render keeps the histogram of the render it finishes: resumed to more points,
+// its histogram file is a fresh render's.
+TEST(Tone, ResumedRendersKeepTheFreshHistogram) {
+    const std::string dir = scratch_dir("tone_resumed");
+    write_file(dir + "/s.yaml",
+               chaos_game({"width: 80", "height: 60", "points: 100000", "chains: 256"}, sierpinski));
+    const auto first = run_cli(
+        {"render", "--quiet", dir + "/s.yaml", "-o", dir + "/first.png", "--checkpoint", dir + "/ck.bin"});
+    ASSERT_EQ(first.rc, 0) << first.err;
+    const auto more =
+        run_cli({"render", "--quiet", dir + "/s.yaml", "--set", "renderer.points=200000", "-o",
+                 dir + "/more.png", "--resume", dir + "/ck.bin", "--histogram", dir + "/more.fph"});
+    ASSERT_EQ(more.rc, 0) << more.err;
+    const auto fresh = run_cli({"render", "--quiet", dir + "/s.yaml", "--set", "renderer.points=200000", "-o",
+                                dir + "/fresh.png", "--histogram", dir + "/fresh.fph"});
+    ASSERT_EQ(fresh.rc, 0) << fresh.err;
+    EXPECT_EQ(read_file(dir + "/more.fph"), read_file(dir + "/fresh.fph"));
+}

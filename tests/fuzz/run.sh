@@ -5,11 +5,13 @@
 #
 # TARGET: validate (tests/fuzz/fuzz_validate.cpp: a config through the validate path), serve
 # (tests/fuzz/fuzz_serve.cpp: a request through serve's checks and body parsing) or checkpoint
-# (tests/fuzz/fuzz_checkpoint.cpp: a checkpoint file through --resume's checks and the resume).
+# (tests/fuzz/fuzz_checkpoint.cpp: a checkpoint file through --resume's checks and the resume)
+# or histogram (tests/fuzz/fuzz_histogram.cpp: a histogram file, or its bins, through tone).
 # BUILD_DIR is a build configured with FIXPOINT_SANITIZE=ON FIXPOINT_FUZZ=ON (clang) and
 # built. Everything goes to BUILD_DIR/tests/fuzz/scratch/TARGET/, never to the source tree:
 #   seeds/      validate: every config of the repository; serve: tests/fuzz/serve-seeds/;
 #               checkpoint: checkpoints of tests/fuzz/checkpoint.yaml this build's CLI writes;
+#               histogram: histogram files of tests/fuzz/histogram.yaml it writes;
 #               made afresh at each run
 #   corpus/     what libFuzzer found interesting; kept between runs, so runs add up
 #               (delete it to start over)
@@ -24,8 +26,8 @@ src=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-build-asan}
 secs=${2:-300}
 target=${3:-validate}
-[[ "$secs" =~ ^[0-9]+$ ]] && [[ "$target" =~ ^(validate|serve|checkpoint)$ ]] || {
-    echo "usage: tests/fuzz/run.sh [BUILD_DIR] [SECONDS] [validate|serve|checkpoint]" >&2
+[[ "$secs" =~ ^[0-9]+$ ]] && [[ "$target" =~ ^(validate|serve|checkpoint|histogram)$ ]] || {
+    echo "usage: tests/fuzz/run.sh [BUILD_DIR] [SECONDS] [validate|serve|checkpoint|histogram]" >&2
     exit 2
 }
 [ -d "$build" ] || build="$src/$build" # relative to here, else to the source tree
@@ -55,6 +57,19 @@ elif [ "$target" = serve ]; then
     seeds=("$src"/tests/fuzz/serve-seeds/*)
     dict=()
     max_len=8192
+elif [ "$target" = histogram ]; then
+    # Histogram files of the recipe, with 0 (a file) and 1 (its bins) as the first byte.
+    seeds=()
+    dict=()
+    max_len=65536
+    for points in 3000 300; do
+        "$build/bin/fixpoint" render -q "$src/tests/fuzz/histogram.yaml" --set renderer.points=$points \
+            -o "$scratch/seed.png" --force --histogram "$scratch/seed.fph"
+        { printf '\0'; cat "$scratch/seed.fph"; } >"$scratch/seeds/file-$points"
+        { printf '\1'; cat "$scratch/seed.fph"; } >"$scratch/seeds/bins-$points"
+        rm -f "$scratch/seed.fph"
+    done
+    rm -f "$scratch/seed.png"
 else
     # A finished render's checkpoint, and one of a third of its points (a resume continues it).
     seeds=()

@@ -337,3 +337,30 @@ def test_chaos_game_finished(tmp_path):
     config = SOURCE / "configs/inversion/fig6a.yaml"
     same_on_every_rank_count(tmp_path, config, *sets(width=200, height=200, points=1000000), *stage)
     same_in_pieces_on_ranks(tmp_path, config, "strips", *sets(width=400, height=400, points=1000000), *stage)
+
+
+def test_chaos_game_kept_histogram(tmp_path):
+    # render --histogram under mpirun (docs/histograms.md): rank 0 writes the ranks' summed
+    # histogram, the same file as one process's, and tone finishes it to the full render's bytes.
+    config = SOURCE / "configs/inversion/fig4a.yaml"
+    s = sets(width=160, height=160, points=400000)
+    r = plain("render", config, "-o", tmp_path / "one.png", "--quiet", "--histogram", tmp_path / "one.fph", *s)
+    assert r.returncode == 0, r.stderr
+    for n in (2, 3):
+        r = mpirun(n, "render", config, "-o", tmp_path / f"np{n}.png", "--quiet", "--histogram",
+                   tmp_path / f"np{n}.fph", *s)
+        assert r.returncode == 0, f"{n} ranks: {r.stderr}"
+        assert content(tmp_path / f"np{n}.fph") == content(tmp_path / "one.fph"), f"{n} ranks"
+    toned = ["--set", "renderer.estimator_radius=3", "--set", "renderer.colourer.gamma=3"]
+    r = plain("tone", tmp_path / "np3.fph", "-o", tmp_path / "toned.png", "--quiet", *toned)
+    assert r.returncode == 0, r.stderr
+    r = plain("render", config, "-o", tmp_path / "full.png", "--quiet", *s, *toned)
+    assert r.returncode == 0, r.stderr
+    assert content(tmp_path / "toned.png") == content(tmp_path / "full.png")
+
+
+def test_chaos_game_palette(tmp_path):
+    # flam3's palette index (docs/palettes.md): each chain's index from its own colour stream,
+    # the ranks' sums the same as one process's.
+    same_on_every_rank_count(tmp_path, SOURCE / "configs/palettes/fern.yaml",
+                             *sets(width=200, height=200, points=1000000))

@@ -260,7 +260,7 @@ TEST(ChaosCheckpoint, DamagedPayloadsAreRefused) {
     }
 }
 
-/// The offsets of the suspended chains' states (ChainRec, 72 bytes) and of the fresh chains' ids
+/// The offsets of the suspended chains' states (ChainRec, 80 bytes) and of the fresh chains' ids
 /// in a chain-game payload: PayloadHead (88 bytes), then per task its kind, its size and its
 /// records (chaos-game/checkpoint.hpp).
 struct PayloadMap {
@@ -276,8 +276,8 @@ PayloadMap map_payload(const std::string& p) {
         std::memcpy(&kind, p.data() + at, 8);
         std::memcpy(&n, p.data() + at + 8, 8);
         at += 16;
-        for (std::uint64_t i = 0; i < n; ++i) (kind ? m.states : m.ids).push_back(at + i * (kind ? 72 : 4));
-        at += n * (kind ? 72 : 4);
+        for (std::uint64_t i = 0; i < n; ++i) (kind ? m.states : m.ids).push_back(at + i * (kind ? 80 : 4));
+        at += n * (kind ? 80 : 4);
     }
     return m;
 }

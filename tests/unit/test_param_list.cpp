@@ -55,17 +55,19 @@ TEST(ParamList, EntriesOfASmallConfig) {
                                       "renderer.maps[0].shape.radius",
                                       "renderer.maps[0].centre",
                                       "renderer.maps[0].weight",
-                                      "renderer.maps[0].colour"};
+                                      "renderer.maps[0].colour",
+                                      "renderer.maps[0].color",
+                                      "renderer.maps[0].color_speed"};
     const auto got = paths(all);
-    ASSERT_EQ(got.size(), 1 + 10 + 1 + 8 * item0.size() + 1 + 7 + 14);
+    ASSERT_EQ(got.size(), 1 + 10 + 1 + 8 * item0.size() + 1 + 10 + 14);
     EXPECT_EQ(std::vector<std::string>(got.begin(), got.begin() + 12),
               (std::vector<std::string>{"renderer", "renderer.width", "renderer.height", "renderer.view",
                                         "renderer.points", "renderer.seed", "renderer.skip", "renderer.start",
                                         "renderer.start_box", "renderer.fit_view", "renderer.chains",
                                         "renderer.maps"}));
-    EXPECT_EQ(std::vector<std::string>(got.begin() + 12, got.begin() + 19), item0);
-    EXPECT_EQ(got[12 + 7 * 7], "renderer.maps[7]");
-    EXPECT_EQ(std::vector<std::string>(got.begin() + 12 + 8 * 7, got.end()),
+    EXPECT_EQ(std::vector<std::string>(got.begin() + 12, got.begin() + 21), item0);
+    EXPECT_EQ(got[12 + 7 * 9], "renderer.maps[7]");
+    EXPECT_EQ(std::vector<std::string>(got.begin() + 12 + 8 * 9, got.end()),
               (std::vector<std::string>{"renderer.iteration",
                                         "renderer.colourer",
                                         "renderer.colourer.gamma",
@@ -74,6 +76,9 @@ TEST(ParamList, EntriesOfASmallConfig) {
                                         "renderer.colourer.vibrancy",
                                         "renderer.colourer.highlight_power",
                                         "renderer.colourer.gamma_threshold",
+                                        "renderer.colourer.palette",
+                                        "renderer.colourer.palette_stops",
+                                        "renderer.colourer.palette_mode",
                                         "renderer.inversion_rules",
                                         "renderer.precision",
                                         "renderer.background",
@@ -233,7 +238,8 @@ TEST(ParamList, UnknownPluginsAndWrongValuesAreListedAsWritten) {
     EXPECT_EQ(
         std::vector<std::string>(got.begin() + at("renderer.maps"), got.begin() + at("renderer.iteration")),
         (std::vector<std::string>{"renderer.maps", "renderer.maps[0]", "renderer.maps[0].weight",
-                                  "renderer.maps[0].colour", "renderer.maps[1]"}));
+                                  "renderer.maps[0].colour", "renderer.maps[0].color",
+                                  "renderer.maps[0].color_speed", "renderer.maps[1]"}));
     EXPECT_EQ(entry(all, "renderer.maps[0]").value, "nope");
     EXPECT_EQ(entry(all, "renderer.maps[0].weight").value, "2");
     EXPECT_EQ(entry(all, "renderer.maps[1]").value, "5");

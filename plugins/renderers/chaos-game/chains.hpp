@@ -128,8 +128,10 @@ struct ChainRec {
     uint64_t step; ///< the step it runs next (the iteration scheme's n)
     uint32_t chain, prev, age, idle, active;
     float cr, cg, cb;
+    float ci;     ///< the palette index (Colourer::palette_index; else 0)
+    uint32_t pad; ///< 0 (the record's size a multiple of 8)
 };
-static_assert(sizeof(ChainRec) == 72, "ChainRec is written as it is");
+static_assert(sizeof(ChainRec) == 80, "ChainRec is written as it is");
 
 /// A chain's colour at its start: the maps' mean colour, or (paper 02's Algorithm 2, line 4: "c =
 /// random colour") one drawn from fp::chain_stream(seed + colour_stream_salt, chain), which its
@@ -138,6 +140,9 @@ struct StartColour {
     bool random = false;
     uint64_t seed = 0;
     float r = 0, g = 0, b = 0;
+    /// A palette index too (Colourer::palette_index): drawn from the same stream, after the
+    /// colours where they are random (flam3 starts each chain at a random index).
+    bool index = false;
 };
 
 /// A block's chains, lane i the i-th: the one declaration of a chain's state. The kernels see it
@@ -152,13 +157,15 @@ struct Chains {
     Buf<uint32_t> idle;     ///< restarts in a row without a plotted point
     Buf<uint32_t> active;   ///< 0 / 1; 0 past the block's last chain (the kernels read whole vectors)
     Buf<float> cr, cg, cb;  ///< the colour
+    Buf<float> ci;          ///< the palette index (Colourer::palette_index)
     Buf<uint32_t> chain;    ///< the chain in this lane
     Buf<unsigned char> fin; ///< a checkpointed render: the lane's final state is recorded
 
     Chains() {
         const size_t B = block_size;
         x.alloc(B), y.alloc(B), rs.alloc(B), ri.alloc(B), left.alloc(B);
-        prev.alloc(B), age.alloc(B), idle.alloc(B), cr.alloc(B), cg.alloc(B), cb.alloc(B), active.alloc(B);
+        prev.alloc(B), age.alloc(B), idle.alloc(B), cr.alloc(B), cg.alloc(B), cb.alloc(B), ci.alloc(B);
+        active.alloc(B);
         chain.alloc(B), fin.alloc(B);
     }
 
@@ -166,7 +173,7 @@ struct Chains {
     ChainRec record(size_t i, uint64_t step) const {
         return ChainRec{double(x.get()[i]), double(y.get()[i]), rs.get()[i],  left.get()[i], step,
                         chain.get()[i],     prev.get()[i],      age.get()[i], idle.get()[i], active.get()[i],
-                        cr.get()[i],        cg.get()[i],        cb.get()[i]};
+                        cr.get()[i],        cg.get()[i],        cb.get()[i],  ci.get()[i],   0};
     }
     /// Lane i continues chain c.chain where a checkpoint left it (its increment follows from the
     /// chain); a lane that finished before the checkpoint has its final state recorded already.
@@ -180,6 +187,7 @@ struct Chains {
         age.get()[i] = c.age;
         idle.get()[i] = c.idle;
         cr.get()[i] = c.cr, cg.get()[i] = c.cg, cb.get()[i] = c.cb;
+        ci.get()[i] = c.ci;
         x.get()[i] = T(c.x);
         y.get()[i] = T(c.y);
         fin.get()[i] = c.active ? 0 : 1;
@@ -195,14 +203,15 @@ struct Chains {
         prev.get()[i] = k;
         age.get()[i] = 0;
         idle.get()[i] = 0;
+        fp::Rng r = fp::chain_stream(c.seed + colour_stream_salt, ch);
         if (c.random) {
-            fp::Rng r = fp::chain_stream(c.seed + colour_stream_salt, ch);
             cr.get()[i] = fp::uniform_float(r);
             cg.get()[i] = fp::uniform_float(r);
             cb.get()[i] = fp::uniform_float(r);
         } else {
             cr.get()[i] = c.r, cg.get()[i] = c.g, cb.get()[i] = c.b;
         }
+        ci.get()[i] = c.index ? fp::uniform_float(r) : 0.0f;
         x.get()[i] = T(0);
         y.get()[i] = T(0);
     }

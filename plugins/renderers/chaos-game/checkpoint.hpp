@@ -59,8 +59,9 @@ struct Keeping {
 /// with last colours, the bins' last writes).
 struct PayloadHead {
     /// 2: the rules' draw became paper 01's loop (the streams' outputs are used otherwise, so a
-    /// checkpoint of version 1 would resume into other bytes).
-    uint32_t version = 2;
+    /// checkpoint of version 1 would resume into other bytes); 3: a chain's record holds its
+    /// palette index (ChainRec::ci).
+    uint32_t version = 3;
     uint32_t precision = 4; ///< sizeof the chains' float type
     uint64_t points = 0, chains = 0;
     uint32_t width = 0, rows = 0;

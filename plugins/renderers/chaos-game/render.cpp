@@ -156,7 +156,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
             throw fp::InputError("checkpoints are kept of a whole render on one process (not in strips, not "
                                  "over MPI ranks)");
         keeping = std::make_unique<Keeping>();
-        keeping->finals.assign(chains_, ChainRec{0, 0, 0, 0, not_final, 0, 0, 0, 0, 0, 0, 0, 0});
+        keeping->finals.assign(chains_, ChainRec{0, 0, 0, 0, not_final, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
     }
     Keeping* keep = keeping.get();
     // The total as hit counts alone (8 bytes a bin, not 32): a quarter of the memory to fault

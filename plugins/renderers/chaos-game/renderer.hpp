@@ -173,7 +173,11 @@ private:
     fp::Vec2 start_;
     fp::Box start_box_; ///< where random start points are drawn (the view unless start_box)
     bool rules_ = true, double_ = false, colour_ = true;
-    bool last_ = false;  ///< the colourer's pixel rule is last (paper 02's Algorithm 2 as written)
+    bool last_ = false; ///< the colourer's pixel rule is last (paper 02's Algorithm 2 as written)
+    /// The colourer's palette_index(): the chains carry a palette index, blended toward each
+    /// map's `color` by its `color_speed` (map_index_, map_speed_: k + 1 entries).
+    bool palette_ = false;
+    std::vector<float> map_index_, map_speed_;
     bool fused_ = false; ///< the fused step (fused-inl.hpp's fused_t) runs the block steps
     /// With fused_: the scheme is not Picard, and the fused step runs its program
     /// (IterationScheme::program) at each step where every map gives the same one.

@@ -22,6 +22,11 @@ struct ColourState {
     float* g = nullptr;
     float* b = nullptr;
     std::size_t n = 0;
+    // With a colourer whose palette_index() is true (added in ABI 18): each chain's palette index
+    // (flam3's p[2]), and each map's `color` and `color_speed` (flam3's), by map; else null.
+    float* index = nullptr;
+    const float* map_index = nullptr;
+    const float* map_speed = nullptr;
 };
 
 /// A chain's colour update that a renderer may run in its own loop instead of calling
@@ -106,6 +111,12 @@ public:
     /// bins with hits); writes 3 floats each, display values in [0, 1], over `background`. The
     /// default throws fp::Error.
     virtual void display(const float* in, std::size_t n, Rgb background, float* rgb) const;
+
+    /// True when the chains carry a palette index (ColourState::index, from a random start in
+    /// [0, 1)) that update() blends toward the map's `color` by its `color_speed`, flam3's rule
+    /// (i' = s c_j + (1 - s) i), and turns into the chain's colour through the colourer's
+    /// palette (fixpoint/palette.hpp). The default is false. (Added in ABI 18.)
+    virtual bool palette_index() const;
 
     /// True when the colourer can colour orbit-trap hits (colour_hits); the default is false,
     /// and an orbit-trap renderer refuses such a colourer when it is built.

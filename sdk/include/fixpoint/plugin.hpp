@@ -37,7 +37,9 @@ namespace fp {
 /// so that the host asks what a plugin can do instead of testing its name; ABI 17: Kind::Filter
 /// and fp::Filter, Colourer::finishes, linear and display, the finishing stage (finish.hpp);
 /// ABI 18: ParamRole::finish, RenderContext::keeps_histogram and keep_histogram,
-/// Renderer::histogram_shape and finish_histogram, for kept histograms and `fixpoint tone`):
+/// Renderer::histogram_shape and finish_histogram, for kept histograms and `fixpoint tone`;
+/// ColourState::index, map_index and map_speed, Colourer::palette_index, fixpoint/palette.hpp,
+/// for flam3's palettes):
 /// the host refuses a plugin built for another value ("rebuild it against this SDK"), so a
 /// plugin always matches the headers the host was built with.
 constexpr std::uint32_t abi_version = 18;

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace fp {
 
@@ -57,6 +58,12 @@ inline std::string excerpt(std::string_view s, std::size_t max_chars = 48) {
     }
     return out;
 }
+
+/// Edit distance (insertions, deletions, substitutions), for suggestions.
+std::size_t edit_distance(std::string_view a, std::string_view b);
+/// The candidates near `word` (within a third of its length, at least 2 edits), nearest first, at
+/// most 3: what "did you mean" lines offer (a plugin's name, a key, a palette's).
+std::vector<std::string> suggest(std::string_view word, const std::vector<std::string>& candidates);
 
 /// `excerpt(s)` in single quotes: what error lines say when they quote input.
 inline std::string quote(std::string_view s, std::size_t max_chars = 48) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <fixpoint/plugin.hpp>
+#include <fixpoint/text.hpp>
 
 #include <filesystem>
 #include <memory>
@@ -77,9 +78,8 @@ private:
     const PluginEntry& load(const std::filesystem::path& file, std::string& name);
 };
 
-/// Edit distance, for suggestions.
-std::size_t edit_distance(std::string_view a, std::string_view b);
-/// The candidates closest to `word` (at most 3, only plausible ones).
-std::vector<std::string> suggest(std::string_view word, const std::vector<std::string>& candidates);
+/// (fixpoint/text.hpp's, shared with the plugins.)
+using ::fp::edit_distance;
+using ::fp::suggest;
 
 } // namespace fp::host
