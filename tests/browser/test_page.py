@@ -102,6 +102,24 @@ def test_slider_changes_that_line_and_the_image(page):
     page.shot("slider")
 
 
+def test_a_tone_slider_retones_the_kept_histogram(page):
+    # Only a finishing parameter changes (the colourer's vibrancy): one stage, finished from the
+    # full render's kept histogram, and the caption says so (docs/histograms.md).
+    first = page.wait_done()
+    before = page.image_bytes()
+    text = page.text()
+    slide(page, "renderer.colourer.vibrancy", "0.4")
+    page.wait(lambda: page.text() != text, what="the edited text")
+    page.wait_done(other_than=first)
+    caption = page.js("return document.getElementById('caption').textContent")
+    assert re.fullmatch(r"stage 1/1 · 1024×1024 · [0-9.]+ samples/px · [0-9.]+ s · re-toned, no iterating",
+                        caption), caption
+    assert page.js("return document.getElementById('frame').dataset.retoned") == "1"
+    after = page.image_bytes()
+    assert pixels(after).convert("RGB").tobytes() != pixels(before).convert("RGB").tobytes()
+    page.shot("retoned")
+
+
 def test_typo_shows_the_cli_error_at_its_line(page, tmp_path):
     page.wait_done()
     src = page.js("return document.getElementById('frame').src")

@@ -6,6 +6,7 @@
 #include "context.hpp"
 #include "preview.hpp"
 
+#include <fixpoint/host/core/histogram_file.hpp>
 #include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/host/core/param_list.hpp>
 #include <fixpoint/host/core/render_version.hpp>
@@ -196,6 +197,10 @@ void api_edit(const Context& c, const httplib::Request& req, httplib::Response& 
     send_json(res, 200, v);
 }
 
+/// The largest histogram the preview keeps for re-toning (a 1024^2 flame at supersample 2 is
+/// 128 MiB); a larger one renders every change stage by stage, as before.
+constexpr std::uint64_t kept_histogram_bytes = std::uint64_t(256) << 20;
+
 void api_preview(const Context& c, const httplib::Request& req, httplib::Response& res) {
     const Json body = parse_body(req);
     const std::string text = field(body, "text", true), path = request_path(c, body);
@@ -225,7 +230,9 @@ void api_preview(const Context& c, const httplib::Request& req, httplib::Respons
         if (retone) break;
         if (f == 1) {
             RenderRequest kept_one = request;
-            kept_one.keep_histogram = true;
+            // (Kept while the server runs: not a histogram of more than a quarter GiB.)
+            kept_one.keep_histogram =
+                histogram_bytes(full.renderer->histogram_shape()) <= kept_histogram_bytes;
             stages.push_back(plan_render(full, kept_one));
             continue;
         }
