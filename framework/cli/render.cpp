@@ -84,15 +84,10 @@ int cmd_tone(const Options& o) {
         throw InputError("tone: " + quote(o.config, 200) +
                          " is not a histogram file: name one (.fph) that render --histogram wrote");
     const Registry reg = make_registry(o);
-    RenderRequest r;
-    r.output = o.out;
-    r.default_file = true;
-    r.force = o.force;
-    r.source = o.config;
-    r.threads = o.threads;
-    r.memory = o.memory.empty() ? 0 : parse_size(o.memory, "--memory");
+    // render's request (its output, threads, memory), finished whole on one process.
+    RenderRequest r = render_request(o);
+    r.distributed = false;
     r.may_stream = false;
-    r.replace_hint = "name it with -o to replace it, or add --force";
     // The recipe first (its errors at their place), then the bins.
     Pipeline p = load_pipeline(reg, o.config, o.sets, "", o.allow_python);
     told(p);
