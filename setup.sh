@@ -50,6 +50,9 @@ sanitize=
 [ "$mode" = test ] && packages+=(python3-pytest python3-pil)
 # flam3's palettes, read where Debian installs them (a test reads palette 0 of the real file).
 [ "$mode" = test ] && packages+=(flam3-palette)
+# flam3 itself, the outside reference of the flam3 variations and genomes: libflam3 in a test
+# only (tests/flam3), flam3-render and flam3-genome in the parity tests.
+[ "$mode" = test ] && packages+=(libflam3-dev flam3-utils)
 # The preview page's tests in a real browser: headless Chromium driven by Selenium.
 [ "$mode" = test ] && packages+=(chromium chromium-driver python3-selenium)
 # The linters, run by CTest (tests/lint/): clang-tidy on the changed C++ files, ESLint on web/,

@@ -106,9 +106,14 @@ int cmd_conformance(const Options& o) {
     std::vector<const PluginEntry*> targets;
     // A plugin file (a path, or a name ending in .so), or the name of a plugin found in the
     // plugin folders (an unknown one gets the "did you mean" of describe).
-    for (const auto& f : o.files)
-        targets.push_back(f.find('/') == std::string::npos && !f.ends_with(".so") ? &reg.get(f)
-                                                                                  : &reg.load_file(f));
+    for (const auto& f : o.files) {
+        if (f.find('/') == std::string::npos && !f.ends_with(".so")) {
+            targets.push_back(&reg.get(f));
+        } else {
+            const auto all = reg.of_file(reg.load_file(f)); // a family file: each of its plugins
+            targets.insert(targets.end(), all.begin(), all.end());
+        }
+    }
     if (o.files.empty()) targets = reg.all();
     if (!o.example.empty()) {
         // Bad input, refused as such (exit 2) before any check runs, not reported as a failed check.

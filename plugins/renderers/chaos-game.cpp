@@ -186,11 +186,46 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         map_speed_.push_back(speed);
         if (!(w[j] > 0) || !std::isfinite(w[j]))
             throw fp::ParamError("maps", "maps[" + std::to_string(j) + "].weight must be a positive number");
+        random_maps_ = random_maps_ || m->uses_random();
         const bool region = m->has_region();
         if (region) region_maps_.push_back(uint32_t(j));
         maps_.push_back(std::move(m));
         colours_.push_back(c);
     }
+    // The final maps (flam3's finalxform): the plotted points only, each with its colour as a
+    // map's (its `color` and `color_speed` under a palette).
+    static const std::vector<fp::ObjectItem> none;
+    const auto& fin = p.has("final") ? p.objects("final") : none;
+    for (size_t j = 0; j < fin.size(); ++j) {
+        auto m = fp::as<fp::Transform>(fin[j]);
+        if (!m) throw fp::InternalError("chaos-game: final[" + std::to_string(j) + "] is not a transform");
+        if (const std::string why = m->plane_map_problem(); !why.empty())
+            throw fp::ParamError("final", "final[" + std::to_string(j) + "]: " + why);
+        fp::Rgb c = fp_render::palette_colour(k + j);
+        float index = 0.0f, speed = 0.5f;
+        if (fin[j].extras) {
+            if (fin[j].extras->has("colour")) c = fin[j].extras->colour("colour");
+            if (fin[j].extras->has("color")) {
+                if (!palette_)
+                    throw fp::ParamError("final", "final[" + std::to_string(j) +
+                                                      "].color: a palette index (flam3's), but the colourer "
+                                                      "takes no palette (flame with palette: ...)");
+                index = float(fin[j].extras->real("color"));
+            }
+            speed = float(fin[j].extras->real("color_speed"));
+        }
+        random_final_ = random_final_ || m->uses_random();
+        final_.push_back(std::move(m));
+        final_colours_.push_back(c);
+        final_index_.push_back(index);
+        final_speed_.push_back(speed);
+    }
+    const double rot = p.real("rotate");
+    rotate_ = rot != 0;
+    cam_[0] = std::cos(rot * (3.14159265358979323846 / 180.0));
+    cam_[1] = std::sin(rot * (3.14159265358979323846 / 180.0));
+    y_down_ = p.string("y_axis") == "down";
+    has_finals_ = !final_.empty() || rotate_ || y_down_;
     colours_.push_back(fp::Rgb{});
     map_index_.push_back(0.0f), map_speed_.push_back(0.0f); // (the k-th: never used)
     for (size_t j = 0; j < k; ++j)
@@ -303,7 +338,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     // whatever the chain's history, so the renderer writes the last colours from the maps the
     // fused step took (chaos-game/block.cpp). The running colour of Algorithm 2 (flame's `last`) changes
     // only where a chain plots, unlike the fused step's: that mode keeps the generic path.
-    if (p.string("kernels") == "auto" && k <= fp_chaos::table_size &&
+    if (p.string("kernels") == "auto" && k <= fp_chaos::table_size && !has_finals_ &&
         (!colour_ || crule != fp::ColourRule::none) && (!last_ || crule == fp::ColourRule::map)) {
         std::vector<fp::KnownKernel> kk;
         for (const auto& m : maps_) kk.push_back(m->kernel());
@@ -400,6 +435,18 @@ constexpr fp::ParamSpec map_item_params[] = {
         .max(1),
 };
 
+constexpr fp::ParamSpec final_item_params[] = {
+    fp::param::colour("colour", "colour the final map blends the plotted point's toward (as a map's)").opt(),
+    fp::param::real("color", "flam3's color of the final xform: its index into the colourer's palette")
+        .min(0)
+        .max(1)
+        .opt(),
+    fp::param::real("color_speed", "flam3's color_speed of the final xform (the plotted colour only)")
+        .def("0.5")
+        .min(0)
+        .max(1),
+};
+
 constexpr fp::ParamSpec params[] = {
     fp::param::integer("width", "image width in pixels").def("512").min(1).max(65536),
     fp::param::integer("height", "image height in pixels").def("512").min(1).max(65536),
@@ -435,6 +482,18 @@ constexpr fp::ParamSpec params[] = {
                        "the maps of the chaos game, each with a weight and a colour")
         .min_len(1)
         .items(map_item_params),
+    fp::param::objects("final", fp::Kind::Transform,
+                       "maps applied, in order, to the plotted points only (flam3's finalxform): the "
+                       "chains go on from their own points; each with a colour as the maps")
+        .opt()
+        .items(final_item_params),
+    fp::param::real("rotate",
+                    "flam3's rotate: the plotted points turned about the view's centre by this many "
+                    "degrees (after the final maps)")
+        .def("0"),
+    fp::param::string("y_axis", "up: the view's ymax is the top row; down: its ymin (flam3's camera)")
+        .def("up")
+        .one_of("up|down"),
     fp::param::object("iteration", fp::Kind::IterationScheme, "iteration process applied with the chosen map")
         .def("{type: picard}"),
     fp::param::object("colourer", fp::Kind::Colourer, "how points are coloured and the histogram tone-mapped")

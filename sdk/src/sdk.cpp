@@ -155,6 +155,7 @@ void Transform::contains(Points<const double> p, unsigned char* out) const {
 std::vector<Vec2> Transform::region_outline(std::size_t) const { return {}; }
 std::optional<Vec2> Transform::region_centre() const { return std::nullopt; }
 bool Transform::is_involution() const { return false; }
+bool Transform::uses_random() const { return false; }
 Box Transform::sample_domain() const { return {-2, 2, -2, 2}; }
 std::optional<PeriodLattice> Transform::periods() const { return std::nullopt; }
 KnownKernel Transform::kernel() const { return {}; }

@@ -112,9 +112,9 @@ TEST(ConformanceBroken, NamesAndExamplesOnTheCommandLine) {
     const auto named = run_cli({"conformance", "mann", "--example", "{alpha: 0.25}"});
     EXPECT_EQ(named.rc, 0) << named.out << named.err;
     EXPECT_EQ(named.out.rfind("PASS mann (", 0), 0u) << named.out;
-    const auto unknown = run_cli({"conformance", "man"});
+    const auto unknown = run_cli({"conformance", "manm"});
     EXPECT_EQ(unknown.rc, 2);
-    EXPECT_EQ(unknown.err, "unknown plugin 'man' (did you mean 'mann'?)\n");
+    EXPECT_EQ(unknown.err, "unknown plugin 'manm' (did you mean 'mann'?)\n");
     const auto list = run_cli({"conformance", "mann", "--example", "[1, 2]"});
     EXPECT_EQ(list.rc, 2);
     EXPECT_EQ(list.err, "--example:1:1: expected a mapping of parameters, got a list\n");

@@ -18,9 +18,11 @@ class Conformance : public testing::TestWithParam<std::string> {};
 TEST_P(Conformance, Plugin) {
     fp::host::Registry reg;
     for (const auto& d : fp::host::Registry::default_dirs()) reg.load_dir(d);
-    const auto& entry = reg.load_file(GetParam());
-    const auto findings = fp::host::run_conformance(reg, entry);
-    for (const auto& f : findings) ADD_FAILURE() << entry.desc->name << ": " << f;
+    // Every plugin of the file (a family library holds many).
+    for (const auto* entry : reg.of_file(reg.load_file(GetParam()))) {
+        const auto findings = fp::host::run_conformance(reg, *entry);
+        for (const auto& f : findings) ADD_FAILURE() << entry->desc->name << ": " << f;
+    }
 }
 
 std::string test_name(const testing::TestParamInfo<std::string>& info) {

@@ -56,11 +56,11 @@ if out=$(printf '1 2\n' | "${fixpoint[@]}" eval "$affine" --scheme '{type: m-ite
 fi
 grep -q "scheme.a: 0.5+0.3q is a q-system number, but the scheme computes in the real numbers" <<<"$out"
 # The transform: a quarter turn at distance 1 (strength pi/2): (2, 0) about (1, 0) -> (1, 1).
-got=$(printf '2 0\n' | "${fixpoint[@]}" eval '{type: swirl, centre: [1, 0], strength: 1.5707963267948966}')
+got=$(printf '2 0\n' | "${fixpoint[@]}" eval '{type: twirl, centre: [1, 0], strength: 1.5707963267948966}')
 awk -v got="$got" 'BEGIN { split(got, v, " "); d = (v[1] - 1) ^ 2 + (v[2] - 1) ^ 2; exit !(d < 1e-24) }' ||
-    { echo "swirl: (2, 0) gave '$got', expected (1, 1)" >&2; exit 1; }
+    { echo "twirl: (2, 0) gave '$got', expected (1, 1)" >&2; exit 1; }
 
-"${fixpoint[@]}" conformance "$work/build/m-iteration.so" "$work/build/swirl.so" "$work/build/blend.so"
+"${fixpoint[@]}" conformance "$work/build/m-iteration.so" "$work/build/twirl.so" "$work/build/blend.so"
 
 # A coefficient is found by its name when compiling: a name `params` does not declare, or a bare
 # index, does not compile.
@@ -88,7 +88,7 @@ small=(--set renderer.width=96 --set renderer.height=96 --set renderer.samples=1
     --set 'renderer.iteration.numbers={type: real}' --set renderer.iteration.a=0.05
 "${fixpoint[@]}" render "$src/m-iteration.yaml" -o "$work/q-system.png" "${small[@]}" \
     --set 'renderer.iteration.numbers={type: q-system, A: -0.6, B: -0.2}'
-"${fixpoint[@]}" render "$src/swirl.yaml" -o "$work/swirl.png" --quiet
-python3 "$src/../support/png_colours.py" 16 "$work"/{complex,real,q-system,swirl}.png
+"${fixpoint[@]}" render "$src/twirl.yaml" -o "$work/twirl.png" --quiet
+python3 "$src/../support/png_colours.py" 16 "$work"/{complex,real,q-system,twirl}.png
 "${fixpoint[@]}" recipe "$work/complex.png" | grep -q "type: m-iteration"
 echo "external scheme: built optimised, eval as computed by hand, conformant, rendered"

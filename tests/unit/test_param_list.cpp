@@ -59,7 +59,7 @@ TEST(ParamList, EntriesOfASmallConfig) {
                                       "renderer.maps[0].color",
                                       "renderer.maps[0].color_speed"};
     const auto got = paths(all);
-    ASSERT_EQ(got.size(), 1 + 10 + 1 + 8 * item0.size() + 1 + 10 + 14);
+    ASSERT_EQ(got.size(), 1 + 10 + 1 + 8 * item0.size() + 3 + 1 + 10 + 14);
     EXPECT_EQ(std::vector<std::string>(got.begin(), got.begin() + 12),
               (std::vector<std::string>{"renderer", "renderer.width", "renderer.height", "renderer.view",
                                         "renderer.points", "renderer.seed", "renderer.skip", "renderer.start",
@@ -68,7 +68,10 @@ TEST(ParamList, EntriesOfASmallConfig) {
     EXPECT_EQ(std::vector<std::string>(got.begin() + 12, got.begin() + 21), item0);
     EXPECT_EQ(got[12 + 7 * 9], "renderer.maps[7]");
     EXPECT_EQ(std::vector<std::string>(got.begin() + 12 + 8 * 9, got.end()),
-              (std::vector<std::string>{"renderer.iteration",
+              (std::vector<std::string>{"renderer.final",
+                                        "renderer.rotate",
+                                        "renderer.y_axis",
+                                        "renderer.iteration",
                                         "renderer.colourer",
                                         "renderer.colourer.gamma",
                                         "renderer.colourer.brightness",
@@ -239,7 +242,8 @@ TEST(ParamList, UnknownPluginsAndWrongValuesAreListedAsWritten) {
         std::vector<std::string>(got.begin() + at("renderer.maps"), got.begin() + at("renderer.iteration")),
         (std::vector<std::string>{"renderer.maps", "renderer.maps[0]", "renderer.maps[0].weight",
                                   "renderer.maps[0].colour", "renderer.maps[0].color",
-                                  "renderer.maps[0].color_speed", "renderer.maps[1]"}));
+                                  "renderer.maps[0].color_speed", "renderer.maps[1]", "renderer.final",
+                                  "renderer.rotate", "renderer.y_axis"}));
     EXPECT_EQ(entry(all, "renderer.maps[0]").value, "nope");
     EXPECT_EQ(entry(all, "renderer.maps[0].weight").value, "2");
     EXPECT_EQ(entry(all, "renderer.maps[1]").value, "5");

@@ -135,7 +135,8 @@ const PluginEntry& Registry::load(const fs::path& file, std::string& name) {
     } catch (const std::exception& e) {
         throw InputError("cannot load plugin '" + f + "': " + dlopen_reason(e.what(), f));
     }
-    if (!lib->has("fixpoint_abi") || !lib->has("fixpoint_descriptor"))
+    const bool family = lib->has("fixpoint_family");
+    if (!lib->has("fixpoint_abi") || !(family || lib->has("fixpoint_descriptor")))
         throw InputError("'" + f +
                          "' is not a fixpoint plugin (it exports no fixpoint_abi/fixpoint_descriptor)");
     const std::uint32_t abi = lib->get_alias<const std::uint32_t>("fixpoint_abi");
@@ -143,23 +144,48 @@ const PluginEntry& Registry::load(const fs::path& file, std::string& name) {
         throw InputError("plugin '" + f + "' was built for plugin ABI " + std::to_string(abi) +
                          ", this fixpoint needs ABI " + std::to_string(abi_version) +
                          ": rebuild it against this SDK");
-    const PluginDescriptor& d = lib->get_alias<const PluginDescriptor>("fixpoint_descriptor");
-    if (d.abi != abi_version || !d.create || !d.summary || (!d.params && d.n_params) ||
-        unsigned(d.kind) >= unsigned(kind_count))
-        throw InputError("plugin '" + f + "' has a malformed descriptor");
-    name = d.name ? d.name : "";
-    if (!kebab(d.name))
-        throw InputError("plugin '" + f + "' has name '" + std::string(d.name ? d.name : "") +
-                         "', which is not kebab-case");
-    if (const PluginEntry* other = find(d.name))
-        throw InputError("two plugins named '" + std::string(d.name) + "': '" + other->file.string() +
-                         "' and '" + f + "'");
-    auto entry = std::make_unique<PluginEntry>();
-    entry->desc = &d;
-    entry->file = path;
-    entry->lib = std::move(lib);
-    entries_.push_back(std::move(entry));
-    return *entries_.back();
+    // One descriptor, or a family's (FIXPOINT_PLUGIN_FAMILY): every one checked before any is
+    // added, so that a library loads whole or not at all.
+    std::vector<const PluginDescriptor*> descs;
+    if (family) {
+        const auto& fam = lib->get_alias<const PluginFamily>("fixpoint_family");
+        if (!fam.descriptors || fam.n == 0) throw InputError("plugin '" + f + "' has a malformed descriptor");
+        for (std::uint32_t i = 0; i < fam.n; ++i) descs.push_back(&fam.descriptors[i]);
+    } else {
+        descs.push_back(&lib->get_alias<const PluginDescriptor>("fixpoint_descriptor"));
+    }
+    for (std::size_t i = 0; i < descs.size(); ++i) {
+        const PluginDescriptor& d = *descs[i];
+        if (d.abi != abi_version || !d.create || !d.summary || (!d.params && d.n_params) ||
+            unsigned(d.kind) >= unsigned(kind_count))
+            throw InputError("plugin '" + f + "' has a malformed descriptor");
+        name = d.name ? d.name : "";
+        if (!kebab(d.name))
+            throw InputError("plugin '" + f + "' has name '" + std::string(d.name ? d.name : "") +
+                             "', which is not kebab-case");
+        if (const PluginEntry* other = find(d.name))
+            throw InputError("two plugins named '" + std::string(d.name) + "': '" + other->file.string() +
+                             "' and '" + f + "'");
+        for (std::size_t j = 0; j < i; ++j)
+            if (std::string_view(descs[j]->name) == d.name)
+                throw InputError("two plugins named '" + std::string(d.name) + "' in '" + f + "'");
+    }
+    const std::size_t first = entries_.size();
+    for (const PluginDescriptor* d : descs) {
+        auto entry = std::make_unique<PluginEntry>();
+        entry->desc = d;
+        entry->file = path;
+        entry->lib = lib;
+        entries_.push_back(std::move(entry));
+    }
+    return *entries_[first];
+}
+
+std::vector<const PluginEntry*> Registry::of_file(const PluginEntry& e) const {
+    std::vector<const PluginEntry*> out;
+    for (const auto& x : entries_)
+        if (x->file == e.file) out.push_back(x.get());
+    return out;
 }
 
 const PluginEntry* Registry::find(std::string_view name) const {

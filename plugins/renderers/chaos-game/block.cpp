@@ -237,7 +237,7 @@ private:
             g_.colourer_->update(chosen, cs, g_.colours_.data(), moved);
             colours_in_range_ = false; // (a colourer's rule: no promise of its range)
         }
-        const Counts sc = bookkeep(bv_, Colour);
+        const Counts sc = g_.has_finals_ ? bookkeep_finals(n) : bookkeep(bv_, Colour);
         if (Colour && g_.last_) {
             const uint64_t* dep = s_.dep.get();
             write_last_colours(
@@ -247,6 +247,17 @@ private:
                 });
         }
         return sc;
+    }
+
+    /// The bookkeeping of a recipe with final maps or a camera: of the plotted points and
+    /// colours (ChaosGame::finals), the chains' own left as they are. A chain whose plotted point
+    /// is not finite restarts, as one whose own point is not.
+    Counts bookkeep_finals(uint64_t n) {
+        g_.finals(s_, nb_, n, Colour);
+        BookArgs<T> b = bv_;
+        b.x = s_.fx.get(), b.y = s_.fy.get();
+        if constexpr (Colour) b.cr = s_.fr.get(), b.cg = s_.fg.get(), b.cb = s_.fb.get();
+        return bookkeep(b, Colour);
     }
 
     /// 6. The deposit: one 4 x 32-bit add per chain (or one 16-bit tally), or one 32-bit increment

@@ -275,6 +275,12 @@ struct Scratch {
     Buf<unsigned char> moved;
     Buf<T> gx, gy;    // the staging segments of the grouping by map
     Buf<uint32_t> gi; // the chain of each staged point
+    Buf<uint64_t> gk; // the staged points' random keys (maps that draw random numbers)
+    // the plotted points and colours when the recipe has final maps or a camera (ChaosGame::finals)
+    Buf<T> fx, fy;
+    Buf<float> fr, fg, fb, fi;
+    Buf<uint32_t> fchosen;
+    Buf<uint64_t> fk;
     // start points
     Buf<T> sx, sy;
     Buf<uint32_t> pend;
@@ -282,12 +288,19 @@ struct Scratch {
     // the scheme's step at the current step index (the fused step with a scheme)
     fp_chaos::LaneProgram<T> program;
 
-    explicit Scratch(size_t k) {
+    /// `finals`: the recipe has final maps or a camera (ChaosGame::finals's arrays); `random`:
+    /// a map draws random numbers (the staged points' keys).
+    Scratch(size_t k, bool finals, bool random) {
         const size_t B = block_size;
         inside.alloc(k * B);
         chosen.alloc(B), perm.alloc(B), idx.alloc(B), idx2.alloc(B), restart.alloc(B);
         plotf.alloc(B), cnt.alloc(k + 1), dep.alloc(B), dep2.alloc(B), full.alloc(B);
         moved.alloc(B), gx.alloc(staging(k)), gy.alloc(staging(k)), gi.alloc(staging(k));
+        if (random) gk.alloc(staging(k));
+        if (finals) {
+            fx.alloc(B), fy.alloc(B), fr.alloc(B), fg.alloc(B), fb.alloc(B), fi.alloc(B), fchosen.alloc(B);
+            fk.alloc(B);
+        }
         sx.alloc(B), sy.alloc(B), pend.alloc(B), hit.alloc(B), any.alloc(B);
     }
 
@@ -306,10 +319,11 @@ struct Scratch {
     }
 
     static size_t staging(size_t k) { return k <= max_compress_maps ? k * seg_stride : block_size; }
-    static uint64_t bytes(size_t k) {
+    static uint64_t bytes(size_t k, bool finals, bool random) {
         const uint64_t B = block_size;
         return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + 5 + k + 8 * 4 + 16 + 1 + 4 + 2) +
-               (2 * sizeof(T) + 4) * staging(k) + 12 * (k + 2) + 64 * 40;
+               (2 * sizeof(T) + 4) * staging(k) + 12 * (k + 2) + 64 * 40 +
+               (random ? 8 * staging(k) + 64 : 0) + (finals ? B * (2 * sizeof(T) + 5 * 4 + 8) + 64 * 8 : 0);
     }
 };
 

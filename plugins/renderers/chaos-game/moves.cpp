@@ -10,8 +10,10 @@
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 
 namespace fp_chaos {
@@ -44,6 +46,80 @@ void ChaosGame::choose_alias(Scratch<T>& s, size_t nb) const {
     draw_by_alias(a);
 }
 
+// ---------------------------------------------------------------- random keys
+// Maps that draw random numbers (Transform::uses_random: flam3's julia, blur, ...) take them
+// from a key per point: fp::map_key(seed, chain, n), the chain's own counter-based stream,
+// so the chain's pcg32 draws (its map choices) stay those of a recipe without such maps.
+template <class T>
+const uint64_t* ChaosGame::keys(Scratch<T>& s, const uint32_t* lanes, size_t at, size_t len,
+                                uint64_t n) const {
+    if (!random_maps_) return nullptr;
+    uint64_t* k = s.gk.get() + at;
+    const uint32_t* chain = s.c.chain.get();
+    for (size_t t = 0; t < len; ++t) k[t] = fp::map_key(seed_, chain[lanes[t]], n);
+    return k;
+}
+
+// ---------------------------------------------------------------- final maps, camera
+template <class T>
+void ChaosGame::finals(Scratch<T>& s, size_t nb, uint64_t n, bool colour) const {
+    T* fx = s.fx.get();
+    T* fy = s.fy.get();
+    std::copy(s.c.x.get(), s.c.x.get() + nb, fx);
+    std::copy(s.c.y.get(), s.c.y.get() + nb, fy);
+    if (colour) {
+        std::copy(s.c.cr.get(), s.c.cr.get() + nb, s.fr.get());
+        std::copy(s.c.cg.get(), s.c.cg.get() + nb, s.fg.get());
+        std::copy(s.c.cb.get(), s.c.cb.get() + nb, s.fb.get());
+        std::copy(s.c.ci.get(), s.c.ci.get() + nb, s.fi.get());
+    }
+    const uint64_t* keys = nullptr;
+    if (random_final_) {
+        // The final maps' randoms: the chain's key at this step (the maps' own salt 0 and up is
+        // the step's applications of its map; the final maps take salts from 2^31).
+        uint64_t* k = s.fk.get();
+        for (size_t i = 0; i < nb; ++i) k[i] = fp::map_key(seed_, s.c.chain.get()[i], n);
+        keys = k;
+    }
+    unsigned char* moved = s.moved.get();
+    for (size_t j = 0; j < final_.size(); ++j) {
+        final_[j]->apply(fp::Points<T>{fx, fy, nb, keys, 0x80000000u + uint32_t(j)}, nullptr);
+        if (!colour) continue;
+        std::fill(s.fchosen.get(), s.fchosen.get() + nb, uint32_t(j));
+        std::fill(moved, moved + nb, static_cast<unsigned char>(1));
+        fp::ColourState cs{s.fr.get(), s.fg.get(), s.fb.get(), nb};
+        if (palette_) {
+            cs.index = s.fi.get();
+            cs.map_index = final_index_.data();
+            cs.map_speed = final_speed_.data();
+        }
+        colourer_->update(s.fchosen.get(), cs, final_colours_.data(), moved);
+    }
+    // A chain whose own point is not finite restarts, whatever its final maps made of it (blur
+    // ignores its input).
+    for (size_t i = 0; i < nb; ++i)
+        if (!std::isfinite(s.c.x.get()[i]) || !std::isfinite(s.c.y.get()[i]))
+            fx[i] = std::numeric_limits<T>::quiet_NaN();
+    if (rotate_ || y_down_) {
+        // flam3's camera: the point turned about the view's centre (c, -s; s, c), then, with the
+        // y axis down, mirrored in the view's middle row (its ymin at the top).
+        const double cx = 0.5 * (frame_.region.xmin + frame_.region.xmax);
+        const double cy = 0.5 * (frame_.region.ymin + frame_.region.ymax);
+        const T co = T(cam_[0]), si = T(cam_[1]), X = T(cx), Y = T(cy);
+        const T sum = T(frame_.region.ymin + frame_.region.ymax);
+        for (size_t i = 0; i < nb; ++i) {
+            T x = fx[i], y = fy[i];
+            if (rotate_) {
+                const T dx = x - X, dy = y - Y;
+                x = (dx * co - dy * si) + X;
+                y = (dx * si + dy * co) + Y;
+            }
+            fx[i] = x;
+            fy[i] = y_down_ ? sum - y : y;
+        }
+    }
+}
+
 // ---------------------------------------------------------------- grouping by map
 // Group the chains by chosen map (chains with chosen = k stay), call the iteration scheme
 // once per map on its points, and put the new points back.
@@ -64,7 +140,8 @@ void ChaosGame::move_chains(Scratch<T>& s, size_t nb, uint64_t n) const {
         for (size_t j = 0; j < k; ++j) {
             const size_t at = j * seg_stride, len = cnt[j];
             if (!len) continue;
-            iteration_->step(*maps_[j], fp::Points<T>{gx + at, gy + at, len}, nullptr, n);
+            iteration_->step(*maps_[j], fp::Points<T>{gx + at, gy + at, len, keys(s, gi + at, at, len, n)},
+                             nullptr, n);
             scatter(gx + at, gy + at, gi + at, len, x, y);
         }
         return;
@@ -91,7 +168,10 @@ void ChaosGame::move_chains(Scratch<T>& s, size_t nb, uint64_t n) const {
     // cnt[j] is now the end of map j's segment.
     for (size_t j = 0; j < k; ++j) {
         const size_t beg = j == 0 ? 0 : cnt[j - 1], len = cnt[j] - beg;
-        if (len) iteration_->step(*maps_[j], fp::Points<T>{gx + beg, gy + beg, len}, nullptr, n);
+        if (len)
+            iteration_->step(*maps_[j],
+                             fp::Points<T>{gx + beg, gy + beg, len, keys(s, perm + beg, beg, len, n)},
+                             nullptr, n);
     }
     const size_t movers = cnt[k - 1];
     for (size_t t = 0; t < movers; ++t) {
@@ -184,6 +264,8 @@ template void ChaosGame::choose_alias<float>(Scratch<float>&, size_t) const;
 template void ChaosGame::choose_alias<double>(Scratch<double>&, size_t) const;
 template void ChaosGame::move_chains<float>(Scratch<float>&, size_t, uint64_t) const;
 template void ChaosGame::move_chains<double>(Scratch<double>&, size_t, uint64_t) const;
+template void ChaosGame::finals<float>(Scratch<float>&, size_t, uint64_t, bool) const;
+template void ChaosGame::finals<double>(Scratch<double>&, size_t, uint64_t, bool) const;
 template void ChaosGame::new_starts<float>(Scratch<float>&, const uint32_t*, size_t) const;
 template void ChaosGame::new_starts<double>(Scratch<double>&, const uint32_t*, size_t) const;
 template bool ChaosGame::lane_program<float>(uint64_t, LaneProgram<float>&) const;

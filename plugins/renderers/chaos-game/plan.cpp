@@ -57,8 +57,8 @@ uint64_t ChaosGame::strip_bytes(unsigned workers, uint64_t rows, bool colour, bo
 }
 
 uint64_t ChaosGame::scratch_bytes(unsigned workers) const {
-    return uint64_t(workers) *
-           (double_ ? Scratch<double>::bytes(maps_.size()) : Scratch<float>::bytes(maps_.size()));
+    return uint64_t(workers) * (double_ ? Scratch<double>::bytes(maps_.size(), has_finals_, random_maps_)
+                                        : Scratch<float>::bytes(maps_.size(), has_finals_, random_maps_));
 }
 
 uint64_t ChaosGame::memory_bytes(unsigned workers) const {

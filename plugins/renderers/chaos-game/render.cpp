@@ -230,7 +230,8 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
                 if (keep && keep->stop.load(std::memory_order_relaxed)) return;
                 Task& t = work[it - head];
                 if (t.done) continue;
-                if (!scratch[w]) scratch[w] = std::make_unique<Scratch<T>>(maps_.size());
+                if (!scratch[w])
+                    scratch[w] = std::make_unique<Scratch<T>>(maps_.size(), has_finals_, random_maps_);
                 if (!hists[w].bins.get() && !hists[w].hits.get())
                     hists[w].alloc(px, colour, last, tallies_.get(), poll);
                 t.done = run_block<T>(t, *scratch[w], hists[w], ctx, row0, rows, colour, keep);

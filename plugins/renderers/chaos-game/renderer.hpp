@@ -138,6 +138,17 @@ private:
     /// points at step index n, and the new points back in place.
     template <class T>
     void move_chains(Scratch<T>& s, size_t nb, uint64_t n) const;
+    /// The points block.cpp's bookkeeping plots when the recipe has final maps or a camera
+    /// (has_finals_): each chain's point through the final maps in order (flam3's finalxform:
+    /// the plotted point only, the chain goes on from its own), then the camera (rotate, y_axis),
+    /// into s.fx, s.fy; with `colour`, the chains' colours through the final maps' colour rules
+    /// into s.fr, s.fg, s.fb (the chains' own stay).
+    template <class T>
+    void finals(Scratch<T>& s, size_t nb, uint64_t n, bool colour) const;
+    /// The random keys of the staged points [at, at + len) whose lanes are `lanes`, at step n
+    /// (fp::map_key), in the scratch's gk; null when no map draws random numbers.
+    template <class T>
+    const uint64_t* keys(Scratch<T>& s, const uint32_t* lanes, size_t at, size_t len, uint64_t n) const;
     /// A start point for each of the m lanes list[0..m).
     template <class T>
     void new_starts(Scratch<T>& s, const uint32_t* list, size_t m) const;
@@ -189,6 +200,15 @@ private:
     std::shared_ptr<const Tallies> tallies_;
 
     std::vector<std::shared_ptr<const fp::Transform>> maps_;
+    bool random_maps_ = false; ///< some map draws random numbers (Transform::uses_random)
+    /// Maps applied to the plotted points only (`final`), with their colours as the maps' are
+    /// kept (final_colours_, final_index_, final_speed_); the camera: rotation about the view's
+    /// centre (cam_: cos, sin) and the y axis down (flam3's).
+    std::vector<std::shared_ptr<const fp::Transform>> final_;
+    std::vector<fp::Rgb> final_colours_;
+    std::vector<float> final_index_, final_speed_;
+    bool random_final_ = false, has_finals_ = false, rotate_ = false, y_down_ = false;
+    double cam_[2] = {1, 0};
     std::vector<uint32_t> region_maps_;       ///< indices of the maps with a set
     std::vector<uint32_t> q_;                 ///< integer weights (rules on)
     bool uniform_ = true;                     ///< every weight the same (the rules' draw)

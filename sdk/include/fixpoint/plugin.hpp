@@ -40,9 +40,12 @@ namespace fp {
 /// Renderer::histogram_shape and finish_histogram, for kept histograms and `fixpoint tone`;
 /// ColourState::index, map_index and map_speed, Colourer::palette_index, fixpoint/palette.hpp,
 /// for flam3's palettes):
+/// ABI 19: fp::Points::key and salt, Transform::uses_random, fixpoint/rng.hpp's map_key and
+/// map_uniform, for maps that draw random numbers (flam3's variations); FIXPOINT_PLUGIN_FAMILY,
+/// for a library of many plugins built from one table;
 /// the host refuses a plugin built for another value ("rebuild it against this SDK"), so a
 /// plugin always matches the headers the host was built with.
-constexpr std::uint32_t abi_version = 18;
+constexpr std::uint32_t abi_version = 19;
 
 /// What a plugin can do that the host asks of its descriptor, as bits of
 /// PluginDescriptor::abilities: data, so that a new ability adds a bit here rather than a
@@ -95,6 +98,12 @@ struct PluginDescriptor {
     }
 };
 
+/// The plugins of a family library (FIXPOINT_PLUGIN_FAMILY): n descriptors from one table.
+struct PluginFamily {
+    const PluginDescriptor* descriptors = nullptr;
+    std::uint32_t n = 0;
+};
+
 template <class C>
 Object* create_plugin(const ParamBag& p) {
     return new C(p);
@@ -133,3 +142,14 @@ constexpr PluginDescriptor describe(Kind kind, const char* name, const char* sum
     }                                                                                                        \
     BOOST_DLL_ALIAS(fixpoint_plugin_abi_, fixpoint_abi)                                                      \
     BOOST_DLL_ALIAS(fixpoint_plugin_descriptor_, fixpoint_descriptor)
+
+/// A library of many plugins that share their code (flam3's variations: one table, one plugin
+/// per variation). `array` is a constexpr array of fp::PluginDescriptor; the host loads each
+/// as it loads a plugin of its own file, and refuses the library if any one is malformed.
+#define FIXPOINT_PLUGIN_FAMILY(array)                                                                        \
+    namespace {                                                                                              \
+    constexpr ::fp::PluginFamily fixpoint_plugin_family_{(array).data(), std::uint32_t((array).size())};     \
+    constexpr std::uint32_t fixpoint_plugin_abi_ = ::fp::abi_version;                                        \
+    }                                                                                                        \
+    BOOST_DLL_ALIAS(fixpoint_plugin_abi_, fixpoint_abi)                                                      \
+    BOOST_DLL_ALIAS(fixpoint_plugin_family_, fixpoint_family)

@@ -216,15 +216,17 @@ struct Chunk {
     // 2 KiB for every batch showed up in profiles.
     Chunk(const Transform& m, std::size_t count) : map(m), n(count) {}
 
-    const Transform& map; ///< T
-    std::size_t n;        ///< the points in this chunk (at most chunk_size)
-    Buf<T> p;             ///< the points; the kernel leaves the new points here
+    const Transform& map;               ///< T
+    std::size_t n;                      ///< the points in this chunk (at most chunk_size)
+    Buf<T> p;                           ///< the points; the kernel leaves the new points here
+    const std::uint64_t* key = nullptr; ///< the points' random keys (fp::Points::key), or null
 
     /// dst <- T(src) (dst may be src).
     void t(Buf<T>& dst, const Buf<T>& src) const {
         if (rec_) return rec_->add(SchemeProgram::Op::map, &dst, &src);
         if (&dst != &src) copy(dst, src);
-        map.apply(Points<T>{dst.x, dst.y, n}, nullptr);
+        // Each application of T in the step draws its own randoms (salt), from the chain's keys.
+        map.apply(Points<T>{dst.x, dst.y, n, key, salt_++}, nullptr);
     }
     /// dst <- src.
     void copy(Buf<T>& dst, const Buf<T>& src) const {
@@ -257,6 +259,7 @@ private:
     template <class D>
     friend class fp::SchemeBase;
     detail::Recorder* rec_ = nullptr; ///< set while SchemeBase::program records the kernel
+    mutable std::uint32_t salt_ = 0;  ///< applications of T so far in this step
 };
 
 /// The matrix of the number 1 (M(1) = I in every number system) and of 0.
@@ -400,6 +403,7 @@ private:
         const D& self = static_cast<const D&>(*this);
         for (std::size_t begin = 0; begin < p.n; begin += chunk_size) {
             scheme::Chunk<T> c(t, std::min(chunk_size, p.n - begin));
+            c.key = p.key ? p.key + begin : nullptr;
             T* x = p.x + begin;
             T* y = p.y + begin;
             std::copy(x, x + c.n, c.p.x);

@@ -79,6 +79,11 @@ public:
     /// The map as a known kernel (see KnownKernel), when it is one; the default is none.
     virtual KnownKernel kernel() const;
 
+    /// True when apply() draws random numbers (flam3's julia, blur, ...): from the batch's keys
+    /// (fp::Points::key), which a chain-game renderer then fills from the chains' streams
+    /// (fp::map_key), else from the points' bits. The default is false.
+    virtual bool uses_random() const;
+
     /// The map's lattice of periods (see PeriodLattice), when it is periodic (the wallpaper
     /// maps); the default is none. `fixpoint render --tile` renders one rectangular period.
     virtual std::optional<PeriodLattice> periods() const;

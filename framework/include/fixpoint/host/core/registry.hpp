@@ -50,6 +50,10 @@ public:
     /// plugin, a mismatched ABI, or a name taken by another file.
     const PluginEntry& load_file(const std::filesystem::path& file);
 
+    /// Every plugin of the file `e` came from, in the file's order (a family library holds
+    /// many: FIXPOINT_PLUGIN_FAMILY).
+    std::vector<const PluginEntry*> of_file(const PluginEntry& e) const;
+
     const PluginEntry* find(std::string_view name) const;
     /// The plugin `name` for a command that names one (describe): throws fp::InputError
     /// "unknown plugin 'X' (did you mean 'Y'?)", or "plugin 'X' is not available: REASON" when

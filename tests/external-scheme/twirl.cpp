@@ -1,5 +1,6 @@
-// swirl: a transform written per point: each point turns about `centre` by an angle that
-// grows with its squared distance from it (the "swirl" variation of fractal flames),
+// twirl: a transform written per point: each point turns about `centre` by an angle that
+// grows with its squared distance from it (like flam3's swirl variation, which fixpoint
+// ships as `swirl`),
 //
 //     T(p) = c + R(s |p - c|^2) (p - c),    R(t) the rotation by t radians.
 //
@@ -11,13 +12,13 @@
 
 namespace {
 
-class Swirl final : public fp::TransformBase<Swirl> {
+class Twirl final : public fp::TransformBase<Twirl> {
 public:
     static constexpr fp::ParamSpec params[] = {
         fp::param::vec2("centre", "the point the plane turns about").def("[0, 0]"),
         fp::param::real("strength", "s: radians of turn per unit of squared distance").def("1"),
     };
-    explicit Swirl(const fp::ParamBag& p) : c_(p.vec2("centre")), s_(p.real("strength")) {}
+    explicit Twirl(const fp::ParamBag& p) : c_(p.vec2("centre")), s_(p.real("strength")) {}
 
     // One point, in float or double: TransformBase writes the batch loops around it.
     template <class T>
@@ -36,6 +37,6 @@ private:
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::describe<Swirl>(fp::Kind::Transform, "swirl",
+FIXPOINT_PLUGIN(fp::describe<Twirl>(fp::Kind::Transform, "twirl",
                                     "turns each point about the centre by strength * (squared distance)",
-                                    Swirl::params))
+                                    Twirl::params))

@@ -1,0 +1,31 @@
+// flam3's XML genomes (.flam3, .flame) as fixpoint configs (docs/flam3.md): the camera, the
+// palette, the tone, the finishing, every xform with its variations and the final xform,
+// written as a chaos-game recipe with comments saying what came from where.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace fp::host {
+
+/// Which genome of a file of several (`fixpoint import --index K | --name N`).
+struct Flam3Select {
+    int index = -1;   ///< 0-based; -1: by name, or the first
+    std::string name; ///< the flame's name attribute
+};
+
+struct Flam3Import {
+    std::string yaml;                  ///< the config
+    std::vector<std::string> warnings; ///< what could not be carried over, one line each
+    int index = 0, count = 0;          ///< the genome taken, of how many
+};
+
+/// A file named as a flam3 genome (.flam3, .flame, .flam).
+bool is_flam3_file(const std::string& path);
+
+/// The config of one genome of `path`, whose output is `output` (empty: none). A malformed file,
+/// an unknown variation or attribute, a value that is not a finite number or out of its range:
+/// fp::InputError "PATH:LINE:COL: ..." at the attribute.
+Flam3Import import_flam3(const std::string& path, const Flam3Select& which, const std::string& output);
+
+} // namespace fp::host

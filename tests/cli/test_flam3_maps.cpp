@@ -1,0 +1,114 @@
+// flam3's maps in the chaos game (docs/flam3.md): xforms with random variations (julia,
+// gaussian_blur) draw from the chains' own keys, so a render is the same bytes on 1 and 3
+// threads; a final map moves the plotted points only (an identity final gives
+// the render without it; a linear final of weight 2 over the doubled view gives it too, the
+// chains unmoved); flam3's camera, y_axis: down, is the mirror image, and
+// rotate: 180 is the point reflection in the view's centre.
+#include "cli.hpp"
+
+#include <fixpoint/host/core/image_io.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+using namespace fp::test;
+
+namespace {
+
+std::string flame(const std::string& extra, const std::string& view = "[-1.6, 1.6, -1.2, 1.2]") {
+    return "renderer:\n  type: chaos-game\n  width: 80\n  height: 60\n  points: 300000\n  chains: 512\n"
+           "  view: " +
+           view +
+           "\n  inversion_rules: off\n"
+           "  colourer: {type: flame, palette: sunset}\n"
+           "  maps:\n"
+           "    - {type: xform, coefs: [0.9, -0.5, 0.5, 0.9, 0.3, 0.1], julia: 0.8, linear: 0.2, color: 0}\n"
+           "    - {type: xform, coefs: [-0.4, 0.2, -0.2, -0.4, -0.4, 0.3], swirl: 0.5, gaussian_blur: 0.1, "
+           "color: 1}\n" +
+           extra;
+}
+
+fp::Image render(const std::string& dir, const std::string& name, const std::string& yaml,
+                 const std::vector<std::string>& args = {}) {
+    write_file(dir + "/" + name + ".yaml", yaml);
+    std::vector<std::string> cmd = {"render", "--quiet", dir + "/" + name + ".yaml", "-o",
+                                    dir + "/" + name + ".png"};
+    cmd.insert(cmd.end(), args.begin(), args.end());
+    const auto r = run_cli(cmd);
+    EXPECT_EQ(r.rc, 0) << r.err;
+    return fp::host::read_image(dir + "/" + name + ".png");
+}
+
+/// Pixel (x, y) of an RGB(A) image, channel c.
+float px(const fp::Image& im, int x, int y, int c) {
+    return im.pixels[(std::size_t(y) * std::size_t(im.width) + std::size_t(x)) * std::size_t(im.channels) +
+                     std::size_t(c)];
+}
+
+TEST(Flam3Maps, RandomVariationsAreTheSameBytesOnAnyThreads) {
+    const std::string dir = scratch_dir("flam3_maps_threads");
+    const fp::Image one = render(dir, "one", flame(""), {"--threads", "1"});
+    const fp::Image three = render(dir, "three", flame(""), {"--threads", "3"});
+    ASSERT_FALSE(one.pixels.empty());
+    EXPECT_EQ(one.pixels, three.pixels);
+    // Not a black picture: most of the view is lit.
+    std::size_t lit = 0;
+    for (int y = 0; y < one.height; ++y)
+        for (int x = 0; x < one.width; ++x)
+            lit += px(one, x, y, 0) + px(one, x, y, 1) + px(one, x, y, 2) > 0.05f;
+    EXPECT_GT(lit, std::size_t(one.width * one.height / 8));
+    // Another seed: other random numbers, another image.
+    const fp::Image other = render(dir, "other", flame("  seed: 2\n"));
+    EXPECT_NE(one.pixels, other.pixels);
+}
+
+TEST(Flam3Maps, AFinalMapMovesThePlottedPointsOnly) {
+    const std::string dir = scratch_dir("flam3_maps_final");
+    const fp::Image plain = render(dir, "plain", flame(""));
+    // An identity final (linear, weight 1, color_speed 0): the same picture.
+    const fp::Image same = render(dir, "same", flame("  final:\n    - {type: linear, color_speed: 0}\n"));
+    EXPECT_EQ(plain.pixels, same.pixels);
+    // The plotted points doubled: the picture of the doubled view, the chains as they were.
+    const fp::Image doubled = render(
+        dir, "doubled",
+        flame("  final:\n    - {type: linear, linear: 2, color_speed: 0}\n", "[-3.2, 3.2, -2.4, 2.4]"));
+    EXPECT_EQ(doubled.pixels, plain.pixels);
+    // A final that changes colour changes the picture, not the lit pixels' set.
+    const fp::Image tinted =
+        render(dir, "tinted", flame("  final:\n    - {type: linear, color: 0.5, color_speed: 1}\n"));
+    EXPECT_NE(plain.pixels, tinted.pixels);
+    for (int y = 0; y < plain.height; ++y)
+        for (int x = 0; x < plain.width; ++x) {
+            const bool a = px(plain, x, y, 0) + px(plain, x, y, 1) + px(plain, x, y, 2) > 0;
+            const bool b = px(tinted, x, y, 0) + px(tinted, x, y, 1) + px(tinted, x, y, 2) > 0;
+            ASSERT_EQ(a, b) << "pixel " << x << ", " << y;
+        }
+}
+
+TEST(Flam3Maps, TheCameraMirrorsAndTurnsThePicture) {
+    const std::string dir = scratch_dir("flam3_maps_camera");
+    // A view symmetric about 0, so that the mirror and the half turn keep the bins' edges.
+    const fp::Image up = render(dir, "up", flame(""));
+    const fp::Image down = render(dir, "down", flame("  y_axis: down\n"));
+    const fp::Image turned = render(dir, "turned", flame("  rotate: 180\n"));
+    ASSERT_EQ(up.pixels.size(), down.pixels.size());
+    std::size_t mirror_bad = 0, turn_bad = 0, lit = 0;
+    for (int y = 0; y < up.height; ++y)
+        for (int x = 0; x < up.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                lit += px(up, x, y, c) > 0;
+                // (A point on a bin's edge may fall on the other side of it in the mirrored or
+                // turned arithmetic, sin 180 degrees is not exactly 0: a few such pixels are allowed.)
+                mirror_bad += std::abs(px(up, x, y, c) - px(down, x, up.height - 1 - y, c)) > 0.2f;
+                turn_bad +=
+                    std::abs(px(up, x, y, c) - px(turned, up.width - 1 - x, up.height - 1 - y, c)) > 0.2f;
+            }
+    EXPECT_GT(lit, std::size_t(up.width * up.height / 4));
+    EXPECT_LT(mirror_bad, lit / 50);
+    EXPECT_LT(turn_bad, lit / 50);
+}
+
+} // namespace
