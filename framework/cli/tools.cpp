@@ -5,6 +5,7 @@
 
 #include <fixpoint/fixpoint.hpp>
 #include <fixpoint/host/core/build.hpp>
+#include <fixpoint/host/core/flam3_import.hpp>
 #include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/host/tools/converse.hpp>
 #include <fixpoint/host/tools/symmetry.hpp>
@@ -260,6 +261,39 @@ int cmd_symmetry(const Options& o) {
     return all_kept ? 0 : 1;
 }
 
+// import: a flam3 genome as a config (host/core/flam3_import.hpp), to -o or stdout; its output
+// image is named after the config.
+int cmd_import(const Options& o) {
+    if (!is_flam3_file(o.config))
+        throw InputError(quote(o.config, 200) + ": not a flam3 genome file (.flam3, .flame or .flam)");
+    if (!o.out.empty()) {
+        if (std::filesystem::path(o.out).extension() != ".yaml")
+            throw InputError("-o " + quote(o.out, 200) + ": the config is YAML (name it .yaml)");
+        if (!o.force && std::filesystem::exists(o.out))
+            throw InputError(quote(o.out, 200) + " exists (--force replaces it)");
+        const auto dir = std::filesystem::path(o.out).parent_path();
+        if (!dir.empty() && !std::filesystem::is_directory(dir))
+            throw InputError("cannot write " + quote(o.out, 200) + ": folder " + quote(dir.string(), 200) +
+                             " does not exist");
+    }
+    Flam3Select which;
+    which.index = o.level >= 0 ? int(o.level) : -1;
+    which.name = o.name;
+    const std::string image =
+        o.out.empty() ? "" : std::filesystem::path(o.out).replace_extension(".png").filename().string();
+    const Flam3Import im = import_flam3(o.config, which, image);
+    for (const auto& w : im.warnings) std::fprintf(stderr, "warning: %s: %s\n", o.config.c_str(), w.c_str());
+    if (o.out.empty()) {
+        std::fputs(im.yaml.c_str(), stdout);
+    } else {
+        write_bytes(im.yaml, o.out);
+        if (!o.quiet)
+            std::fprintf(stderr, "%s: flame %d of %d of %s\n", o.out.c_str(), im.index, im.count,
+                         o.config.c_str());
+    }
+    return 0;
+}
+
 int cmd_recipe(const Options& o) {
     std::fputs(read_recipe(o.image).c_str(), stdout);
     return 0;
@@ -284,6 +318,17 @@ void add_tool_commands(CLI::App& app, Options& o, std::vector<Command>& table) {
                      "Affine maps as YAML flow mappings, e.g. '{type: affine, coefficients: [...]}'")
         ->required();
     to_sub->add_option("--points", o.points, "The control points [[x1, y1], [x2, y2], [x3, y3]]")->required();
+
+    auto* imp = app.add_subcommand("import", "Make a config of a flam3 genome (.flam3): docs/flam3.md");
+    imp->add_option("genome", o.config, "flam3 genome file (.flam3, .flame)")->required();
+    imp->add_option("-o,--output", o.out, "The config to write (.yaml); default: standard output");
+    auto* idx =
+        imp->add_option("--index", o.level, "Which flame of a file of several, from 0 (default: the first)")
+            ->check(CLI::Range(0LL, 1000000LL));
+    imp->add_option("--name", o.name, "The flame of this name attribute")->excludes(idx);
+    imp->add_flag("--force", o.force, "Replace an existing config");
+    imp->add_flag("-q,--quiet", o.quiet, "No summary");
+    table.push_back({imp, [&o] { return cmd_import(o); }});
 
     auto* recipe = app.add_subcommand("recipe", "Print the recipe embedded in an image");
     recipe->add_option("image", o.image, "Image written by fixpoint")->required();

@@ -1,5 +1,5 @@
 // flam3: the fractal-flame maps of flam3 3.1.1 as transform plugins, from one table
-// (flam3/table.hpp), in one library (FIXPOINT_PLUGIN_FAMILY):
+// (fixpoint/flam3_table.hpp), in one library (FIXPOINT_PLUGIN_FAMILY):
 //   xform       flam3's xform: the affine pre-transform `coefs`, a weighted sum of variations
 //               (each variation's weight a parameter named after it, flam3's attributes), the
 //               post-transform `post`; its colour (`color`, `color_speed`) and its weight are
@@ -19,8 +19,8 @@
 // the chain's own stream), so a render is the same bytes on any thread count; flam3 draws
 // from one ISAAC stream per thread, so its renders of such genomes are not reproducible.
 // Without keys (the conformance suite, fit_view) a point's randoms come from its bits.
-#include "flam3/table.hpp"
 #include "flam3/xform_data.hpp"
+#include <fixpoint/flam3_table.hpp>
 
 #include <fixpoint/fixpoint.hpp>
 #include <fixpoint/rng.hpp>

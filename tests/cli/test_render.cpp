@@ -342,7 +342,7 @@ TEST(Plugins, BrokenPluginFilesAreSkippedAndNamed) {
 std::vector<std::string> all_configs() {
     std::vector<std::string> out;
     for (const auto& e : fs::recursive_directory_iterator(fp::test::source_dir() + "/configs"))
-        if (e.path().extension() == ".yaml")
+        if (e.path().extension() == ".yaml" || e.path().extension() == ".flam3") // (flam3 genomes render too)
             out.push_back(fs::relative(e.path(), fp::test::source_dir() + "/configs").string());
     std::sort(out.begin(), out.end());
     return out;

@@ -7,7 +7,7 @@
 // (mean and spread of x and y over many draws at a few points, within 5 standard errors).
 #include "host.hpp"
 
-#include "flam3/table.hpp"
+#include <fixpoint/flam3_table.hpp>
 
 #include <fixpoint/host/core/host.hpp>
 #include <fixpoint/rng.hpp>

@@ -1,4 +1,5 @@
 // The top level of a config file.
+#include <fixpoint/host/core/flam3_import.hpp>
 #include <fixpoint/host/core/histogram_file.hpp>
 #include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/host/core/pipeline.hpp>
@@ -60,6 +61,13 @@ void used_plugins(const TObject& t, std::map<std::string, const PluginEntry*>& o
 } // namespace
 
 CNode load_config(const std::string& path, bool allow_code) {
+    // A flam3 genome: the config its import makes (core/flam3_import.hpp), its output the
+    // render's default.
+    if (is_flam3_file(path)) {
+        const Flam3Import im = import_flam3(path, {}, "");
+        for (const auto& w : im.warnings) std::fprintf(stderr, "warning: %s: %s\n", path.c_str(), w.c_str());
+        return parse_config(im.yaml, path);
+    }
     // A histogram file (render --histogram) carries its recipe as an image does.
     const bool histogram = is_histogram_file(path), image = histogram || is_recipe_image(path);
     CNode root = parse_config(histogram ? read_histogram_header(path).recipe

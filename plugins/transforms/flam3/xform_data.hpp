@@ -11,7 +11,7 @@
 // cosa = ty / r.
 #pragma once
 
-#include "flam3/table.hpp"
+#include <fixpoint/flam3_table.hpp>
 
 #include <cstddef>
 #include <cstdint>

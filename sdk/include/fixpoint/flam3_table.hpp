@@ -232,7 +232,7 @@ namespace fp_flam3 {
 
 /// The variations' numbers (flam3's), as enumerators v_NAME.
 enum Var : std::uint32_t {
-#define FP_FLAM3_V(num, id, name, rnd, summary) v_##id = num,
+#define FP_FLAM3_V(num, id, name, rnd, summary) v_##id = (num),
     FP_FLAM3_VARIATIONS(FP_FLAM3_V)
 #undef FP_FLAM3_V
         var_count

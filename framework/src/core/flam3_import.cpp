@@ -1,0 +1,436 @@
+// flam3 genomes as configs (host/tools/flam3_import.hpp; docs/flam3.md has the mapping).
+//
+// Read with tinyxml2 (Debian's libtinyxml2-dev), which gives each element's and attribute's
+// line; the column of an attribute is found on its line by its name. Every value is checked
+// here, at its place in the XML, before any config is written: a number that is not finite, a
+// size out of range, an unknown attribute or variation. What fixpoint cannot carry over yet
+// (opacity, xaos, motion, temporal samples, a hue rotation) is a warning, never a silent drop.
+#include <fixpoint/host/core/flam3_import.hpp>
+
+#include <fixpoint/errors.hpp>
+#include <fixpoint/text.hpp>
+
+#include <fixpoint/flam3_table.hpp>
+
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fp::host {
+
+namespace {
+
+using fp_flam3::param_info;
+using fp_flam3::var_info;
+
+std::string num(double v) {
+    char b[40];
+    if (v == std::floor(v) && std::fabs(v) < 1e15) {
+        std::snprintf(b, sizeof b, "%.0f", v);
+        return b;
+    }
+    std::snprintf(b, sizeof b, "%.17g", v);
+    // The shortest text that reads back the same double.
+    for (int p = 1; p <= 17; ++p) {
+        char c[40];
+        std::snprintf(c, sizeof c, "%.*g", p, v);
+        if (std::strtod(c, nullptr) == v) return c;
+    }
+    return b;
+}
+
+class Reader {
+public:
+    Reader(std::string path, std::string text) : path_(std::move(path)), text_(std::move(text)) {
+        std::size_t at = 0;
+        lines_.push_back(0);
+        while ((at = text_.find('\n', at)) != std::string::npos) lines_.push_back(++at);
+    }
+
+    [[noreturn]] void fail(int line, int col, const std::string& msg) const {
+        throw InputError(path_ + ":" + std::to_string(line) + ":" + std::to_string(col) + ": " + msg);
+    }
+    /// The column of attribute `name` on its line (1 when not found there).
+    int column(const tinyxml2::XMLAttribute* a) const {
+        const int line = a->GetLineNum();
+        if (line < 1 || std::size_t(line) > lines_.size()) return 1;
+        const std::size_t b = lines_[std::size_t(line - 1)];
+        const std::size_t e = std::size_t(line) < lines_.size() ? lines_[std::size_t(line)] : text_.size();
+        const std::string l = text_.substr(b, e - b), n = a->Name();
+        for (std::size_t at = l.find(n); at != std::string::npos; at = l.find(n, at + 1)) {
+            const bool start = at == 0 || std::isspace(static_cast<unsigned char>(l[at - 1]));
+            std::size_t k = at + n.size();
+            while (k < l.size() && std::isspace(static_cast<unsigned char>(l[k]))) ++k;
+            if (start && k < l.size() && l[k] == '=') return int(at) + 1;
+        }
+        return 1;
+    }
+    [[noreturn]] void fail(const tinyxml2::XMLAttribute* a, const std::string& msg) const {
+        fail(a->GetLineNum(), column(a), std::string(a->Name()) + ": " + msg);
+    }
+    [[noreturn]] void fail(const tinyxml2::XMLElement* e, const std::string& msg) const {
+        fail(e->GetLineNum(), 1, msg);
+    }
+
+    /// The attribute's numbers (at least `min`, at most `max` of them), each finite.
+    std::vector<double> numbers(const tinyxml2::XMLAttribute* a, std::size_t min, std::size_t max) const {
+        std::vector<double> v;
+        std::istringstream in(a->Value());
+        std::string w;
+        while (in >> w) {
+            char* end = nullptr;
+            const double x = std::strtod(w.c_str(), &end);
+            if (end == w.c_str() || *end) fail(a, quote(w, 40) + " is not a number");
+            if (!std::isfinite(x)) fail(a, quote(w, 40) + " is not a finite number");
+            v.push_back(x);
+        }
+        if (v.size() < min || v.size() > max)
+            fail(a,
+                 "expected " +
+                     (min == max ? std::to_string(min) : std::to_string(min) + " to " + std::to_string(max)) +
+                     " numbers, got " + std::to_string(v.size()));
+        return v;
+    }
+    double number(const tinyxml2::XMLAttribute* a) const { return numbers(a, 1, 1)[0]; }
+    double number(const tinyxml2::XMLAttribute* a, double lo, double hi) const {
+        const double x = number(a);
+        if (!(x >= lo && x <= hi)) fail(a, num(x) + " is out of range [" + num(lo) + ", " + num(hi) + "]");
+        return x;
+    }
+
+private:
+    std::string path_, text_;
+    std::vector<std::size_t> lines_;
+};
+
+/// The index of variation `name` (flam3's attribute name), or -1.
+int variation(const std::string& name) {
+    for (std::uint32_t v = 0; v < fp_flam3::var_count; ++v)
+        if (name == var_info[v].name) return int(v);
+    return -1;
+}
+int parameter(const std::string& name) {
+    std::string n = name;
+    if (n.rfind("oscope_", 0) == 0) n = "oscilloscope_" + n.substr(7); // flam3 reads both spellings
+    for (std::uint32_t p = 0; p < fp_flam3::param_count; ++p)
+        if (n == param_info[p].name) return int(p);
+    return -1;
+}
+
+/// An xform (or the final xform) as a YAML flow mapping.
+std::string xform(const Reader& r, const tinyxml2::XMLElement* e, bool final, std::vector<std::string>& warn,
+                  double& weight, const std::string& what) {
+    std::string s = "{type: xform";
+    std::string vars, prm;
+    weight = 1;
+    double color = 0, speed = 0.5;
+    bool any = false;
+    std::vector<double> old_vars;
+    for (const auto* a = e->FirstAttribute(); a; a = a->Next()) {
+        const std::string n = a->Name();
+        if (n == "weight") {
+            weight = r.number(a, 0, 1e300);
+        } else if (n == "color") {
+            const auto c = r.numbers(a, 1, 2); // (flam3 2's "color" had two; the first is the index)
+            color = c[0];
+            if (!(color >= 0 && color <= 1)) r.fail(a, num(color) + " is out of range [0, 1]");
+        } else if (n == "color_speed") {
+            speed = r.number(a, 0, 1);
+        } else if (n == "symmetry") {
+            speed = (1 - r.number(a, -1, 1)) / 2; // flam3's older name: color_speed = (1 - symmetry) / 2
+        } else if (n == "coefs" || n == "post") {
+            const auto c = r.numbers(a, 6, 6);
+            s += ", " + n + ": [";
+            for (std::size_t i = 0; i < 6; ++i) s += (i ? ", " : "") + num(c[i]);
+            s += "]";
+        } else if (n == "opacity" || n == "plotmode") {
+            const bool off = n == "plotmode" ? std::string(a->Value()) == "off" : r.number(a, 0, 1) != 1;
+            if (off) warn.push_back(what + ": " + n + " is not carried over (every point is plotted)");
+        } else if (n == "chaos") {
+            const auto c = r.numbers(a, 0, 1u << 16);
+            if (std::any_of(c.begin(), c.end(), [](double x) { return x != 1; }))
+                warn.push_back(what + ": chaos (xaos) is not carried over (every map may follow every map)");
+        } else if (n == "animate" || n == "name" || n == "motion_frequency" || n == "motion_function") {
+            // animation only: a still render does not read it
+        } else if (n == "var1") {
+            const double v = r.number(a, 0, fp_flam3::var_count - 1);
+            old_vars.assign(fp_flam3::var_count, 0);
+            old_vars[std::size_t(v)] = 1;
+        } else if (n == "var") {
+            old_vars = r.numbers(a, 1, fp_flam3::var_count);
+        } else if (const int v = variation(n); v >= 0) {
+            const double w = r.number(a);
+            if (w != 0) vars += std::string(", ") + var_info[v].name + ": " + num(w), any = true;
+        } else if (const int p = parameter(n); p >= 0) {
+            prm += std::string(", ") + param_info[p].name + ": " + num(r.number(a));
+        } else {
+            std::vector<std::string> names;
+            for (const auto& v : var_info) names.emplace_back(v.name);
+            for (const auto& p : param_info) names.emplace_back(p.name);
+            const auto near = suggest(n, names);
+            r.fail(a, "unknown variation or xform attribute" +
+                          (near.empty() ? std::string() : " (did you mean '" + near[0] + "'?)"));
+        }
+    }
+    for (std::size_t v = 0; v < old_vars.size(); ++v)
+        if (old_vars[v] != 0)
+            vars += std::string(", ") + var_info[v].name + ": " + num(old_vars[v]), any = true;
+    if (!any) vars = ", linear: 1"; // flam3's default xform is linear
+    s += vars + prm;
+    if (!final) s += ", weight: " + num(weight);
+    s += ", color: " + num(color) + ", color_speed: " + num(speed) + "}";
+    for (const auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement())
+        if (std::string(c->Name()) == "motion") {
+            warn.push_back(what + ": its motion elements are not carried over (a still render)");
+            break;
+        }
+    return s;
+}
+
+std::string palette_of(const Reader& r, const tinyxml2::XMLElement* flame, std::vector<std::string>& warn) {
+    std::vector<double> rgb(256 * 3, 0.0);
+    bool got = false;
+    for (const auto* c = flame->FirstChildElement("color"); c; c = c->NextSiblingElement("color")) {
+        const auto* ia = c->FindAttribute("index");
+        const auto* ca = c->FindAttribute("rgb");
+        if (!ia || !ca) r.fail(c, "color: expected index=\"I\" and rgb=\"R G B\"");
+        const double i = r.number(ia, 0, 255);
+        if (i != std::floor(i)) r.fail(ia, num(i) + " is not a whole number");
+        const auto v = r.numbers(ca, 3, 3);
+        for (int k = 0; k < 3; ++k) {
+            if (!(v[std::size_t(k)] >= 0 && v[std::size_t(k)] <= 255))
+                r.fail(ca, "a channel out of range [0, 255]");
+            rgb[std::size_t(i) * 3 + std::size_t(k)] = v[std::size_t(k)] / 255.0;
+        }
+        got = true;
+    }
+    if (const auto* p = flame->FirstChildElement("palette")) {
+        const char* text = p->GetText();
+        std::string hex;
+        for (const char* t = text ? text : ""; *t; ++t)
+            if (!std::isspace(static_cast<unsigned char>(*t))) hex += *t;
+        if (hex.size() != 256 * 6)
+            r.fail(p, "palette: expected 256 colours of 6 hex digits, got " + std::to_string(hex.size()) +
+                          " digits");
+        for (std::size_t i = 0; i < 256 * 3; ++i) {
+            char* end = nullptr;
+            const std::string b = hex.substr(2 * i, 2);
+            const long v = std::strtol(b.c_str(), &end, 16);
+            if (*end) r.fail(p, "palette: " + quote(b) + " is not a hex byte");
+            rgb[i] = double(v) / 255.0;
+        }
+        got = true;
+    }
+    const auto* pi = flame->FindAttribute("palette");
+    if (!got && pi) {
+        if (flame->FindAttribute("hue") && r.number(flame->FindAttribute("hue")) != 0)
+            warn.push_back("hue: the palette's hue rotation is not carried over");
+        return "palette: flam3:" + num(r.number(pi, 0, 1e6));
+    }
+    if (!got) {
+        warn.push_back("the genome has no palette: white");
+        std::fill(rgb.begin(), rgb.end(), 1.0);
+    }
+    // 256 stops at i / 256: flam3's step lookup takes entry floor(256 t), as ours does
+    // (fixpoint/palette.hpp); its linear one interpolates between entries at i / 256 too.
+    std::string s = "palette_stops: [";
+    for (int i = 0; i < 256; ++i)
+        s += (i ? ", " : "") + num(i / 256.0) + ", " + num(rgb[std::size_t(i) * 3]) + ", " +
+             num(rgb[std::size_t(i) * 3 + 1]) + ", " + num(rgb[std::size_t(i) * 3 + 2]);
+    return s + "]";
+}
+
+} // namespace
+
+bool is_flam3_file(const std::string& path) {
+    const std::string e = std::filesystem::path(path).extension().string();
+    return e == ".flam3" || e == ".flame" || e == ".flam";
+}
+
+Flam3Import import_flam3(const std::string& path, const Flam3Select& which, const std::string& output) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open file");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (text.size() > (64u << 20)) throw InputError(path + ": file too large (more than 64 MiB)");
+    const Reader r(path, text);
+    tinyxml2::XMLDocument doc;
+    if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS)
+        r.fail(doc.ErrorLineNum() > 0 ? doc.ErrorLineNum() : 1, 1,
+               std::string("malformed XML: ") + (doc.ErrorName() ? doc.ErrorName() : "error"));
+    const tinyxml2::XMLElement* root = doc.RootElement();
+    if (!root) r.fail(1, 1, "no flame in the file");
+    std::vector<const tinyxml2::XMLElement*> flames;
+    if (std::string(root->Name()) == "flame")
+        flames.push_back(root);
+    else
+        for (const auto* f = root->FirstChildElement("flame"); f; f = f->NextSiblingElement("flame"))
+            flames.push_back(f);
+    if (flames.empty()) r.fail(root, "no <flame> element (a flam3 genome file holds <flame>s)");
+    Flam3Import out;
+    out.count = int(flames.size());
+    int k = 0;
+    if (!which.name.empty()) {
+        k = -1;
+        for (std::size_t i = 0; i < flames.size(); ++i)
+            if (const char* n = flames[i]->Attribute("name"); n && which.name == n) k = int(i);
+        if (k < 0) throw InputError(path + ": no flame named " + quote(which.name));
+    } else if (which.index >= 0) {
+        if (which.index >= int(flames.size()))
+            throw InputError(path + ": --index " + std::to_string(which.index) + ": the file holds " +
+                             std::to_string(flames.size()) + " flames (0 to " +
+                             std::to_string(flames.size() - 1) + ")");
+        k = which.index;
+    } else if (flames.size() > 1) {
+        out.warnings.push_back(path + " holds " + std::to_string(flames.size()) +
+                               " flames: the first is taken (fixpoint import --index K or --name N)");
+    }
+    out.index = k;
+    const tinyxml2::XMLElement* f = flames[std::size_t(k)];
+    auto& warn = out.warnings;
+
+    double W = 100, H = 100, cx = 0, cy = 0, ppu = 50, rotate = 0, zoom = 0, quality = 1, ss = 1;
+    double filter = 0.5, est = 9, est_min = 0, est_curve = 0.4;
+    double gamma = 4, brightness = 4, vibrancy = 1, highlight = -1, gthresh = 0.01;
+    std::string filter_shape = "gaussian", palette_mode = "step";
+    std::vector<double> bg = {0, 0, 0};
+    for (const auto* a = f->FirstAttribute(); a; a = a->Next()) {
+        const std::string n = a->Name();
+        if (n == "size") {
+            const auto s = r.numbers(a, 2, 2);
+            for (double v : s)
+                if (!(v >= 1 && v <= 65536 && v == std::floor(v)))
+                    r.fail(a, "width and height must be whole numbers from 1 to 65536");
+            W = s[0], H = s[1];
+        } else if (n == "center") {
+            const auto c = r.numbers(a, 2, 2);
+            cx = c[0], cy = c[1];
+        } else if (n == "scale") {
+            ppu = r.number(a, 1e-300, 1e300);
+        } else if (n == "rotate") {
+            rotate = r.number(a);
+        } else if (n == "zoom") {
+            zoom = r.number(a, -30, 30);
+        } else if (n == "quality") {
+            quality = r.number(a, 1e-9, 1e9);
+        } else if (n == "supersample" || n == "oversample") {
+            ss = r.number(a, 1, 16);
+        } else if (n == "filter") {
+            filter = r.number(a, 0, 64);
+        } else if (n == "filter_shape") {
+            filter_shape = a->Value();
+        } else if (n == "estimator_radius") {
+            est = r.number(a, 0, 64);
+        } else if (n == "estimator_minimum") {
+            est_min = r.number(a, 0, 64);
+        } else if (n == "estimator_curve") {
+            est_curve = r.number(a, 1e-9, 4);
+        } else if (n == "gamma") {
+            gamma = r.number(a, 1e-9, 1e9);
+        } else if (n == "brightness") {
+            brightness = r.number(a, 1e-9, 1e9);
+        } else if (n == "vibrancy") {
+            vibrancy = r.number(a, 0, 1);
+        } else if (n == "highlight_power") {
+            highlight = r.number(a, -1, 16);
+        } else if (n == "gamma_threshold") {
+            gthresh = r.number(a, 0, 1);
+        } else if (n == "background") {
+            bg = r.numbers(a, 3, 3);
+            for (double v : bg)
+                if (!(v >= 0 && v <= 1)) r.fail(a, "a channel out of range [0, 1]");
+        } else if (n == "palette_mode") {
+            palette_mode = a->Value();
+            if (palette_mode != "step" && palette_mode != "linear") r.fail(a, "expected step or linear");
+        } else if (n == "contrast") {
+            if (r.number(a) != 1) warn.push_back("contrast is not carried over");
+        } else if (n == "hue" || n == "palette") {
+            // (read with the palette)
+        } else {
+            // The rest is metadata or animation (name, version, time, interpolation, the
+            // temporal samples of a motion blur, which a genome without motion does not show):
+            // a still render does not read it.
+        }
+    }
+    if (filter_shape != "gaussian" && filter_shape != "box" && filter_shape != "mitchell" &&
+        filter_shape.rfind("lanczos", 0) != 0) {
+        warn.push_back("filter_shape " + quote(filter_shape) + " is not one of fixpoint's: gaussian is used");
+        filter_shape = "gaussian";
+    }
+    if (filter_shape.rfind("lanczos", 0) == 0) filter_shape = "lanczos";
+    if (brightness != 1)
+        warn.push_back("brightness " + num(brightness) +
+                       ": flam3's scales its density by the samples per unit area, fixpoint's flame tone by "
+                       "the brightest pixel; brightness 1 is used");
+    std::string palette = palette_of(r, f, warn);
+
+    // The view: flam3's camera, centre and pixels per unit (times 2^zoom), its y axis down.
+    const double scale = ppu * std::pow(2.0, zoom);
+    const double hw = W / scale / 2, hh = H / scale / 2;
+    const double points = std::max(1.0, std::round(quality * std::pow(4.0, zoom) * W * H));
+    if (points > 1e15) r.fail(f, "quality times the image's pixels is more than 1e15 points");
+
+    std::vector<std::string> maps, finals;
+    int n = 0;
+    for (const auto* x = f->FirstChildElement(); x; x = x->NextSiblingElement()) {
+        const std::string nm = x->Name();
+        if (nm != "xform" && nm != "finalxform") continue;
+        const std::string what =
+            nm + " " + std::to_string(n++) + " (line " + std::to_string(x->GetLineNum()) + ")";
+        double w = 1;
+        const std::string m = xform(r, x, nm == "finalxform", warn, w, what);
+        if (nm == "finalxform") {
+            finals.push_back("    - " + m + "  # " + what);
+        } else if (w > 0) {
+            maps.push_back("    - " + m + "  # " + what);
+        } else {
+            maps.push_back("    # " + what + ": weight 0, never chosen (flam3 skips it too)");
+        }
+    }
+    if (std::none_of(maps.begin(), maps.end(), [](const std::string& s) { return s.rfind("    -", 0) == 0; }))
+        r.fail(f, "the flame has no xform of positive weight");
+
+    std::ostringstream y;
+    const char* name = f->Attribute("name");
+    y << "# Imported from " << std::filesystem::path(path).filename().string() << ", flame " << k
+      << (name ? std::string(" (") + name + ")" : std::string()) << " of " << flames.size()
+      << ", by fixpoint import (docs/flam3.md).\n";
+    y << "# flam3's camera: size " << num(W) << " " << num(H) << ", center " << num(cx) << " " << num(cy)
+      << ", scale " << num(ppu) << ", zoom " << num(zoom) << ", rotate " << num(rotate) << ".\n";
+    for (const auto& w : warn) y << "# not carried over: " << w << "\n";
+    y << "renderer:\n  type: chaos-game\n";
+    y << "  width: " << num(W) << "\n  height: " << num(H) << "\n";
+    y << "  view: [" << num(cx - hw) << ", " << num(cx + hw) << ", " << num(cy - hh) << ", " << num(cy + hh)
+      << "]  # center and scale\n";
+    y << "  y_axis: down  # flam3's image rows run down the y axis\n";
+    if (rotate != 0) y << "  rotate: " << num(rotate) << "\n";
+    y << "  points: " << num(points) << "  # quality " << num(quality) << " per pixel\n";
+    y << "  inversion_rules: off\n";
+    if (ss > 1) y << "  supersample: " << num(std::round(ss)) << "\n";
+    if (filter > 0) y << "  filter: {type: " << filter_shape << ", radius: " << num(filter) << "}\n";
+    if (est > 0) {
+        y << "  estimator_radius: " << num(est) << "\n  estimator_minimum: " << num(std::min(est_min, est))
+          << "\n  estimator_curve: " << num(est_curve) << "\n";
+    }
+    y << "  background: [" << num(bg[0]) << ", " << num(bg[1]) << ", " << num(bg[2]) << "]\n";
+    y << "  colourer: {type: flame, gamma: " << num(gamma) << ", vibrancy: " << num(vibrancy)
+      << ", highlight_power: " << num(highlight) << ", gamma_threshold: " << num(gthresh)
+      << ", palette_mode: " << palette_mode << ",\n    " << palette << "}\n";
+    y << "  maps:\n";
+    for (const auto& m : maps) y << m << "\n";
+    if (!finals.empty()) {
+        y << "  final:\n";
+        for (const auto& m : finals) y << m << "\n";
+    }
+    if (!output.empty()) y << "output:\n  path: " << output << "\n";
+    out.yaml = y.str();
+    return out;
+}
+
+} // namespace fp::host
