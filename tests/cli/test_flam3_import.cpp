@@ -26,7 +26,7 @@ bool have(const char* tool) {
 
 /// A random genome of flam3-genome (its seed fixes it), as flam3-render would read it.
 std::string genome(const std::string& dir, int seed) {
-    const std::string path = dir + "/g" + std::to_string(seed) + ".flam3";
+    std::string path = dir + "/g" + std::to_string(seed) + ".flam3";
     const std::string cmd = "env seed=" + std::to_string(seed) + " flam3-genome > " + path + " 2>/dev/null";
     EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
     return path;

@@ -350,13 +350,10 @@ Flam3Import import_flam3(const std::string& path, const Flam3Select& which, cons
             if (palette_mode != "step" && palette_mode != "linear") r.fail(a, "expected step or linear");
         } else if (n == "contrast") {
             if (r.number(a) != 1) warn.push_back("contrast is not carried over");
-        } else if (n == "hue" || n == "palette") {
-            // (read with the palette)
-        } else {
-            // The rest is metadata or animation (name, version, time, interpolation, the
-            // temporal samples of a motion blur, which a genome without motion does not show):
-            // a still render does not read it.
         }
+        // hue and palette are read with the palette; the rest is metadata or animation (name,
+        // version, time, interpolation, the temporal samples of a motion blur, which a genome
+        // without motion does not show): a still render does not read it.
     }
     if (filter_shape != "gaussian" && filter_shape != "box" && filter_shape != "mitchell" &&
         filter_shape.rfind("lanczos", 0) != 0) {
