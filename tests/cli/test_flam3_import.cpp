@@ -80,8 +80,8 @@ TEST(Flam3Import, AGenomeRendersDirectlyAsItsConfigDoes) {
 TEST(Flam3Import, ThePictureIsFlam3RendersLaidOutTheSame) {
     if (!have("flam3-render")) GTEST_SKIP() << "flam3-render (Debian's flam3-utils) is not installed";
     const std::string dir = scratch_dir("flam3_import_parity");
-    // Genomes flam3-genome made (its random genomes are not reproducible from a seed alone: it
-    // mixes in the time), kept as fixtures.
+    // Genomes flam3-genome made, kept as fixtures: two of its runs with the same seed give
+    // different genomes.
     for (int seed : {3, 7, 19}) {
         const std::string g =
             fp::test::source_dir() + "/tests/fixtures/flam3/genome-" + std::to_string(seed) + ".flam3";
