@@ -27,12 +27,32 @@ private:
     double scale_, inv_;
 };
 
-/// Colourer::linear for a colourer whose bin colour is colour(i) (3 floats) and whose density
-/// is log (LinearDensity) or flat (1 wherever hit).
-template <class Colour>
-void linear_bins(const fp::Histogram& h, const fp::HistogramSummary& whole, double scale, bool log,
-                 std::size_t i0, std::size_t i1, float* out, Colour colour) {
-    const LinearDensity density(whole.max_hits, scale);
+/// flam3's density of a bin (flam3 3.1.1, rect.c: k1 log(1 + c k2) / PREFILTER_WHITE, c = 255
+/// per hit), in units where 1 is white: a = k1 ln(1 + k2 h), k1 = contrast brightness 268 / 256,
+/// k2 = rho / contrast with rho = whole.density, the points per point drawn and per unit of
+/// the view's area that one hit of a bin is (flam3's 1 / (area sample_density) with its
+/// oversample). So a pixel's density is the plane's measure, whatever the points, size and
+/// supersampling: a longer render converges to the same picture, as in flam3. Without a
+/// density from the renderer (0), rho is that of the hits over the histogram as a unit square.
+class Flam3Density {
+public:
+    Flam3Density(const fp::HistogramSummary& whole, double brightness, double contrast)
+        : k1_(contrast * brightness * 268.0 / 256.0), k2_(rho(whole) / contrast) {}
+    float operator()(std::uint64_t h) const { return float(k1_ * std::log1p(k2_ * double(h))); }
+
+private:
+    static double rho(const fp::HistogramSummary& w) {
+        if (w.density > 0) return w.density;
+        return w.hits > 0 ? double(w.width) * double(w.height) / double(w.hits) : 0.0;
+    }
+    double k1_, k2_;
+};
+
+/// Colourer::linear for a colourer whose bin colour is colour(i, hits) (3 floats) and whose
+/// density is density(hits) (a float).
+template <class Density, class Colour>
+void density_bins(const fp::Histogram& h, std::size_t i0, std::size_t i1, float* out, const Density& density,
+                  Colour colour) {
     for (std::size_t i = i0; i < i1; ++i) {
         float* o = out + 4 * (i - i0);
         const std::uint64_t hits = h.hits_at(i);
@@ -40,10 +60,19 @@ void linear_bins(const fp::Histogram& h, const fp::HistogramSummary& whole, doub
             o[0] = o[1] = o[2] = o[3] = 0;
             continue;
         }
-        o[0] = log ? density(hits) : 1.0f;
+        o[0] = density(hits);
         const fp::Rgb c = colour(i, hits);
         o[1] = c.r, o[2] = c.g, o[3] = c.b;
     }
+}
+
+/// density_bins with the density log (LinearDensity) or flat (1 wherever hit).
+template <class Colour>
+void linear_bins(const fp::Histogram& h, const fp::HistogramSummary& whole, double scale, bool log,
+                 std::size_t i0, std::size_t i1, float* out, Colour colour) {
+    const LinearDensity density(whole.max_hits, scale);
+    density_bins(
+        h, i0, i1, out, [&](std::uint64_t hits) { return log ? density(hits) : 1.0f; }, colour);
 }
 
 /// The mean colour of bin i (its colour sums over its hits), or with `last` its last colour.
@@ -92,8 +121,13 @@ namespace fp_colourers {
 /// With vibrancy 1, highlight_power -1 and gamma_threshold 0 it is display_shaded's log case.
 struct Flam3Tone {
     double gamma = 2.2, brightness = 1, vibrancy = 1, highlight_power = -1, gamma_threshold = 0;
+    /// flam3's background: over (1 - alpha), alpha clamped to [0, 1], rather than over the
+    /// uncovered share.
+    bool alpha_background = false;
 
-    bool plain() const { return vibrancy == 1 && highlight_power == -1 && gamma_threshold == 0; }
+    bool plain() const {
+        return vibrancy == 1 && highlight_power == -1 && gamma_threshold == 0 && !alpha_background;
+    }
 
     double alpha(double a) const {
         const double g = 1.0 / gamma, t = gamma_threshold;
@@ -107,8 +141,10 @@ struct Flam3Tone {
 
     /// One pixel from (a, colour, coverage).
     void pixel(const float* p, fp::Rgb bg, float* out) const {
-        const double a = p[0], open = 1.0 - double(p[4]);
+        const double a = p[0];
+        double open = 1.0 - double(p[4]);
         double rgb[3] = {0, 0, 0};
+        if (alpha_background) open = 1.0 - std::clamp(alpha(a), 0.0, 1.0);
         if (a > 0) {
             const double al = alpha(a), ls = brightness * vibrancy * al / a;
             const double c[3] = {double(p[1]) * a, double(p[2]) * a, double(p[3]) * a};

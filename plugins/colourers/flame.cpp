@@ -5,7 +5,8 @@
 // colour remembers the recent maps with weights 1/2, 1/4, ... and varies continuously
 // across the fractal (unlike map-colour).
 // resolve: pixel = brightness * colour of the bin * (log2(1 + H) / log2(1 + max H))^(1/gamma),
-// clamped to [0, 1]; empty bins take the background.
+// clamped to [0, 1]; empty bins take the background. With `density: flam3`, flam3's tone
+// instead: the density the log of the points per unit of area (finishing.hpp's Flam3Density).
 //
 // `mode` says which colour of the bin:
 //   mean        the mean colour of all the bin's hits (the histogram's colour sums), the
@@ -78,6 +79,17 @@ constexpr fp::ParamSpec params[] = {
         .min(0)
         .max(1)
         .as(fp::ParamRole::finish),
+    fp::param::string("density",
+                      "how a bin's hits become its density: log (eq. (28): relative to the brightest bin) "
+                      "or flam3 (flam3's: the log of the points per unit of area, with its brightness and "
+                      "contrast; the picture does not depend on the points drawn)")
+        .def("log")
+        .one_of("log|flam3")
+        .as(fp::ParamRole::finish),
+    fp::param::real("contrast", "flam3's contrast, with density flam3: the density's scale inside its log")
+        .def("1")
+        .above(0)
+        .as(fp::ParamRole::finish),
     fp::palette_param,
     fp::palette_stops_param,
     fp::palette_mode_param,
@@ -92,6 +104,16 @@ public:
                                                    : Mode::mean) {
         tone_.gamma = gamma_, tone_.brightness = brightness_, tone_.vibrancy = p.real("vibrancy");
         tone_.highlight_power = p.real("highlight_power"), tone_.gamma_threshold = p.real("gamma_threshold");
+        flam3_ = p.string("density") == "flam3";
+        contrast_ = p.real("contrast");
+        if (!flam3_ && contrast_ != 1)
+            throw fp::ParamError("contrast", "contrast is flam3's: it needs density flam3");
+        if (flam3_) {
+            // brightness is inside the density (Flam3Density); flam3 scales to 256 where white is
+            // 255, and blends the background by alpha.
+            tone_.brightness = 256.0 / 255.0;
+            tone_.alpha_background = true;
+        }
         has_palette_ = fp::palette_of(p, palette_);
         // flam3's index blends per point into the mean of a pixel's colours: mode mean alone.
         if (has_palette_ && mode_ != Mode::mean)
@@ -125,11 +147,20 @@ public:
         const bool last = mode_ != Mode::mean;
         if (tone_.plain())
             return fp_colourers::tone_map(h, whole, background, rgb, true, gamma_, brightness_, last, ctx);
-        // flam3's tone on each bin as a pixel of its own (coverage 1), as display() on a finished one.
+        if (flam3_)
+            return run_tone(h, fp_colourers::Flam3Density(whole, brightness_, contrast_), background, rgb,
+                            ctx);
+        return run_tone(h, fp_colourers::LinearDensity(whole.max_hits, 1.0), background, rgb, ctx);
+    }
+
+    /// flam3's tone on each bin as a pixel of its own (coverage 1), as display() on a finished one.
+    template <class Density>
+    void run_tone(const fp::Histogram& h, const Density& density, fp::Rgb background, float* rgb,
+                  fp::RenderContext* ctx) const {
+        const bool last = mode_ != Mode::mean;
         if (last && h.last.size() != h.bins.size())
             throw fp::InternalError(
                 "the renderer gave no last colours for a colourer whose pixel rule is last");
-        const fp_colourers::LinearDensity density(whole.max_hits, 1.0);
         fp_colourers::for_rows(ctx, h, [&](std::size_t i0, std::size_t i1) {
             for (std::size_t i = i0; i < i1; ++i) {
                 const std::uint64_t hits = h.hits_at(i);
@@ -149,9 +180,14 @@ public:
     void linear(const fp::Histogram& h, int, const fp::HistogramSummary& whole, double scale, std::size_t i0,
                 std::size_t i1, float* out) const override {
         const bool last = mode_ != Mode::mean;
-        fp_colourers::linear_bins(h, whole, scale, true, i0, i1, out, [&](std::size_t i, std::uint64_t hits) {
+        auto colour = [&](std::size_t i, std::uint64_t hits) {
             return fp_colourers::bin_colour(h, i, hits, last);
-        });
+        };
+        // (flam3's density is per unit of area: the bins' own hits, whatever the supersampling.)
+        if (flam3_)
+            return fp_colourers::density_bins(
+                h, i0, i1, out, fp_colourers::Flam3Density(whole, brightness_, contrast_), colour);
+        fp_colourers::linear_bins(h, whole, scale, true, i0, i1, out, colour);
     }
     void display(const float* in, std::size_t n, fp::Rgb background, float* rgb) const override {
         if (tone_.plain())
@@ -177,8 +213,9 @@ private:
     }
 
     enum class Mode { mean, last, set_colour };
-    double gamma_, brightness_;
+    double gamma_, brightness_, contrast_ = 1;
     Mode mode_;
+    bool flam3_ = false;
     fp_colourers::Flam3Tone tone_;
     bool has_palette_ = false;
     fp::Palette palette_;

@@ -297,7 +297,7 @@ Flam3Import import_flam3(const std::string& path, const Flam3Select& which, cons
 
     double W = 100, H = 100, cx = 0, cy = 0, ppu = 50, rotate = 0, zoom = 0, quality = 1, ss = 1;
     double filter = 0.5, est = 9, est_min = 0, est_curve = 0.4;
-    double gamma = 4, brightness = 4, vibrancy = 1, highlight = -1, gthresh = 0.01;
+    double gamma = 4, brightness = 4, contrast = 1, vibrancy = 1, highlight = -1, gthresh = 0.01;
     std::string filter_shape = "gaussian", palette_mode = "step";
     std::vector<double> bg = {0, 0, 0};
     for (const auto* a = f->FirstAttribute(); a; a = a->Next()) {
@@ -349,7 +349,7 @@ Flam3Import import_flam3(const std::string& path, const Flam3Select& which, cons
             palette_mode = a->Value();
             if (palette_mode != "step" && palette_mode != "linear") r.fail(a, "expected step or linear");
         } else if (n == "contrast") {
-            if (r.number(a) != 1) warn.push_back("contrast is not carried over");
+            contrast = r.number(a, 1e-9, 1e9);
         }
         // hue and palette are read with the palette; the rest is metadata or animation (name,
         // version, time, interpolation, the temporal samples of a motion blur, which a genome
@@ -361,10 +361,6 @@ Flam3Import import_flam3(const std::string& path, const Flam3Select& which, cons
         filter_shape = "gaussian";
     }
     if (filter_shape.rfind("lanczos", 0) == 0) filter_shape = "lanczos";
-    if (brightness != 1)
-        warn.push_back("brightness " + num(brightness) +
-                       ": flam3's scales its density by the samples per unit area, fixpoint's flame tone by "
-                       "the brightest pixel; brightness 1 is used");
     std::string palette = palette_of(r, f, warn);
 
     // The view: flam3's camera, centre and pixels per unit (times 2^zoom), its y axis down.
@@ -416,7 +412,8 @@ Flam3Import import_flam3(const std::string& path, const Flam3Select& which, cons
           << "\n  estimator_curve: " << num(est_curve) << "\n";
     }
     y << "  background: [" << num(bg[0]) << ", " << num(bg[1]) << ", " << num(bg[2]) << "]\n";
-    y << "  colourer: {type: flame, gamma: " << num(gamma) << ", vibrancy: " << num(vibrancy)
+    y << "  colourer: {type: flame, density: flam3, brightness: " << num(brightness)
+      << ", contrast: " << num(contrast) << ",\n    gamma: " << num(gamma) << ", vibrancy: " << num(vibrancy)
       << ", highlight_power: " << num(highlight) << ", gamma_threshold: " << num(gthresh)
       << ", palette_mode: " << palette_mode << ",\n    " << palette << "}\n";
     y << "  maps:\n";

@@ -167,6 +167,7 @@ void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, fp
     std::vector<float> pixels;
     fp::HistogramSummary whole;
     whole.begin(int(W), int(H));
+    whole.density = density();
     for (uint32_t r0 = 0; r0 < H; r0 += summary_rows) {
         fp::Histogram part;
         fp::RenderStats st;

@@ -98,6 +98,15 @@ fp::Image ChaosGame::finish_histogram(const fp::Histogram& h, const fp::RenderSt
     return image_of(h, ctx, {});
 }
 
+double ChaosGame::density() const {
+    // 1 / (points drawn * a histogram bin's area in the view's units), flam3's k2 but for its
+    // constants (the points outside the view count, as flam3's samples do).
+    if (!frame_.has_region) return 0;
+    const fp::Box& v = frame_.region;
+    const double bin = (v.xmax - v.xmin) * (v.ymax - v.ymin) / (double(hist_.width) * double(hist_.height));
+    return 1.0 / (double(points_) * bin);
+}
+
 fp::Image ChaosGame::image_of(const fp::Histogram& total, fp::RenderContext& ctx,
                               std::vector<float> pixels) const {
     fp::Image img;
@@ -106,9 +115,15 @@ fp::Image ChaosGame::image_of(const fp::Histogram& total, fp::RenderContext& ctx
     img.channels = 3;
     img.pixels = std::move(pixels);
     img.pixels.resize(size_t(frame_.width) * size_t(frame_.height) * 3);
+    // The summary with the density of the points drawn (flam3's tone reads it): resolve_rows
+    // takes it, and gives resolve_parallel's bytes by its contract.
+    fp::HistogramSummary whole = fp::HistogramSummary::of(total, &ctx);
+    whole.density = density();
     if (finish_.active())
-        fp::finish(finish_, *colourer_, total, 0, fp::HistogramSummary::of(total, &ctx), frame_.width, 0,
-                   frame_.height, frame_.background, img.pixels.data(), &ctx);
+        fp::finish(finish_, *colourer_, total, 0, whole, frame_.width, 0, frame_.height, frame_.background,
+                   img.pixels.data(), &ctx);
+    else if (colourer_->resolves_rows())
+        colourer_->resolve_rows(total, 0, whole, frame_.background, img.pixels.data(), ctx);
     else
         colourer_->resolve_parallel(total, frame_.background, img.pixels.data(), ctx);
     auto draw = [&](cairo_t* cr) {

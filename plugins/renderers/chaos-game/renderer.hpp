@@ -85,6 +85,8 @@ private:
     /// The image of a whole histogram (rank 0's, summed): finished or resolved, the sets
     /// drawn over or beside it; `pixels`: the image's buffer when made already (else empty).
     fp::Image image_of(const fp::Histogram& total, fp::RenderContext& ctx, std::vector<float> pixels) const;
+    /// HistogramSummary::density of this render's histograms.
+    double density() const;
     /// The sets of the maps on the background, as a width x height picture.
     void draw_set_panel(cairo_t* cr) const;
 

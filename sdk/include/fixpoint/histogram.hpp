@@ -72,6 +72,12 @@ struct HistogramSummary {
     uint128 hits = 0, hits_column = 0, hits_row = 0;
     /// Per row: the first and the last column with hits; -1 in both for a row without.
     std::vector<std::int32_t> first, last;
+    /// What a bin's hits are as a density of the points drawn over the plane: a bin's hits h are
+    /// h * density points per point drawn and per unit of the view's area (1 / (points drawn *
+    /// a bin's area): flam3's "samples per unit area", its k2). Set by a renderer that knows
+    /// its points and its view (chaos-game), after begin(); 0 where it does not say. add() leaves
+    /// it as it is. (Added in ABI 20.)
+    double density = 0;
 
     /// An empty summary of a width x height histogram.
     void begin(int w, int h);

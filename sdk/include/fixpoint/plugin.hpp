@@ -42,10 +42,11 @@ namespace fp {
 /// for flam3's palettes):
 /// ABI 19: fp::Points::key and salt, Transform::uses_random, fixpoint/rng.hpp's map_key and
 /// map_uniform, for maps that draw random numbers (flam3's variations); FIXPOINT_PLUGIN_FAMILY,
-/// for a library of many plugins built from one table;
+/// for a library of many plugins built from one table; ABI 20: HistogramSummary::density, for
+/// flam3's tone;
 /// the host refuses a plugin built for another value ("rebuild it against this SDK"), so a
 /// plugin always matches the headers the host was built with.
-constexpr std::uint32_t abi_version = 19;
+constexpr std::uint32_t abi_version = 20;
 
 /// What a plugin can do that the host asks of its descriptor, as bits of
 /// PluginDescriptor::abilities: data, so that a new ability adds a bit here rather than a
