@@ -162,6 +162,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     if (items.empty()) throw fp::ParamError("maps", "the list of maps is empty");
     const size_t k = items.size();
     std::vector<double> w(k, 1.0);
+    visible_.assign(k + 1, 1.0);
     for (size_t j = 0; j < k; ++j) {
         auto m = fp::as<fp::Transform>(items[j]);
         if (!m) throw fp::InternalError("chaos-game: maps[" + std::to_string(j) + "] is not a transform");
@@ -181,6 +182,13 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
                 index = float(items[j].extras->real("color"));
             }
             speed = float(items[j].extras->real("color_speed"));
+            // flam3's visibility: opacity^(log2 10) (flam3.c's adjust_percentage), the weight of
+            // each of its points, drawn as the chance of plotting one (the sums stay integers).
+            const double o = items[j].extras->real("opacity");
+            if (o < 1) {
+                has_opacity_ = true;
+                visible_[j] = o > 0 ? std::pow(o, std::log2(10.0)) : 0.0;
+            }
         }
         map_index_.push_back(index);
         map_speed_.push_back(speed);
@@ -338,7 +346,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     // whatever the chain's history, so the renderer writes the last colours from the maps the
     // fused step took (chaos-game/block.cpp). The running colour of Algorithm 2 (flame's `last`) changes
     // only where a chain plots, unlike the fused step's: that mode keeps the generic path.
-    if (p.string("kernels") == "auto" && k <= fp_chaos::table_size && !has_finals_ &&
+    if (p.string("kernels") == "auto" && k <= fp_chaos::table_size && !has_finals_ && !has_opacity_ &&
         (!colour_ || crule != fp::ColourRule::none) && (!last_ || crule == fp::ColourRule::map)) {
         std::vector<fp::KnownKernel> kk;
         for (const auto& m : maps_) kk.push_back(m->kernel());
@@ -431,6 +439,12 @@ constexpr fp::ParamSpec map_item_params[] = {
                     "flam3's color_speed: how far a chain's palette index moves toward the map's color at "
                     "each step")
         .def("0.5")
+        .min(0)
+        .max(1),
+    fp::param::real("opacity",
+                    "flam3's opacity: each point of the map is plotted with the chance opacity^log2(10) "
+                    "(flam3's weight of it); the chain goes on either way")
+        .def("1")
         .min(0)
         .max(1),
 };

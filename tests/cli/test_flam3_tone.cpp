@@ -3,7 +3,8 @@
 // brightest bin. Checked on the uniform measure of the unit square (four maps of ratio 1/2 onto
 // its quarters), whose density is 1 everywhere: each pixel is flam3's hand-computed value
 // (256/255) (268/256) contrast brightness ln(1 + 1/contrast), whatever the pixel's size and the
-// points drawn; in strips and re-toned from a kept histogram it is the same bytes; and
+// points drawn; an xform's opacity weighs its points by flam3's opacity^log2(10); in strips
+// and re-toned from a kept histogram it is the same bytes; and
 // `contrast` without density flam3 is refused.
 #include "cli.hpp"
 
@@ -20,10 +21,11 @@ using namespace fp::test;
 namespace {
 
 /// The unit square's uniform measure, in white, at gamma 1 (pixel = the tone's value itself).
-std::string square(const std::string& view, int size, long points, const std::string& tone) {
+std::string square(const std::string& view, int size, long points, const std::string& tone,
+                   const std::string& item = "") {
     std::string maps;
     for (const char* t : {"0, 0", "0.5, 0", "0, 0.5", "0.5, 0.5"})
-        maps += std::string("    - {type: affine, coefficients: [0.5, 0, 0, 0.5, ") + t + "]}\n";
+        maps += std::string("    - {type: affine, coefficients: [0.5, 0, 0, 0.5, ") + t + "]" + item + "}\n";
     return "renderer:\n  type: chaos-game\n  width: " + std::to_string(size) +
            "\n  height: " + std::to_string(size) + "\n  view: " + view +
            "\n  points: " + std::to_string(points) +
@@ -76,6 +78,34 @@ TEST(Flam3Tone, TheSquaresDensityIsFlam3sValue) {
     const fp::Image d = render(dir, "d", square("[0, 1, 0, 1]", 4, 400000, ""));
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 4; ++x) EXPECT_NEAR(red(d, x, y), expected(1, 1), 2.0) << x << ", " << y;
+}
+
+TEST(Flam3Tone, OpacityWeighsEachPointAsFlam3Does) {
+    const std::string dir = scratch_dir("flam3_tone_opacity");
+    // flam3 weighs a point of an xform of opacity o by o^log2(10) (adjust_percentage): at
+    // o = 0.25^(1 / log2 10) = 0.65881 a quarter, the density of the square 1/4, the pixel
+    // (256/255) (268/256) ln(1 + 1/4) (25 000 hits a pixel: +-0.6%, +-0.3 of a step).
+    const fp::Image a = render(dir, "a", square("[0, 1, 0, 1]", 4, 1600000, "", ", opacity: 0.65881"));
+    const double want = 255.0 * (256.0 / 255.0) * (268.0 / 256.0) * std::log1p(0.25);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) EXPECT_NEAR(red(a, x, y), want, 1.5) << x << ", " << y;
+    // Opacity 0 on three of the maps: only the fourth's images are plotted (its quarter: the
+    // bottom-left, rows down).
+    std::string c = square("[0, 1, 0, 1]", 4, 400000, "");
+    for (const char* t : {"0.5, 0]", "0, 0.5]", "0.5, 0.5]"}) {
+        const std::string m = std::string(t);
+        c.replace(c.find(m), m.size(), m + ", opacity: 0");
+    }
+    const fp::Image b = render(dir, "b", c);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) EXPECT_EQ(red(b, x, y) > 0, x < 2 && y >= 2) << x << ", " << y;
+    // The same bytes on 1 and 3 threads.
+    for (const char* t : {"1", "3"}) {
+        const auto r =
+            run_cli({"render", "--quiet", "--threads", t, dir + "/a.yaml", "-o", dir + "/a" + t + ".png"});
+        ASSERT_EQ(r.rc, 0) << r.err;
+    }
+    EXPECT_EQ(read_file(dir + "/a1.png"), read_file(dir + "/a3.png"));
 }
 
 TEST(Flam3Tone, StripsAndReTonedAreTheSameBytes) {

@@ -4,13 +4,14 @@
 // line; the column of an attribute is found on its line by its name. Every value is checked
 // here, at its place in the XML, before any config is written: a number that is not finite, a
 // size out of range, an unknown attribute or variation. What fixpoint cannot carry over yet
-// (opacity, xaos, motion, temporal samples, a hue rotation) is a warning, never a silent drop.
+// (xaos, motion, temporal samples) is a warning, never a silent drop.
 #include <fixpoint/host/core/flam3_import.hpp>
 
 #include <fixpoint/errors.hpp>
 #include <fixpoint/text.hpp>
 
 #include <fixpoint/flam3_table.hpp>
+#include <fixpoint/palette.hpp>
 
 #include <tinyxml2.h>
 
@@ -130,7 +131,7 @@ std::string xform(const Reader& r, const tinyxml2::XMLElement* e, bool final, st
     std::string s = "{type: xform";
     std::string vars, prm;
     weight = 1;
-    double color = 0, speed = 0.5;
+    double color = 0, speed = 0.5, opacity = 1;
     bool any = false;
     std::vector<double> old_vars;
     for (const auto* a = e->FirstAttribute(); a; a = a->Next()) {
@@ -151,8 +152,14 @@ std::string xform(const Reader& r, const tinyxml2::XMLElement* e, bool final, st
             for (std::size_t i = 0; i < 6; ++i) s += (i ? ", " : "") + num(c[i]);
             s += "]";
         } else if (n == "opacity" || n == "plotmode") {
-            const bool off = n == "plotmode" ? std::string(a->Value()) == "off" : r.number(a, 0, 1) != 1;
-            if (off) warn.push_back(what + ": " + n + " is not carried over (every point is plotted)");
+            // (flam3's plotmode "off" is opacity 0.)
+            const double o =
+                n == "plotmode" ? (std::string(a->Value()) == "off" ? 0.0 : 1.0) : r.number(a, 0, 1);
+            if (o < 1 && final)
+                warn.push_back(what + ": " + n +
+                               " is not carried over (the final xform applies to every point)");
+            else if (o < 1)
+                opacity = std::min(opacity, o);
         } else if (n == "chaos") {
             const auto c = r.numbers(a, 0, 1u << 16);
             if (std::any_of(c.begin(), c.end(), [](double x) { return x != 1; }))
@@ -185,13 +192,61 @@ std::string xform(const Reader& r, const tinyxml2::XMLElement* e, bool final, st
     if (!any) vars = ", linear: 1"; // flam3's default xform is linear
     s += vars + prm;
     if (!final) s += ", weight: " + num(weight);
-    s += ", color: " + num(color) + ", color_speed: " + num(speed) + "}";
+    s += ", color: " + num(color) + ", color_speed: " + num(speed);
+    if (opacity < 1) s += ", opacity: " + num(opacity);
+    s += "}";
     for (const auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement())
         if (std::string(c->Name()) == "motion") {
             warn.push_back(what + ": its motion elements are not carried over (a still render)");
             break;
         }
     return s;
+}
+
+/// flam3's hsv2rgb(rgb2hsv(v) + (dh, 0, 0)) (palettes.c), in place: v in [0, 1], h in [0, 6).
+void rotate_hue(double* v, double dh) {
+    const double mx = std::max({v[0], v[1], v[2]}), mn = std::min({v[0], v[1], v[2]}), del = mx - mn;
+    const double s = mx != 0 ? del / mx : 0.0;
+    double h = 0;
+    if (s != 0) {
+        const double rc = (mx - v[0]) / del, gc = (mx - v[1]) / del, bc = (mx - v[2]) / del;
+        if (v[0] == mx)
+            h = bc - gc;
+        else if (v[1] == mx)
+            h = 2 + rc - bc;
+        else
+            h = 4 + gc - rc;
+        if (h < 0) h += 6;
+    }
+    h += dh;
+    while (h >= 6) h -= 6;
+    while (h < 0) h += 6;
+    const int j = int(std::floor(h));
+    const double f = h - j, p = mx * (1 - s), q = mx * (1 - s * f), t = mx * (1 - s * (1 - f));
+    const double table[6][3] = {{mx, t, p}, {q, mx, p}, {p, mx, t}, {p, q, mx}, {t, p, mx}, {mx, p, q}};
+    std::copy_n(table[j < 6 ? j : 0], 3, v);
+}
+
+/// flam3_add_symmetry's xforms for `<symmetry kind="N">` (flam3.c): for N < 0 a mirror x -> -x,
+/// then for |N| the rotations by 2 pi k / |N|, k = 1 .. |N| - 1; each linear, of weight 1 and
+/// color_speed 0, with flam3's colours, their coefficients rounded to 6 decimals as flam3 does.
+std::vector<std::string> symmetry_xforms(int sym) {
+    std::vector<std::string> out;
+    auto add = [&](double a, double b, double color) {
+        out.push_back("{type: xform, coefs: [" + num(a) + ", " + num(b) + ", " + num(-b == 0 ? 0.0 : -b) +
+                      ", " + num(a) + ", 0, 0], linear: 1, weight: 1, color: " + num(color) +
+                      ", color_speed: 0}");
+    };
+    if (sym < 0) {
+        out.push_back(
+            "{type: xform, coefs: [-1, 0, 0, 1, 0, 0], linear: 1, weight: 1, color: 1, color_speed: 0}");
+        sym = -sym;
+    }
+    const double step = 2 * 3.14159265358979323846 / sym;
+    auto round6 = [](double x) { return std::round(x * 1e6) / 1e6; };
+    for (int k = 1; k < sym; ++k)
+        add(round6(std::cos(k * step)), round6(std::sin(k * step)), sym < 3 ? 0.0 : (k - 1.0) / (sym - 2.0));
+    return out;
 }
 
 std::string palette_of(const Reader& r, const tinyxml2::XMLElement* flame, std::vector<std::string>& warn) {
@@ -230,9 +285,26 @@ std::string palette_of(const Reader& r, const tinyxml2::XMLElement* flame, std::
     }
     const auto* pi = flame->FindAttribute("palette");
     if (!got && pi) {
-        if (flame->FindAttribute("hue") && r.number(flame->FindAttribute("hue")) != 0)
-            warn.push_back("hue: the palette's hue rotation is not carried over");
-        return "palette: flam3:" + num(r.number(pi, 0, 1e6));
+        const std::string name = "flam3:" + num(r.number(pi, 0, 1e6));
+        const auto* hue = flame->FindAttribute("hue");
+        const double h = hue ? std::fmod(r.number(hue), 1.0) : 0.0; // (flam3's parser: fmod(hue, 1))
+        if (h == 0) return "palette: " + name;
+        // flam3_get_palette: each entry's hue turned by 6 h in flam3's HSV (h in [0, 6)).
+        fp::Palette p;
+        try {
+            p = fp::palette_named(name, "palette");
+        } catch (const fp::ParamError& e) {
+            r.fail(pi, e.what());
+        }
+        for (std::size_t i = 0; i < 256; ++i) {
+            const fp::Rgb c = p.colours[i];
+            // (flam3's entries are bytes / 255; ours are those bytes as floats.)
+            double v[3] = {std::round(double(c.r) * 255) / 255, std::round(double(c.g) * 255) / 255,
+                           std::round(double(c.b) * 255) / 255};
+            rotate_hue(v, 6 * h);
+            std::copy_n(v, 3, &rgb[3 * i]);
+        }
+        got = true;
     }
     if (!got) {
         warn.push_back("the genome has no palette: white");
@@ -373,6 +445,19 @@ Flam3Import import_flam3(const std::string& path, const Flam3Select& which, cons
     int n = 0;
     for (const auto* x = f->FirstChildElement(); x; x = x->NextSiblingElement()) {
         const std::string nm = x->Name();
+        if (nm == "symmetry") {
+            // flam3's parser adds its xforms on reading it (also where flam3-genome wrote them out
+            // beside it: flam3-render then has them twice, and so do we).
+            const auto* kind = x->FindAttribute("kind");
+            if (!kind) r.fail(x, "symmetry: expected kind=\"N\"");
+            const double sym = r.number(kind, -1000, 1000);
+            if (sym != std::floor(sym)) r.fail(kind, num(sym) + " is not a whole number");
+            if (sym == 0) warn.push_back("symmetry kind 0: flam3 picks a random symmetry; none is added");
+            for (const auto& m : symmetry_xforms(int(sym)))
+                maps.push_back("    - " + m + "  # symmetry " + num(sym) + " (line " +
+                               std::to_string(x->GetLineNum()) + ")");
+            continue;
+        }
         if (nm != "xform" && nm != "finalxform") continue;
         const std::string what =
             nm + " " + std::to_string(n++) + " (line " + std::to_string(x->GetLineNum()) + ")";

@@ -238,6 +238,7 @@ private:
             colours_in_range_ = false; // (a colourer's rule: no promise of its range)
         }
         const Counts sc = g_.has_finals_ ? bookkeep_finals(n) : bookkeep(bv_, Colour);
+        if (g_.has_opacity_) g_.hide(s_, nb_, n, bv_.dummy);
         if (Colour && g_.last_) {
             const uint64_t* dep = s_.dep.get();
             write_last_colours(

@@ -60,6 +60,18 @@ const uint64_t* ChaosGame::keys(Scratch<T>& s, const uint32_t* lanes, size_t at,
     return k;
 }
 
+template <class T>
+void ChaosGame::hide(Scratch<T>& s, size_t nb, uint64_t n, uint32_t dummy) const {
+    const uint32_t* chosen = s.chosen.get();
+    const uint32_t* chain = s.c.chain.get();
+    uint32_t* idx = s.idx.get();
+    for (size_t i = 0; i < nb; ++i) {
+        const double v = visible_[chosen[i]];
+        // (A salt of its own: the maps' randoms at this step take 0 and up, the final maps' 2^31.)
+        if (v < 1 && !(fp::map_uniform(fp::map_key(seed_, chain[i], n), 0xC0000000u, 0) < v)) idx[i] = dummy;
+    }
+}
+
 // ---------------------------------------------------------------- final maps, camera
 template <class T>
 void ChaosGame::finals(Scratch<T>& s, size_t nb, uint64_t n, bool colour) const {
@@ -258,6 +270,8 @@ bool ChaosGame::lane_program(uint64_t n, LaneProgram<T>& out) const {
     return true;
 }
 
+template void ChaosGame::hide<float>(Scratch<float>&, size_t, uint64_t, uint32_t) const;
+template void ChaosGame::hide<double>(Scratch<double>&, size_t, uint64_t, uint32_t) const;
 template void ChaosGame::choose_rules<float>(Scratch<float>&, size_t) const;
 template void ChaosGame::choose_rules<double>(Scratch<double>&, size_t) const;
 template void ChaosGame::choose_alias<float>(Scratch<float>&, size_t) const;

@@ -147,6 +147,10 @@ private:
     /// into s.fr, s.fg, s.fb (the chains' own stay).
     template <class T>
     void finals(Scratch<T>& s, size_t nb, uint64_t n, bool colour) const;
+    /// flam3's opacity: the points at step n whose map's visible_ draw fails go to the dummy bin
+    /// (their bins idx[i] := dummy), from the chain's key at that step.
+    template <class T>
+    void hide(Scratch<T>& s, size_t nb, uint64_t n, uint32_t dummy) const;
     /// The random keys of the staged points [at, at + len) whose lanes are `lanes`, at step n
     /// (fp::map_key), in the scratch's gk; null when no map draws random numbers.
     template <class T>
@@ -210,6 +214,10 @@ private:
     std::vector<fp::Rgb> final_colours_;
     std::vector<float> final_index_, final_speed_;
     bool random_final_ = false, has_finals_ = false, rotate_ = false, y_down_ = false;
+    /// Some map's `opacity` is below 1: visible_[j] the chance that a point of map j is plotted
+    /// (k + 1 entries, the last for the chains that did not move).
+    bool has_opacity_ = false;
+    std::vector<double> visible_;
     double cam_[2] = {1, 0};
     std::vector<uint32_t> region_maps_;       ///< indices of the maps with a set
     std::vector<uint32_t> q_;                 ///< integer weights (rules on)
