@@ -163,6 +163,8 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     const size_t k = items.size();
     std::vector<double> w(k, 1.0);
     visible_.assign(k + 1, 1.0);
+    // flam3's xaos: chaos[i k + j] the factor on map j's weight after map i (1 where not given).
+    std::vector<double> chaos(k * k, 1.0);
     for (size_t j = 0; j < k; ++j) {
         auto m = fp::as<fp::Transform>(items[j]);
         if (!m) throw fp::InternalError("chaos-game: maps[" + std::to_string(j) + "] is not a transform");
@@ -184,6 +186,20 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
             speed = float(items[j].extras->real("color_speed"));
             // flam3's visibility: opacity^(log2 10) (flam3.c's adjust_percentage), the weight of
             // each of its points, drawn as the chance of plotting one (the sums stay integers).
+            if (items[j].extras->has("chaos")) {
+                const auto& c = items[j].extras->reals("chaos");
+                if (c.size() > k)
+                    throw fp::ParamError("maps", "maps[" + std::to_string(j) +
+                                                     "].chaos: " + std::to_string(c.size()) +
+                                                     " entries for " + std::to_string(k) + " maps");
+                for (size_t i = 0; i < c.size(); ++i) {
+                    if (!(c[i] >= 0) || !std::isfinite(c[i]))
+                        throw fp::ParamError("maps", "maps[" + std::to_string(j) + "].chaos[" +
+                                                         std::to_string(i) + "] must be a number >= 0");
+                    chaos[j * k + i] = c[i];
+                    has_xaos_ = has_xaos_ || c[i] != 1;
+                }
+            }
             const double o = items[j].extras->real("opacity");
             if (o < 1) {
                 has_opacity_ = true;
@@ -335,6 +351,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     uniform_ = std::all_of(w.begin(), w.end(), [&](double x) { return x == w[0]; });
 
     fp_chaos::walker_table(w, alias_thr_, alias_);
+    if (has_xaos_) xaos_tables(w, chaos);
 
     // The fused step: every map a known kernel of one kind (Transform::kernel: inversions in
     // circles about their centres, affine maps, Gumowski-Mira maps), a Picard step, at most
@@ -347,7 +364,8 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     // fused step took (chaos-game/block.cpp). The running colour of Algorithm 2 (flame's `last`) changes
     // only where a chain plots, unlike the fused step's: that mode keeps the generic path.
     if (p.string("kernels") == "auto" && k <= fp_chaos::table_size && !has_finals_ && !has_opacity_ &&
-        (!colour_ || crule != fp::ColourRule::none) && (!last_ || crule == fp::ColourRule::map)) {
+        !has_xaos_ && (!colour_ || crule != fp::ColourRule::none) &&
+        (!last_ || crule == fp::ColourRule::map)) {
         std::vector<fp::KnownKernel> kk;
         for (const auto& m : maps_) kk.push_back(m->kernel());
         setup_fused(kk, crule);
@@ -441,6 +459,11 @@ constexpr fp::ParamSpec map_item_params[] = {
         .def("0.5")
         .min(0)
         .max(1),
+    fp::param::reals("chaos",
+                     "flam3's xaos: after this map, map j's weight is multiplied by chaos[j] (1 where "
+                     "the list ends); with inversion_rules, it replaces the rule 'not the previous map' "
+                     "(a 0 at the map's own place is that rule)")
+        .opt(),
     fp::param::real("opacity",
                     "flam3's opacity: each point of the map is plotted with the chance opacity^log2(10) "
                     "(flam3's weight of it); the chain goes on either way")

@@ -1,10 +1,10 @@
-// flam3's symmetry element, an xform's opacity and a palette's hue rotation in genomes
+// flam3's symmetry element, an xform's opacity, a palette's hue rotation and xaos in genomes
 // (docs/flam3.md). Checked against flam3 itself: the imported config has the xforms flam3's
 // parser makes (flam3-genome's `clone` prints them: the symmetry's added once more where the
 // file already has them), its palette is flam3's hue-turned one (clone prints it too), and
 // flam3-render's picture of a genome with all three agrees with fixpoint's (structural
 // similarity above 0.9, or as high as flam3's own with other random numbers where that is
-// lower, less 0.02).
+// lower, less 0.02), as does a genome with xaos, far above its picture without.
 #include "cli.hpp"
 #include "ssim.hpp"
 
@@ -105,6 +105,47 @@ TEST(Flam3Features, ThePictureIsFlam3Renders) {
                  "renderer.width=200", "--set", "renderer.height=200", "--set", "renderer.points=4000000"});
     ASSERT_EQ(p.rc, 0) << p.err;
     EXPECT_LT(ssim(grey(f), grey(fp::host::read_image(dir + "/plain.png")), o.width, o.height), same - 0.02);
+}
+
+// Xaos: 0 after 0, and 1/5 from xform 2 to itself, past an xform of weight 0 (whose place in
+// the rows the import takes out).
+const char* xaos_genome =
+    R"(<flame name="xaos" size="100 100" center="0.5 0.4" scale="60" quality="1" palette="30"
+       gamma="3" brightness="3">
+   <xform weight="1" color="0" coefs="0.5 0 0 0.5 0 0" linear="1" chaos="0 1 1"/>
+   <xform weight="0" color="0.2" coefs="0.5 0 0 0.5 0 0" linear="1"/>
+   <xform weight="1" color="0.5" coefs="0.5 0 0 0.5 0.5 0" linear="1" chaos="1 1 0.2"/>
+   <xform weight="1" color="1" coefs="0.5 0 0 0.5 0.25 0.5" linear="0.8" swirl="0.2"/>
+</flame>
+)";
+
+TEST(Flam3Features, XaosIsFlam3s) {
+    if (!have("flam3-render")) GTEST_SKIP() << "flam3-render (Debian's flam3-utils) is not installed";
+    const std::string dir = scratch_dir("flam3_features_xaos");
+    write_file(dir + "/g.flam3", xaos_genome);
+    const auto imp = run_cli({"import", dir + "/g.flam3"});
+    ASSERT_EQ(imp.rc, 0) << imp.err;
+    EXPECT_NE(imp.out.find("chaos: [0]}"), std::string::npos) << imp.out;
+    EXPECT_NE(imp.out.find("chaos: [1, 0.2]}"), std::string::npos) << imp.out;
+    const std::string cmd = "cd " + dir + " && env ss=2 qs=100 nthreads=1 isaac_seed=one out=flam3.png " +
+                            "flam3-render < g.flam3 >/dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const fp::Image f = fp::host::read_image(dir + "/flam3.png");
+    auto ours = [&](const std::string& genome, const std::string& name) {
+        write_file(dir + "/" + name + ".flam3", genome);
+        const auto r = run_cli({"render", "--quiet", dir + "/" + name + ".flam3", "-o",
+                                dir + "/" + name + ".png", "--set", "renderer.width=200", "--set",
+                                "renderer.height=200", "--set", "renderer.points=4000000"});
+        EXPECT_EQ(r.rc, 0) << r.err;
+        return grey(fp::host::read_image(dir + "/" + name + ".png"));
+    };
+    std::string plain = xaos_genome;
+    for (const char* c : {" chaos=\"0 1 1\"", " chaos=\"1 1 0.2\""})
+        plain.erase(plain.find(c), std::string(c).size());
+    const double same = ssim(grey(f), ours(xaos_genome, "ours"), 200, 200),
+                 without = ssim(grey(f), ours(plain, "plain"), 200, 200);
+    EXPECT_GT(same, 0.9) << "without xaos " << without;
+    EXPECT_GT(same, without + 0.05);
 }
 
 } // namespace

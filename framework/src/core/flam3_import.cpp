@@ -4,7 +4,7 @@
 // line; the column of an attribute is found on its line by its name. Every value is checked
 // here, at its place in the XML, before any config is written: a number that is not finite, a
 // size out of range, an unknown attribute or variation. What fixpoint cannot carry over yet
-// (xaos, motion, temporal samples) is a warning, never a silent drop.
+// (motion, temporal samples) is a warning, never a silent drop.
 #include <fixpoint/host/core/flam3_import.hpp>
 
 #include <fixpoint/errors.hpp>
@@ -125,13 +125,15 @@ int parameter(const std::string& name) {
     return -1;
 }
 
-/// An xform (or the final xform) as a YAML flow mapping.
+/// An xform (or the final xform) as a YAML flow mapping but for its closing brace; its weight
+/// and its xaos row (flam3's chaos: empty where not given) beside.
 std::string xform(const Reader& r, const tinyxml2::XMLElement* e, bool final, std::vector<std::string>& warn,
-                  double& weight, const std::string& what) {
+                  double& weight, std::vector<double>& chaos, const std::string& what) {
     std::string s = "{type: xform";
     std::string vars, prm;
     weight = 1;
     double color = 0, speed = 0.5, opacity = 1;
+    chaos.clear();
     bool any = false;
     std::vector<double> old_vars;
     for (const auto* a = e->FirstAttribute(); a; a = a->Next()) {
@@ -162,8 +164,14 @@ std::string xform(const Reader& r, const tinyxml2::XMLElement* e, bool final, st
                 opacity = std::min(opacity, o);
         } else if (n == "chaos") {
             const auto c = r.numbers(a, 0, 1u << 16);
-            if (std::any_of(c.begin(), c.end(), [](double x) { return x != 1; }))
-                warn.push_back(what + ": chaos (xaos) is not carried over (every map may follow every map)");
+            for (double x : c)
+                if (!(x >= 0)) r.fail(a, "xaos weights must be numbers >= 0");
+            if (final) {
+                if (std::any_of(c.begin(), c.end(), [](double x) { return x != 1; }))
+                    warn.push_back(what + ": chaos has no meaning for the final xform (flam3 ignores it)");
+            } else {
+                chaos = c;
+            }
         } else if (n == "animate" || n == "name" || n == "motion_frequency" || n == "motion_function") {
             // animation only: a still render does not read it
         } else if (n == "var1") {
@@ -194,7 +202,6 @@ std::string xform(const Reader& r, const tinyxml2::XMLElement* e, bool final, st
     if (!final) s += ", weight: " + num(weight);
     s += ", color: " + num(color) + ", color_speed: " + num(speed);
     if (opacity < 1) s += ", opacity: " + num(opacity);
-    s += "}";
     for (const auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement())
         if (std::string(c->Name()) == "motion") {
             warn.push_back(what + ": its motion elements are not carried over (a still render)");
@@ -441,7 +448,15 @@ Flam3Import import_flam3(const std::string& path, const Flam3Select& which, cons
     const double points = std::max(1.0, std::round(quality * std::pow(4.0, zoom) * W * H));
     if (points > 1e15) r.fail(f, "quality times the image's pixels is more than 1e15 points");
 
-    std::vector<std::string> maps, finals;
+    // The maps in flam3's order of its xforms (those of a symmetry where its element stands), each
+    // with its xaos row, whose entries are by that order; weight-0 xforms are left out after.
+    struct Map {
+        std::string text, comment;
+        std::vector<double> chaos;
+        bool kept = true;
+    };
+    std::vector<Map> xf;
+    std::vector<std::string> finals;
     int n = 0;
     for (const auto* x = f->FirstChildElement(); x; x = x->NextSiblingElement()) {
         const std::string nm = x->Name();
@@ -454,25 +469,45 @@ Flam3Import import_flam3(const std::string& path, const Flam3Select& which, cons
             if (sym != std::floor(sym)) r.fail(kind, num(sym) + " is not a whole number");
             if (sym == 0) warn.push_back("symmetry kind 0: flam3 picks a random symmetry; none is added");
             for (const auto& m : symmetry_xforms(int(sym)))
-                maps.push_back("    - " + m + "  # symmetry " + num(sym) + " (line " +
-                               std::to_string(x->GetLineNum()) + ")");
+                xf.push_back({m.substr(0, m.size() - 1),
+                              "symmetry " + num(sym) + " (line " + std::to_string(x->GetLineNum()) + ")",
+                              {},
+                              true});
             continue;
         }
         if (nm != "xform" && nm != "finalxform") continue;
         const std::string what =
             nm + " " + std::to_string(n++) + " (line " + std::to_string(x->GetLineNum()) + ")";
         double w = 1;
-        const std::string m = xform(r, x, nm == "finalxform", warn, w, what);
-        if (nm == "finalxform") {
-            finals.push_back("    - " + m + "  # " + what);
-        } else if (w > 0) {
-            maps.push_back("    - " + m + "  # " + what);
-        } else {
-            maps.push_back("    # " + what + ": weight 0, never chosen (flam3 skips it too)");
-        }
+        std::vector<double> chaos;
+        const std::string m = xform(r, x, nm == "finalxform", warn, w, chaos, what);
+        if (nm == "finalxform")
+            finals.push_back("    - " + m + "}  # " + what);
+        else
+            xf.push_back({m, what, chaos, w > 0});
     }
-    if (std::none_of(maps.begin(), maps.end(), [](const std::string& s) { return s.rfind("    -", 0) == 0; }))
-        r.fail(f, "the flame has no xform of positive weight");
+    // Each kept map's xaos row over the kept maps (1 past its end, as flam3 reads it).
+    std::vector<std::size_t> kept;
+    for (std::size_t i = 0; i < xf.size(); ++i)
+        if (xf[i].kept) kept.push_back(i);
+    if (kept.empty()) r.fail(f, "the flame has no xform of positive weight");
+    std::vector<std::string> maps;
+    for (const auto& m : xf) {
+        if (!m.kept) {
+            maps.push_back("    # " + m.comment + ": weight 0, never chosen (flam3 skips it too)");
+            continue;
+        }
+        std::vector<double> row;
+        for (std::size_t i : kept) row.push_back(i < m.chaos.size() ? m.chaos[i] : 1.0);
+        while (!row.empty() && row.back() == 1) row.pop_back();
+        std::string c;
+        for (std::size_t i = 0; i < row.size(); ++i) c += (i ? ", " : ", chaos: [") + num(row[i]);
+        if (!row.empty()) c += "]";
+        if (!row.empty() && std::all_of(row.begin(), row.end(), [](double v) { return v == 0; }) &&
+            row.size() == kept.size())
+            r.fail(f, m.comment + ": its chaos is 0 for every xform: none may follow it");
+        maps.push_back("    - " + m.text + c + "}  # " + m.comment);
+    }
 
     std::ostringstream y;
     const char* name = f->Attribute("name");

@@ -210,7 +210,9 @@ private:
     /// chains grouped by map, one step call per map, back in place; 4. the colours (not when the
     /// colourer needs none); 5. the bookkeeping, bin indices and colour values.
     Counts step_generic(uint64_t n) {
-        if constexpr (Rules)
+        if (g_.has_xaos_)
+            g_.choose_xaos(s_, nb_);
+        else if constexpr (Rules)
             g_.choose_rules(s_, nb_);
         else
             g_.choose_alias(s_, nb_);

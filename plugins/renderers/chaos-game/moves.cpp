@@ -46,6 +46,83 @@ void ChaosGame::choose_alias(Scratch<T>& s, size_t nb) const {
     draw_by_alias(a);
 }
 
+// With xaos (flam3's chaos): a scalar draw per chain by its previous map's row (flam3's
+// xform_distrib rows: the first for a chain without a previous map).
+void ChaosGame::xaos_tables(const std::vector<double>& w, const std::vector<double>& chaos) {
+    const size_t k = w.size();
+    xaos_thr_.assign((k + 1) * k, 0), xaos_alias_.assign((k + 1) * k, 0), xaos_q_.assign((k + 1) * k, 0);
+    for (size_t r = 0; r <= k; ++r) {
+        std::vector<double> row(k);
+        double sum = 0;
+        for (size_t j = 0; j < k; ++j) sum += row[j] = r == 0 ? w[j] : w[j] * chaos[(r - 1) * k + j];
+        if (!(sum > 0))
+            throw fp::ParamError("maps",
+                                 "maps[" + std::to_string(r - 1) +
+                                     "].chaos: 0 for every map of positive weight: no map may follow it");
+        std::vector<uint32_t> thr, alias;
+        walker_table(row, thr, alias);
+        // (walker_table pads its tables for the vector draws: the first k entries are the row's.)
+        std::copy_n(thr.begin(), k, xaos_thr_.begin() + std::ptrdiff_t(r * k));
+        std::copy_n(alias.begin(), k, xaos_alias_.begin() + std::ptrdiff_t(r * k));
+        for (size_t j = 0; j < k; ++j)
+            if (row[j] > 0)
+                xaos_q_[r * k + j] =
+                    uint32_t(std::max(1.0, std::floor(row[j] / sum * double(1u << 31) + 0.5)));
+    }
+}
+
+template <class T>
+void ChaosGame::choose_xaos(Scratch<T>& s, size_t nb) const {
+    const uint32_t k = uint32_t(maps_.size());
+    const unsigned char* inside = s.inside.get();
+    if (rules_) {
+        const fp::Points<const T> pts{s.c.x.get(), s.c.y.get(), nb};
+        for (uint32_t j : region_maps_) maps_[j]->contains(pts, s.inside.get() + size_t(j) * block_size);
+    }
+    // (Maps without a set leave their rows of `inside` as they are: read only those with one.)
+    std::vector<unsigned char> has_set(k, 0);
+    for (uint32_t j : region_maps_) has_set[j] = 1;
+    uint64_t* rs = s.c.rs.get();
+    const uint64_t* ri = s.c.ri.get();
+    const uint32_t* prev = s.c.prev.get();
+    const uint32_t* active = s.c.active.get();
+    uint32_t* chosen = s.chosen.get();
+    uint32_t* restart = s.restart.get();
+    for (size_t i = 0; i < nb; ++i) {
+        const uint32_t r = pcg_next(rs[i], ri[i]);
+        const size_t row = size_t(prev[i] < k ? prev[i] + 1 : 0) * k;
+        restart[i] = 0;
+        chosen[i] = k;
+        if (!active[i]) continue;
+        if (!rules_) {
+            // Walker: column m >> 32 of m = r k, kept below its threshold, else its alias.
+            const uint64_t m = uint64_t(r) * k;
+            const uint32_t col = uint32_t(m >> 32);
+            chosen[i] = uint32_t(m) < xaos_thr_[row + col] ? col : xaos_alias_[row + col];
+            continue;
+        }
+        auto allowed = [&](uint32_t j) { return !(has_set[j] && inside[size_t(j) * block_size + i]); };
+        uint64_t t = 0;
+        for (uint32_t j = 0; j < k; ++j)
+            if (allowed(j)) t += xaos_q_[row + j];
+        if (t == 0) {
+            restart[i] = 1;
+            continue;
+        }
+        // u in [0, t): the first allowed map whose cumulative weight passes u.
+        const uint64_t u = (uint64_t(r) * t) >> 32;
+        uint64_t cum = 0;
+        for (uint32_t j = 0; j < k; ++j) {
+            if (!allowed(j)) continue;
+            cum += xaos_q_[row + j];
+            if (cum > u) {
+                chosen[i] = j;
+                break;
+            }
+        }
+    }
+}
+
 // ---------------------------------------------------------------- random keys
 // Maps that draw random numbers (Transform::uses_random: flam3's julia, blur, ...) take them
 // from a key per point: fp::map_key(seed, chain, n), the chain's own counter-based stream,
@@ -270,6 +347,8 @@ bool ChaosGame::lane_program(uint64_t n, LaneProgram<T>& out) const {
     return true;
 }
 
+template void ChaosGame::choose_xaos<float>(Scratch<float>&, size_t) const;
+template void ChaosGame::choose_xaos<double>(Scratch<double>&, size_t) const;
 template void ChaosGame::hide<float>(Scratch<float>&, size_t, uint64_t, uint32_t) const;
 template void ChaosGame::hide<double>(Scratch<double>&, size_t, uint64_t, uint32_t) const;
 template void ChaosGame::choose_rules<float>(Scratch<float>&, size_t) const;

@@ -218,6 +218,17 @@ private:
     /// (k + 1 entries, the last for the chains that did not move).
     bool has_opacity_ = false;
     std::vector<double> visible_;
+    /// Some map's `chaos` (flam3's xaos) is not all 1: the draw's weights depend on the chain's
+    /// previous map. Row r of (k + 1) x k: r = 0 for no previous map (the weights), r = i + 1
+    /// after map i (weight_j chaos_ij): Walker's tables xaos_thr_, xaos_alias_, and integer
+    /// weights xaos_q_ (sum below 2^32, 0 where the weight is 0) for the draw under the rules.
+    bool has_xaos_ = false;
+    std::vector<uint32_t> xaos_thr_, xaos_alias_, xaos_q_;
+    void xaos_tables(const std::vector<double>& w, const std::vector<double>& chaos);
+    /// The draw with xaos (scalar, one pcg32 output per chain as the others): by row prev + 1
+    /// of the tables; with the rules, by xaos_q_ among the maps whose set does not hold the point.
+    template <class T>
+    void choose_xaos(Scratch<T>& s, size_t nb) const;
     double cam_[2] = {1, 0};
     std::vector<uint32_t> region_maps_;       ///< indices of the maps with a set
     std::vector<uint32_t> q_;                 ///< integer weights (rules on)
