@@ -294,6 +294,30 @@ int cmd_import(const Options& o) {
     return 0;
 }
 
+// export: a chaos-game config as a flam3 genome (host/core/flam3_import.hpp), to -o or stdout.
+int cmd_export(const Options& o) {
+    if (!o.out.empty()) {
+        if (!is_flam3_file(o.out))
+            throw InputError("-o " + quote(o.out, 200) + ": a genome file is .flam3, .flame or .flam");
+        if (!o.force && std::filesystem::exists(o.out))
+            throw InputError(quote(o.out, 200) + " exists (--force replaces it)");
+        const auto dir = std::filesystem::path(o.out).parent_path();
+        if (!dir.empty() && !std::filesystem::is_directory(dir))
+            throw InputError("cannot write " + quote(o.out, 200) + ": folder " + quote(dir.string(), 200) +
+                             " does not exist");
+    }
+    const Registry reg = make_registry(o);
+    const Flam3Export ex = export_flam3(reg, o.config, o.sets);
+    for (const auto& w : ex.warnings) std::fprintf(stderr, "warning: %s: %s\n", o.config.c_str(), w.c_str());
+    if (o.out.empty()) {
+        std::fputs(ex.xml.c_str(), stdout);
+    } else {
+        write_bytes(ex.xml, o.out);
+        if (!o.quiet) std::fprintf(stderr, "%s: the genome of %s\n", o.out.c_str(), o.config.c_str());
+    }
+    return 0;
+}
+
 int cmd_recipe(const Options& o) {
     std::fputs(read_recipe(o.image).c_str(), stdout);
     return 0;
@@ -329,6 +353,15 @@ void add_tool_commands(CLI::App& app, Options& o, std::vector<Command>& table) {
     imp->add_flag("--force", o.force, "Replace an existing config");
     imp->add_flag("-q,--quiet", o.quiet, "No summary");
     table.push_back({imp, [&o] { return cmd_import(o); }});
+
+    auto* exp =
+        app.add_subcommand("export", "Write a chaos-game config as a flam3 genome (.flam3): docs/flam3.md");
+    exp->add_option("config", o.config, "Config (YAML, or an image with a recipe)")->required();
+    exp->add_option("-o,--output", o.out, "The genome to write (.flam3); default: standard output");
+    add_sets(exp, o.sets, "Override a parameter before exporting: path.to.param=value (YAML)");
+    exp->add_flag("--force", o.force, "Replace an existing genome");
+    exp->add_flag("-q,--quiet", o.quiet, "No summary");
+    table.push_back({exp, [&o] { return cmd_export(o); }});
 
     auto* recipe = app.add_subcommand("recipe", "Print the recipe embedded in an image");
     recipe->add_option("image", o.image, "Image written by fixpoint")->required();

@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -130,7 +131,9 @@ int parameter(const std::string& name) {
 std::string xform(const Reader& r, const tinyxml2::XMLElement* e, bool final, std::vector<std::string>& warn,
                   double& weight, std::vector<double>& chaos, const std::string& what) {
     std::string s = "{type: xform";
-    std::string vars, prm;
+    // (Variations and parameters in the table's order, whatever the file's: a canonical config,
+    // which export writes back the same.)
+    std::map<int, std::string> vars, prm;
     weight = 1;
     double color = 0, speed = 0.5, opacity = 1;
     chaos.clear();
@@ -182,9 +185,9 @@ std::string xform(const Reader& r, const tinyxml2::XMLElement* e, bool final, st
             old_vars = r.numbers(a, 1, fp_flam3::var_count);
         } else if (const int v = variation(n); v >= 0) {
             const double w = r.number(a);
-            if (w != 0) vars += std::string(", ") + var_info[v].name + ": " + num(w), any = true;
+            if (w != 0) vars[v] = std::string(", ") + var_info[v].name + ": " + num(w), any = true;
         } else if (const int p = parameter(n); p >= 0) {
-            prm += std::string(", ") + param_info[p].name + ": " + num(r.number(a));
+            prm[p] = std::string(", ") + param_info[p].name + ": " + num(r.number(a));
         } else {
             std::vector<std::string> names;
             for (const auto& v : var_info) names.emplace_back(v.name);
@@ -196,9 +199,10 @@ std::string xform(const Reader& r, const tinyxml2::XMLElement* e, bool final, st
     }
     for (std::size_t v = 0; v < old_vars.size(); ++v)
         if (old_vars[v] != 0)
-            vars += std::string(", ") + var_info[v].name + ": " + num(old_vars[v]), any = true;
-    if (!any) vars = ", linear: 1"; // flam3's default xform is linear
-    s += vars + prm;
+            vars[int(v)] = std::string(", ") + var_info[v].name + ": " + num(old_vars[v]), any = true;
+    if (!any) vars[0] = ", linear: 1"; // flam3's default xform is linear
+    for (const auto& [v, text] : vars) s += text;
+    for (const auto& [p, text] : prm) s += text;
     if (!final) s += ", weight: " + num(weight);
     s += ", color: " + num(color) + ", color_speed: " + num(speed);
     if (opacity < 1) s += ", opacity: " + num(opacity);

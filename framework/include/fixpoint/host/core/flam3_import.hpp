@@ -29,3 +29,21 @@ bool is_flam3_file(const std::string& path);
 Flam3Import import_flam3(const std::string& path, const Flam3Select& which, const std::string& output);
 
 } // namespace fp::host
+
+namespace fp::host {
+
+class Registry;
+
+struct Flam3Export {
+    std::string xml;                   ///< the genome file (one flame)
+    std::vector<std::string> warnings; ///< what the genome cannot hold, one line each
+};
+
+/// The genome of a chaos-game config (flam3_export.cpp; docs/flam3.md): its camera, palette,
+/// tone, finishing, and maps (xforms, flam3's variations alone, affine maps) with their weights,
+/// colours, opacity and xaos, and the final maps. `sets` are --set overrides. A config the
+/// format cannot hold (another renderer, scheme or map) gets fp::InputError at its place.
+Flam3Export export_flam3(const Registry& reg, const std::string& config,
+                         const std::vector<std::string>& sets);
+
+} // namespace fp::host
