@@ -138,6 +138,11 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     points_ = uint64_t(p.integer("points"));
     seed_ = uint64_t(p.integer("seed"));
     skip_ = uint64_t(p.integer("skip"));
+    if (p.has("restart_skip")) {
+        const uint64_t rs = uint64_t(p.integer("restart_skip"));
+        if (rs > skip_) throw fp::ParamError("restart_skip", "at most skip (" + std::to_string(skip_) + ")");
+        restart_age_ = uint32_t(std::min<uint64_t>(skip_ - rs, 0xffffffffu));
+    }
     chains_ = uint64_t(p.integer("chains"));
     has_start_ = p.has("start");
     if (has_start_) start_ = p.vec2("start");
@@ -500,6 +505,12 @@ constexpr fp::ParamSpec params[] = {
         .def("20")
         .min(0)
         .max(1e9),
+    fp::param::integer("restart_skip",
+                       "points not plotted after a restart (a point that is not finite): default skip; 0 is "
+                       "flam3's (a bad point is replaced and the chain goes on)")
+        .min(0)
+        .max(1e9)
+        .opt(),
     fp::param::vec2("start",
                     "start point of every chain (default: a random point of the start box outside every set)")
         .opt(),

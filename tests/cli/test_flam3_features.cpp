@@ -148,4 +148,31 @@ TEST(Flam3Features, XaosIsFlam3s) {
     EXPECT_GT(same, without + 0.05);
 }
 
+TEST(Flam3Features, ABadPointGoesOnAsInFlam3) {
+    // A random genome of flam3-genome whose second xform has cpow_power 0: every point it maps
+    // is NaN. flam3 replaces it by a random point of [-1, 1]^2 and goes on; so does the import
+    // (start_box, restart_skip 0), where a chain that waited out its skip after each restart
+    // would plot nothing.
+    if (!have("flam3-render")) GTEST_SKIP() << "flam3-render (Debian's flam3-utils) is not installed";
+    const std::string dir = scratch_dir("flam3_features_bad");
+    const std::string g = fp::test::source_dir() + "/tests/fixtures/flam3/parity/genome-032.flam3";
+    auto flam3 = [&](const std::string& isaac) {
+        const std::string cmd = "cd " + dir + " && env ss=2 qs=100 nthreads=1 isaac_seed=" + isaac +
+                                " out=" + isaac + ".png flam3-render < " + g + " >/dev/null 2>&1";
+        EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+        return grey(fp::host::read_image(dir + "/" + isaac + ".png"));
+    };
+    const std::vector<double> f = flam3("one"), f2 = flam3("two");
+    const auto r = run_cli({"render", "--quiet", g, "-o", dir + "/ours.png", "--set", "renderer.width=200",
+                            "--set", "renderer.height=200", "--set", "renderer.points=4000000"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const double same = ssim(f, grey(fp::host::read_image(dir + "/ours.png")), 200, 200),
+                 own = ssim(f, f2, 200, 200);
+    EXPECT_GT(same, std::min(0.9, own) - 0.02) << "flam3's own " << own;
+    // restart_skip above skip is refused at its line.
+    const auto bad = run_cli({"render", g, "-o", dir + "/bad.png", "--set", "renderer.restart_skip=30"});
+    EXPECT_EQ(bad.rc, 2);
+    EXPECT_NE(bad.err.find("restart_skip: at most skip (20)"), std::string::npos) << bad.err;
+}
+
 } // namespace

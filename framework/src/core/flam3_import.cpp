@@ -529,6 +529,9 @@ Flam3Import import_flam3(const std::string& path, const Flam3Select& which, cons
     if (rotate != 0) y << "  rotate: " << num(rotate) << "\n";
     y << "  points: " << num(points) << "  # quality " << num(quality) << " per pixel\n";
     y << "  inversion_rules: off\n";
+    // flam3's starts and bad points: a random point of [-1, 1]^2, and a chain whose point is not
+    // finite goes on from such a point at once (flam3_iterate, apply_xform).
+    y << "  start_box: [-1, 1, -1, 1]\n  restart_skip: 0\n";
     if (ss > 1) y << "  supersample: " << num(std::round(ss)) << "\n";
     if (filter > 0) y << "  filter: {type: " << filter_shape << ", radius: " << num(filter) << "}\n";
     if (est > 0) {

@@ -326,7 +326,7 @@ private:
             }
             if (!active[i]) continue; // finished with its last point (cannot happen: bad)
             c_.prev.get()[i] = none_;
-            c_.age.get()[i] = 0;
+            c_.age.get()[i] = g_.restart_age_;
             list[m++] = uint32_t(i);
         }
         g_.new_starts(s_, list, m);

@@ -186,6 +186,8 @@ private:
     fp::Frame hist_;  ///< the histogram's: frame_ with supersample times its width and height
     fp::FinishSpec finish_;
     uint64_t points_ = 1000000, seed_ = 1, skip_ = 20, chains_ = 4096;
+    /// A restarted chain's age (`restart_skip`: skip - restart_skip; 0, the whole skip, by default).
+    uint32_t restart_age_ = 0;
     bool has_start_ = false;
     fp::Vec2 start_;
     fp::Box start_box_; ///< where random start points are drawn (the view unless start_box)
