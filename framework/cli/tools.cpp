@@ -261,21 +261,25 @@ int cmd_symmetry(const Options& o) {
     return all_kept ? 0 : 1;
 }
 
+/// import's and export's -o, before any work: not replaced without --force, in a folder that exists.
+void check_output(const Options& o) {
+    if (o.out.empty()) return;
+    if (!o.force && std::filesystem::exists(o.out))
+        throw InputError(quote(o.out, 200) + " exists (--force replaces it)");
+    const auto dir = std::filesystem::path(o.out).parent_path();
+    if (!dir.empty() && !std::filesystem::is_directory(dir))
+        throw InputError("cannot write " + quote(o.out, 200) + ": folder " + quote(dir.string(), 200) +
+                         " does not exist");
+}
+
 // import: a flam3 genome as a config (host/core/flam3_import.hpp), to -o or stdout; its output
 // image is named after the config.
 int cmd_import(const Options& o) {
     if (!is_flam3_file(o.config))
         throw InputError(quote(o.config, 200) + ": not a flam3 genome file (.flam3, .flame or .flam)");
-    if (!o.out.empty()) {
-        if (std::filesystem::path(o.out).extension() != ".yaml")
-            throw InputError("-o " + quote(o.out, 200) + ": the config is YAML (name it .yaml)");
-        if (!o.force && std::filesystem::exists(o.out))
-            throw InputError(quote(o.out, 200) + " exists (--force replaces it)");
-        const auto dir = std::filesystem::path(o.out).parent_path();
-        if (!dir.empty() && !std::filesystem::is_directory(dir))
-            throw InputError("cannot write " + quote(o.out, 200) + ": folder " + quote(dir.string(), 200) +
-                             " does not exist");
-    }
+    if (!o.out.empty() && std::filesystem::path(o.out).extension() != ".yaml")
+        throw InputError("-o " + quote(o.out, 200) + ": the config is YAML (name it .yaml)");
+    check_output(o);
     Flam3Select which;
     which.index = o.level >= 0 ? int(o.level) : -1;
     which.name = o.name;
@@ -296,16 +300,9 @@ int cmd_import(const Options& o) {
 
 // export: a chaos-game config as a flam3 genome (host/core/flam3_import.hpp), to -o or stdout.
 int cmd_export(const Options& o) {
-    if (!o.out.empty()) {
-        if (!is_flam3_file(o.out))
-            throw InputError("-o " + quote(o.out, 200) + ": a genome file is .flam3, .flame or .flam");
-        if (!o.force && std::filesystem::exists(o.out))
-            throw InputError(quote(o.out, 200) + " exists (--force replaces it)");
-        const auto dir = std::filesystem::path(o.out).parent_path();
-        if (!dir.empty() && !std::filesystem::is_directory(dir))
-            throw InputError("cannot write " + quote(o.out, 200) + ": folder " + quote(dir.string(), 200) +
-                             " does not exist");
-    }
+    if (!o.out.empty() && !is_flam3_file(o.out))
+        throw InputError("-o " + quote(o.out, 200) + ": a genome file is .flam3, .flame or .flam");
+    check_output(o);
     const Registry reg = make_registry(o);
     const Flam3Export ex = export_flam3(reg, o.config, o.sets);
     for (const auto& w : ex.warnings) std::fprintf(stderr, "warning: %s: %s\n", o.config.c_str(), w.c_str());
