@@ -138,6 +138,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     points_ = uint64_t(p.integer("points"));
     seed_ = uint64_t(p.integer("seed"));
     skip_ = uint64_t(p.integer("skip"));
+    escape_ = p.has("escape") ? p.real("escape") : 0.0;
     if (p.has("restart_skip")) {
         const uint64_t rs = uint64_t(p.integer("restart_skip"));
         if (rs > skip_) throw fp::ParamError("restart_skip", "at most skip (" + std::to_string(skip_) + ")");
@@ -369,7 +370,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     // fused step took (chaos-game/block.cpp). The running colour of Algorithm 2 (flame's `last`) changes
     // only where a chain plots, unlike the fused step's: that mode keeps the generic path.
     if (p.string("kernels") == "auto" && k <= fp_chaos::table_size && !has_finals_ && !has_opacity_ &&
-        !has_xaos_ && (!colour_ || crule != fp::ColourRule::none) &&
+        !has_xaos_ && escape_ == 0 && (!colour_ || crule != fp::ColourRule::none) &&
         (!last_ || crule == fp::ColourRule::map)) {
         std::vector<fp::KnownKernel> kk;
         for (const auto& m : maps_) kk.push_back(m->kernel());
@@ -505,6 +506,11 @@ constexpr fp::ParamSpec params[] = {
         .def("20")
         .min(0)
         .max(1e9),
+    fp::param::real("escape",
+                    "a point with |x| or |y| above this is bad, as one that is not finite: its chain "
+                    "restarts (flam3's is 1e10); default: none")
+        .above(0)
+        .opt(),
     fp::param::integer("restart_skip",
                        "points not plotted after a restart (a point that is not finite): default skip; 0 is "
                        "flam3's (a bad point is replaced and the chain goes on)")

@@ -111,4 +111,35 @@ TEST(Flam3Maps, TheCameraMirrorsAndTurnsThePicture) {
     EXPECT_LT(turn_bad, lit / 50);
 }
 
+TEST(Flam3Maps, EscapeAndRestartSkipAreFlam3sBadValues) {
+    // x -> x + 1 never leaves the finite numbers; with escape 100 (flam3's bad value is beyond
+    // 1e10) a chain restarts every hundred steps or so, and with restart_skip 0 it plots from its
+    // first point after a restart: points near the start box, which skip 20 would have hidden.
+    const std::string dir = scratch_dir("flam3_maps_escape");
+    const std::string base =
+        "renderer:\n  type: chaos-game\n  width: 40\n  height: 40\n  view: [0, 200, -1, 1]\n"
+        "  points: 100000\n  chains: 64\n  start_box: [0, 1, -0.5, 0.5]\n"
+        "  colourer: {type: density}\n"
+        "  maps:\n    - {type: affine, coefficients: [1, 0, 0, 1, 1, 0]}\n";
+    auto run = [&](const std::string& name, const std::string& extra) {
+        write_file(dir + "/" + name + ".yaml", base + extra);
+        const auto r = run_cli({"render", dir + "/" + name + ".yaml", "-o", dir + "/" + name + ".png"});
+        EXPECT_EQ(r.rc, 0) << r.err;
+        return r.err;
+    };
+    EXPECT_NE(run("plain", "").find(" 0 bad values"), std::string::npos);
+    const std::string esc = run("escape", "  escape: 100\n");
+    EXPECT_EQ(esc.find(" 0 bad values"), std::string::npos) << esc;
+    // Beyond x = 100 nothing is plotted once chains restart there.
+    const fp::Image e = fp::host::read_image(dir + "/escape.png");
+    for (int x = 21; x < 40; ++x) EXPECT_EQ(e.pixels[std::size_t(20 * 40 + x) * 3], 0.0f) << x;
+    // The first columns (x < 20: the steps after a start) lit only with restart_skip 0.
+    run("skip0", "  escape: 100\n  restart_skip: 0\n  skip: 30\n");
+    run("skip30", "  escape: 100\n  skip: 30\n");
+    const fp::Image a = fp::host::read_image(dir + "/skip0.png"),
+                    b = fp::host::read_image(dir + "/skip30.png");
+    EXPECT_GT(a.pixels[std::size_t(20 * 40 + 2) * 3], 0.0f);
+    EXPECT_EQ(b.pixels[std::size_t(20 * 40 + 2) * 3], 0.0f);
+}
+
 } // namespace

@@ -531,7 +531,7 @@ Flam3Import import_flam3(const std::string& path, const Flam3Select& which, cons
     y << "  inversion_rules: off\n";
     // flam3's starts and bad points: a random point of [-1, 1]^2, and a chain whose point is not
     // finite goes on from such a point at once (flam3_iterate, apply_xform).
-    y << "  start_box: [-1, 1, -1, 1]\n  restart_skip: 0\n";
+    y << "  start_box: [-1, 1, -1, 1]\n  restart_skip: 0\n  escape: 1e10  # flam3's badvalue\n";
     if (ss > 1) y << "  supersample: " << num(std::round(ss)) << "\n";
     if (filter > 0) y << "  filter: {type: " << filter_shape << ", radius: " << num(filter) << "}\n";
     if (est > 0) {

@@ -72,6 +72,7 @@ private:
         bv_.row0 = row0, bv_.rows = rows;
         bv_.dummy = uint32_t(size_t(f.width) * size_t(rows));
         bv_.skip = uint32_t(std::min<uint64_t>(g_.skip_, 0xffffffffu));
+        bv_.bound = T(g_.escape_);
         bv_.none = none_;
     }
 

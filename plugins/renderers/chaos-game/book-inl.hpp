@@ -111,6 +111,8 @@ HWY_INLINE fp_chaos::Counts bookkeep_t(const fp_chaos::BookArgs<T>& args, bool c
     const size_t N = hn::Lanes(d);
     const auto one = hn::Set(du, U(1)), zero = hn::Zero(du);
     const auto none = hn::Set(du, U(a.none)), skip = hn::Set(du, U(a.skip));
+    const bool bounded = a.bound > 0;
+    const auto bound = hn::Set(d, a.bound);
     FP_DCHECK(a.nb <= fp_chaos::block_size);
     fp_chaos::Counts n;
     for (size_t i = 0; i < a.nb; i += N) {
@@ -118,8 +120,10 @@ HWY_INLINE fp_chaos::Counts bookkeep_t(const fp_chaos::BookArgs<T>& args, bool c
         const auto x = hn::LoadU(d, a.x + i), y = hn::LoadU(d, a.y + i);
         const auto c = load32(du, a.chosen + i);
         const auto mv = hn::Lt(c, none);
-        const auto fin = hn::RebindMask(
+        auto fin = hn::RebindMask(
             du, hn::And(fp::simd::HWY_NAMESPACE::finite(x), fp::simd::HWY_NAMESPACE::finite(y)));
+        if (bounded)
+            fin = hn::And(fin, hn::RebindMask(du, hn::And(hn::Le(hn::Abs(x), bound), hn::Le(hn::Abs(y), bound))));
         const auto isbad = hn::AndNot(fin, mv);
         const auto age = load32(du, a.age + i);
         const auto old = hn::Not(hn::Lt(age, skip));

@@ -73,6 +73,8 @@ struct BookArgs {
     std::size_t nb;
     T xmin = 0, xmax = 0, ymin = 0, ymax = 0, scx = 0, scy = 0;
     std::uint32_t W = 0, H = 0, dummy = 0, skip = 0, none = 0;
+    /// `escape`: a point with |x| or |y| above it is bad as a point that is not finite is (0: none).
+    T bound = 0;
     /// The rows binned (a strip of the image: chaos-game/plan.cpp's "Strips"): a point whose row is
     /// outside [row0, row0 + rows) goes to dummy, the others to (row - row0) * W + column.
     /// The defaults: every row.

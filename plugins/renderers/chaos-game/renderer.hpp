@@ -188,6 +188,8 @@ private:
     uint64_t points_ = 1000000, seed_ = 1, skip_ = 20, chains_ = 4096;
     /// A restarted chain's age (`restart_skip`: skip - restart_skip; 0, the whole skip, by default).
     uint32_t restart_age_ = 0;
+    /// `escape` (0: none): a point beyond it in |x| or |y| is bad (flam3's 1e10); the generic path.
+    double escape_ = 0;
     bool has_start_ = false;
     fp::Vec2 start_;
     fp::Box start_box_; ///< where random start points are drawn (the view unless start_box)
