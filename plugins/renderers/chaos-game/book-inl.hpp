@@ -123,7 +123,8 @@ HWY_INLINE fp_chaos::Counts bookkeep_t(const fp_chaos::BookArgs<T>& args, bool c
         auto fin = hn::RebindMask(
             du, hn::And(fp::simd::HWY_NAMESPACE::finite(x), fp::simd::HWY_NAMESPACE::finite(y)));
         if (bounded)
-            fin = hn::And(fin, hn::RebindMask(du, hn::And(hn::Le(hn::Abs(x), bound), hn::Le(hn::Abs(y), bound))));
+            fin = hn::And(fin,
+                          hn::RebindMask(du, hn::And(hn::Le(hn::Abs(x), bound), hn::Le(hn::Abs(y), bound))));
         const auto isbad = hn::AndNot(fin, mv);
         const auto age = load32(du, a.age + i);
         const auto old = hn::Not(hn::Lt(age, skip));
