@@ -57,17 +57,20 @@ TEST(ParamList, EntriesOfASmallConfig) {
                                       "renderer.maps[0].weight",
                                       "renderer.maps[0].colour",
                                       "renderer.maps[0].color",
-                                      "renderer.maps[0].color_speed"};
+                                      "renderer.maps[0].color_speed",
+                                      "renderer.maps[0].chaos",
+                                      "renderer.maps[0].opacity"};
     const auto got = paths(all);
-    ASSERT_EQ(got.size(), 1 + 10 + 1 + 8 * item0.size() + 3 + 1 + 10 + 14);
-    EXPECT_EQ(std::vector<std::string>(got.begin(), got.begin() + 12),
-              (std::vector<std::string>{"renderer", "renderer.width", "renderer.height", "renderer.view",
-                                        "renderer.points", "renderer.seed", "renderer.skip", "renderer.start",
-                                        "renderer.start_box", "renderer.fit_view", "renderer.chains",
-                                        "renderer.maps"}));
-    EXPECT_EQ(std::vector<std::string>(got.begin() + 12, got.begin() + 21), item0);
-    EXPECT_EQ(got[12 + 7 * 9], "renderer.maps[7]");
-    EXPECT_EQ(std::vector<std::string>(got.begin() + 12 + 8 * 9, got.end()),
+    ASSERT_EQ(got.size(), 1 + 12 + 1 + 8 * item0.size() + 3 + 1 + 12 + 14);
+    EXPECT_EQ(
+        std::vector<std::string>(got.begin(), got.begin() + 14),
+        (std::vector<std::string>{"renderer", "renderer.width", "renderer.height", "renderer.view",
+                                  "renderer.points", "renderer.seed", "renderer.skip", "renderer.escape",
+                                  "renderer.restart_skip", "renderer.start", "renderer.start_box",
+                                  "renderer.fit_view", "renderer.chains", "renderer.maps"}));
+    EXPECT_EQ(std::vector<std::string>(got.begin() + 14, got.begin() + 25), item0);
+    EXPECT_EQ(got[14 + 7 * 11], "renderer.maps[7]");
+    EXPECT_EQ(std::vector<std::string>(got.begin() + 14 + 8 * 11, got.end()),
               (std::vector<std::string>{"renderer.final",
                                         "renderer.rotate",
                                         "renderer.y_axis",
@@ -79,6 +82,8 @@ TEST(ParamList, EntriesOfASmallConfig) {
                                         "renderer.colourer.vibrancy",
                                         "renderer.colourer.highlight_power",
                                         "renderer.colourer.gamma_threshold",
+                                        "renderer.colourer.density",
+                                        "renderer.colourer.contrast",
                                         "renderer.colourer.palette",
                                         "renderer.colourer.palette_stops",
                                         "renderer.colourer.palette_mode",
@@ -242,7 +247,8 @@ TEST(ParamList, UnknownPluginsAndWrongValuesAreListedAsWritten) {
         std::vector<std::string>(got.begin() + at("renderer.maps"), got.begin() + at("renderer.iteration")),
         (std::vector<std::string>{"renderer.maps", "renderer.maps[0]", "renderer.maps[0].weight",
                                   "renderer.maps[0].colour", "renderer.maps[0].color",
-                                  "renderer.maps[0].color_speed", "renderer.maps[1]", "renderer.final",
+                                  "renderer.maps[0].color_speed", "renderer.maps[0].chaos",
+                                  "renderer.maps[0].opacity", "renderer.maps[1]", "renderer.final",
                                   "renderer.rotate", "renderer.y_axis"}));
     EXPECT_EQ(entry(all, "renderer.maps[0]").value, "nope");
     EXPECT_EQ(entry(all, "renderer.maps[0].weight").value, "2");
