@@ -51,6 +51,9 @@ void ChaosGame::choose_alias(Scratch<T>& s, size_t nb) const {
 void ChaosGame::xaos_tables(const std::vector<double>& w, const std::vector<double>& chaos) {
     const size_t k = w.size();
     xaos_thr_.assign((k + 1) * k, 0), xaos_alias_.assign((k + 1) * k, 0), xaos_q_.assign((k + 1) * k, 0);
+    // (Maps without a set leave their rows of `inside` as they are: the draw reads those with one.)
+    xaos_set_.assign(k, 0);
+    for (uint32_t j : region_maps_) xaos_set_[j] = 1;
     for (size_t r = 0; r <= k; ++r) {
         std::vector<double> row(k);
         double sum = 0;
@@ -79,9 +82,7 @@ void ChaosGame::choose_xaos(Scratch<T>& s, size_t nb) const {
         const fp::Points<const T> pts{s.c.x.get(), s.c.y.get(), nb};
         for (uint32_t j : region_maps_) maps_[j]->contains(pts, s.inside.get() + size_t(j) * block_size);
     }
-    // (Maps without a set leave their rows of `inside` as they are: read only those with one.)
-    std::vector<unsigned char> has_set(k, 0);
-    for (uint32_t j : region_maps_) has_set[j] = 1;
+    const unsigned char* has_set = xaos_set_.data();
     uint64_t* rs = s.c.rs.get();
     const uint64_t* ri = s.c.ri.get();
     const uint32_t* prev = s.c.prev.get();

@@ -228,6 +228,7 @@ private:
     /// weights xaos_q_ (sum below 2^32, 0 where the weight is 0) for the draw under the rules.
     bool has_xaos_ = false;
     std::vector<uint32_t> xaos_thr_, xaos_alias_, xaos_q_;
+    std::vector<unsigned char> xaos_set_; ///< 1 for the maps with a set (the rules' test)
     void xaos_tables(const std::vector<double>& w, const std::vector<double>& chaos);
     /// The draw with xaos (scalar, one pcg32 output per chain as the others): by row prev + 1
     /// of the tables; with the rules, by xaos_q_ among the maps whose set does not hold the point.
