@@ -21,7 +21,7 @@ fixpoint="$build/bin/fixpoint"
 quality="$here/quality.py"
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-wall() { local t0 t1; t0=$(date +%s.%N); "$@" >/dev/null 2>&1; t1=$(date +%s.%N); awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.3f", b - a}'; }
+. "$here/lib.sh" # wall
 finish=(--set renderer.supersample=2 --set "renderer.filter={type: gaussian, radius: 0.5}")
 # The finished setting of the time-to-quality rows: FINISH_SS (supersample, default 2) and
 # FINISH_DE (estimator_radius, default 3), with flam3's gaussian of radius 0.5.

@@ -6,15 +6,11 @@
 set -euo pipefail
 build=${1:-build}
 pairs=${2:-3}
-if ! command -v flam3-render >/dev/null; then
-    echo "flam3-render not found (apt-get install flam3-utils)" >&2
-    exit 1
-fi
 here=$(cd "$(dirname "$0")" && pwd)
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-. "$here/lib.sh" # median
-wall() { local t0 t1; t0=$(date +%s.%N); "$@" >/dev/null 2>&1; t1=$(date +%s.%N); awk -v a="$t0" -v b="$t1" 'BEGIN {print b - a}'; }
+. "$here/lib.sh" # median, wall, need_flam3
+need_flam3
 fl=() fx=()
 for _ in $(seq "$pairs"); do
     fl+=("$(cd "$out" && wall env in="$here/sierpinski.flam3" prefix="$out/flam3." nthreads=1 format=png flam3-render)")

@@ -20,3 +20,20 @@ pair_medians() {
     echo "$(printf '%s\n' "${as[@]}" | median) $(printf '%s\n' "${bs[@]}" | median)" \
         "$(printf '%s\n' "${qs[@]}" | median)"
 }
+
+# The wall time of a command in seconds (its output thrown away), to the millisecond.
+wall() {
+    local t0 t1
+    t0=$(date +%s.%N)
+    "$@" >/dev/null 2>&1
+    t1=$(date +%s.%N)
+    awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.3f", b - a}'
+}
+
+# Exits with a line when Debian's flam3-render is not installed.
+need_flam3() {
+    if ! command -v flam3-render >/dev/null; then
+        echo "flam3-render not found (apt-get install flam3-utils)" >&2
+        exit 1
+    fi
+}
