@@ -37,6 +37,7 @@ struct Options {
     /// --checkpoint FILE, --checkpoint-every TIME ("": 5m), --resume FILE
     std::string checkpoint, checkpoint_every, resume;
     std::string histogram;                                     ///< render --histogram FILE.fph
+    std::string shard;                                         ///< render --shard K/N
     double quality = std::numeric_limits<double>::quiet_NaN(); ///< render --quality Q (NaN: none)
     int columns = 0;
     unsigned threads = 0;

@@ -15,8 +15,14 @@
 
 #include <spdlog/spdlog.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <tuple>
+#include <utility>
+
+namespace fs = std::filesystem;
 
 using namespace fp::host;
 
@@ -29,6 +35,24 @@ namespace {
 std::vector<std::string> with_draft(std::vector<std::string> sets, const Pipeline& full) {
     for (auto& s : draft_overrides(full, draft_factor)) sets.push_back(std::move(s));
     return sets;
+}
+
+// --shard K/N: share K (1 to N) of N.
+std::pair<unsigned, unsigned> parse_shard(const std::string& text) {
+    const auto bad = [&] {
+        return InputError(
+            "--shard: " + quote(text, 100) +
+            " is not K/N: the K-th of N equal shares of the chains, 1 <= K <= N <= 65536 (such as 2/8)");
+    };
+    const std::size_t slash = text.find('/');
+    if (slash == std::string::npos || slash == 0 || slash + 1 == text.size() || text.size() > 13) throw bad();
+    const std::string k = text.substr(0, slash), n = text.substr(slash + 1);
+    if (k.find_first_not_of("0123456789") != std::string::npos ||
+        n.find_first_not_of("0123456789") != std::string::npos)
+        throw bad();
+    const unsigned long K = std::stoul(k), N = std::stoul(n);
+    if (K < 1 || N < 1 || K > N || N > 65536) throw bad();
+    return {unsigned(K), unsigned(N)};
 }
 
 // The request of `render -o OUT ...`: the default file (the config's output.path or its name),
@@ -47,6 +71,7 @@ RenderRequest render_request(const Options& o) {
     r.checkpoint = o.checkpoint, r.checkpoint_every = o.checkpoint_every, r.resume = o.resume;
     r.histogram = o.histogram;
     r.strict = o.strict;
+    if (!o.shard.empty()) std::tie(r.shard, r.shards) = parse_shard(o.shard);
     return r;
 }
 
@@ -100,6 +125,65 @@ int cmd_tone(const Options& o) {
     return 0;
 }
 
+// merge: the shards' histograms (render --shard K/N --histogram PART.fph) summed; into an image
+// (finished as tone finishes a kept histogram: the bytes of the single render) or into a
+// histogram file (a merge of some shards merges again).
+int cmd_merge(const Options& o) {
+    install_sigint();
+    if (o.out.empty())
+        throw InputError("merge: name the output with -o: an image (.png, .exr, .tif) or a histogram (.fph)");
+    const std::uint64_t memory = o.memory.empty() ? available_memory() : parse_size(o.memory, "--memory");
+    const std::string many = o.files.size() == 1
+                                 ? o.files.front()
+                                 : o.files.front() + " and " + std::to_string(o.files.size() - 1) + " more";
+    if (is_histogram_file(o.out)) {
+        if (!o.sets.empty())
+            throw InputError("merge: --set changes the image's finish: not with -o " + quote(o.out, 200) +
+                             ", a histogram (fixpoint tone finishes it)");
+        std::error_code ec;
+        for (const std::string& f : o.files)
+            if (f == o.out || fs::equivalent(f, o.out, ec))
+                throw InputError("merge: -o " + quote(o.out, 200) + " is one of the shards: name a new file");
+        if (!o.force && fs::exists(fs::symlink_status(o.out, ec)))
+            throw InputError("merge: " + quote(o.out, 200) + " exists: add --force to replace it");
+        if (const fs::path dir = fs::path(o.out).parent_path(); !dir.empty() && !fs::is_directory(dir, ec))
+            throw InputError("merge: cannot write " + quote(o.out, 200) + ": no folder " +
+                             quote(dir.string(), 200));
+        const auto t0 = std::chrono::steady_clock::now();
+        const HistogramFile m = merge_histograms(o.files, memory, false);
+        if (interrupted()) throw Cancelled();
+        HistogramWriter w(o.out, m.header);
+        w.rows(m.histogram, 0, 0, m.histogram.height);
+        if (interrupted()) throw Cancelled();
+        w.commit(m.stats);
+        if (!o.quiet)
+            spdlog::info("{}: merged {} ({}; {} points) in {:.3f} s", o.out, many,
+                         m.header.shards.empty() ? std::string("the whole render")
+                                                 : shards_named(m.header.shards),
+                         m.stats.samples,
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        return 0;
+    }
+    const Registry reg = make_registry(o);
+    RenderRequest r = render_request(o);
+    r.source = o.files.front();
+    r.distributed = false;
+    r.may_stream = false;
+    check_output_request(r, o.out);
+    // The recipe first (its errors at their place), then the shards, then the image as tone
+    // makes it.
+    Pipeline p = load_pipeline(reg, o.files.front(), o.sets, "", o.allow_python);
+    told(p);
+    auto m = std::make_shared<HistogramFile>(merge_histograms(o.files, memory, true));
+    m->path = many;
+    r.tone = std::move(m);
+    RenderPlan plan = plan_render(p, std::move(r), &interrupted());
+    const RenderResult res = run_render(plan, render_hooks(o.quiet));
+    tell(res.warnings);
+    if (!o.quiet) spdlog::info("{}", summary_line(plan, res));
+    return 0;
+}
+
 int cmd_collection(const Options& o, bool validate_only) {
     const Registry reg = make_registry(o);
     CollectionRequest c;
@@ -118,6 +202,11 @@ int cmd_render(const Options& o, bool validate_only) {
     // Under mpirun: the checks below run on every rank and are agreed before the render.
     // (validate runs on rank 0 alone.)
     if (ranks::size() > 1 && !validate_only) ranks::set_phase(ranks::Phase::checking);
+    // (validate has no --shard.)
+    if (!o.shard.empty() && (!o.vary.empty() || !std::isnan(o.quality) || o.print.any() || o.draft))
+        throw InputError(
+            "--shard renders a share of one recipe's chains: not with --vary, --quality, --draft, "
+            "--tile, --repeat, --dpi or --print-size");
     if (!o.vary.empty() && o.print.any())
         throw InputError("--tile, --repeat, --dpi and --print-size make one image: not with --vary");
     if (!o.vary.empty() && !o.memory.empty())
@@ -223,6 +312,11 @@ void add_render_commands(CLI::App& app, Options& o, std::vector<Command>& table)
                        "Keep the render's histogram in FILE.fph too, so that `fixpoint tone FILE.fph` "
                        "finishes it again with other tone, filter or density estimation, with no "
                        "iterating (chaos-game; docs/histograms.md)");
+    render->add_option(
+        "--shard", o.shard,
+        "Render only the K-th of N equal shares of the chains (K/N, such as 3/8) into --histogram "
+        "PART.fph, and no image: `fixpoint merge` sums the N shards into the bytes of the whole "
+        "render (chaos-game; docs/cluster.md)");
     render->add_flag("-q,--quiet", o.quiet, "No progress bar, no summary");
     render->add_flag("--allow-python", o.allow_python,
                      "Run the Python of a python-scheme in a recipe read from an image (refused by default: "
@@ -276,6 +370,22 @@ void add_render_commands(CLI::App& app, Options& o, std::vector<Command>& table)
                    "a file may come from anywhere)");
     tone->add_flag("--force", o.force, "Replace an existing output that was not named with -o");
     table.push_back({tone, [&o] { return cmd_tone(o); }});
+
+    auto* merge = app.add_subcommand(
+        "merge", "Sum the shards of a render (render --shard K/N --histogram PART.fph) into its image, the "
+                 "bytes of the single render, or into a histogram file that merges again");
+    merge->add_option("shards", o.files, "The shards' histogram files (.fph), in any order")->required();
+    merge->add_option("-o,--output", o.out,
+                      "The image (.png, .exr, .tif; every shard needed), or a histogram (.fph; any of them)");
+    add_sets(merge, o.sets, "Change a finishing parameter of the image, as tone does (repeatable)");
+    add_threads(merge, o.threads, "Worker threads (default: all cores); the image does not depend on it");
+    merge->add_option("--memory", o.memory, "Memory the histograms and image may take (as render --memory)");
+    merge->add_flag("-q,--quiet", o.quiet, "No summary");
+    merge->add_flag("--allow-python", o.allow_python,
+                    "Build a python-scheme of the shards' recipe (refused by default: a file may come from "
+                    "anywhere)");
+    merge->add_flag("--force", o.force, "Replace an existing histogram file");
+    table.push_back({merge, [&o] { return cmd_merge(o); }});
 
     auto* validate = app.add_subcommand("validate", "Check everything a render would check; render nothing");
     validate->add_option("config", o.config, "Pipeline file (YAML)")->required();

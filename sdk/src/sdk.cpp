@@ -70,6 +70,7 @@ bool Renderer::keeps_checkpoints() const { return false; }
 bool RenderContext::keeps_histogram() const { return false; }
 bool Colourer::palette_index() const { return false; }
 void RenderContext::keep_histogram(const Histogram&, int, int, int) {}
+bool RenderContext::shard() const { return false; }
 HistogramShape Renderer::histogram_shape() const { return {}; }
 Image Renderer::finish_histogram(const Histogram&, const RenderStats&, RenderContext&) const {
     throw Error("this renderer keeps no histogram to finish");

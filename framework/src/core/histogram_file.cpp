@@ -30,14 +30,18 @@ namespace {
 
 constexpr char magic[] = "fixpoint histogram\n";
 constexpr std::size_t magic_bytes = sizeof magic - 1;
-constexpr std::uint32_t format = 1;
+/// 1: a whole render's; 2: a shard's (the shards string, the last colours' order).
+constexpr std::uint32_t format_whole = 1, format_shard = 2;
+/// The most shares a render may be split into.
+constexpr std::size_t max_shards = std::size_t(1) << 16;
 /// The trailer: four counts, the stream's size, the CRC.
 constexpr std::size_t trailer_bytes = 5 * 8 + 4;
 constexpr std::uint64_t max_string = std::uint64_t(16) << 20;
 constexpr std::uint32_t form_hits = 1, form_last = 2;
 
-std::size_t bin_bytes(const HistogramShape& s) {
-    return (s.hits_only ? 8 : sizeof(HistBin)) + (s.last ? sizeof(LastColour) : 0);
+std::size_t bin_bytes(const HistogramShape& s, bool order) {
+    return (s.hits_only ? 8 : sizeof(HistBin)) + (s.last ? sizeof(LastColour) : 0) +
+           (s.last && order ? sizeof(LastOrder) : 0);
 }
 
 void put_le(std::string& out, std::uint64_t v, int bytes) {
@@ -53,8 +57,10 @@ std::uint64_t get_le(const unsigned char* b, int bytes) {
 /// Everything before the stream.
 std::string header_bytes(const HistogramFileHeader& h) {
     std::string out(magic, magic_bytes);
-    put_le(out, format, 4);
-    for (const std::string* s : {&h.version, &h.renderer, &h.identity, &h.recipe}) {
+    const bool shard = !h.shards.empty();
+    put_le(out, shard ? format_shard : format_whole, 4);
+    for (const std::string* s : {&h.version, &h.renderer, &h.identity, &h.recipe, &h.shards}) {
+        if (s == &h.shards && !shard) break;
         put_le(out, s->size(), 8);
         out += *s;
     }
@@ -84,8 +90,31 @@ bool is_histogram_file(const std::string& path) {
     return ext == ".fph";
 }
 
-std::uint64_t histogram_bytes(const HistogramShape& s) {
-    return std::uint64_t(s.width) * std::uint64_t(s.height) * bin_bytes(s);
+std::uint64_t histogram_bytes(const HistogramShape& s, bool order) {
+    return std::uint64_t(s.width) * std::uint64_t(s.height) * bin_bytes(s, order);
+}
+
+std::string shard_string(unsigned k, unsigned n) {
+    std::string s(n, '0');
+    if (k < n) s[k] = '1';
+    return s;
+}
+
+std::string shards_named(const std::string& shards, bool missing) {
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < shards.size(); ++i)
+        if ((shards[i] == '1') != missing)
+            names.push_back(std::to_string(i + 1) + "/" + std::to_string(shards.size()));
+    if (names.empty()) return "no shard";
+    std::string out = names.size() == 1 ? "shard " : "shards ";
+    // (A long list is cut: the count says the rest.)
+    const std::size_t shown = std::min<std::size_t>(names.size(), 8);
+    for (std::size_t i = 0; i < shown; ++i) {
+        if (i) out += i + 1 == names.size() ? " and " : ", ";
+        out += names[i];
+    }
+    if (shown < names.size()) out += " and " + std::to_string(names.size() - shown) + " more";
+    return out;
 }
 
 // ---------------------------------------------------------------- writing
@@ -148,7 +177,9 @@ void HistogramWriter::rows(const Histogram& part, int part_row0, int row0, int r
     if (row0 != next_row_ || rows < 0 || row0 + rows > sh.height || part.width != sh.width ||
         row0 < part_row0 || row0 + rows > part_row0 + part.height)
         throw InternalError("histogram file: rows handed over out of order or out of the histogram");
-    if ((!sh.hits_only && part.bins.empty()) || (sh.last && part.last.size() != part.size()))
+    const bool order = sh.last && !header_.shards.empty();
+    if ((!sh.hits_only && part.bins.empty()) || (sh.last && part.last.size() != part.size()) ||
+        (order && part.last_order.size() != part.size()))
         throw InternalError("histogram file: the rows lack what the histogram's form holds");
     std::vector<std::uint64_t> hits(sh.hits_only ? W : 0);
     for (int r = 0; r < rows; ++r) {
@@ -160,6 +191,7 @@ void HistogramWriter::rows(const Histogram& part, int part_row0, int row0, int r
             put(part.bins.data() + at, W * sizeof(HistBin), false);
         }
         if (sh.last) put(part.last.data() + at, W * sizeof(LastColour), false);
+        if (order) put(part.last_order.data() + at, W * sizeof(LastOrder), false);
     }
     next_row_ += rows;
 }
@@ -225,9 +257,10 @@ void open_checked(const std::string& path, Opened& o) {
     if (size < sizeof head + trailer_bytes || std::fread(head, 1, sizeof head, o.f) != sizeof head ||
         std::memcmp(head, magic, magic_bytes) != 0)
         fail("it is not a fixpoint histogram file");
-    if (const std::uint64_t fmt = get_le(head + magic_bytes, 4); fmt != format)
-        fail("it has histogram format " + std::to_string(fmt) + "; this fixpoint reads format " +
-             std::to_string(format));
+    const std::uint64_t fmt = get_le(head + magic_bytes, 4);
+    if (fmt != format_whole && fmt != format_shard)
+        fail("it has histogram format " + std::to_string(fmt) + "; this fixpoint reads formats " +
+             std::to_string(format_whole) + " and " + std::to_string(format_shard));
     {
         // The whole file against its CRC before anything of it is believed: a file cut short
         // or damaged is refused here, not half read.
@@ -255,11 +288,19 @@ void open_checked(const std::string& path, Opened& o) {
         get(b, std::size_t(bytes));
         return get_le(b, bytes);
     };
-    for (std::string* s : {&o.header.version, &o.header.renderer, &o.header.identity, &o.header.recipe}) {
+    for (std::string* s :
+         {&o.header.version, &o.header.renderer, &o.header.identity, &o.header.recipe, &o.header.shards}) {
+        if (s == &o.header.shards && fmt != format_shard) break;
         const std::uint64_t n = get_u(8);
         if (n > max_string) fail("its header is damaged");
         s->assign(std::size_t(n), '\0');
         get(s->data(), s->size());
+    }
+    if (fmt == format_shard) {
+        const std::string& sh = o.header.shards;
+        if (sh.empty() || sh.size() > max_shards || sh.find_first_not_of("01") != std::string::npos ||
+            sh.find('1') == std::string::npos)
+            fail("its shards are damaged");
     }
     const std::uint64_t w = get_u(4), h = get_u(4), form = get_u(4);
     if (w < 1 || h < 1 || w > (std::uint64_t(1) << 20) || h > (std::uint64_t(1) << 20) || form > 3)
@@ -295,9 +336,10 @@ HistogramFile read_histogram_file(const std::string& path, std::uint64_t memory)
     out.stats = o.stats;
     const HistogramShape& sh = o.header.shape;
     const std::string who = quote(path, 200);
-    if (histogram_bytes(sh) > memory)
+    const bool order = sh.last && !o.header.shards.empty();
+    if (histogram_bytes(sh, order) > memory)
         throw InputError(who + ": its " + std::to_string(sh.width) + "x" + std::to_string(sh.height) +
-                         " histogram needs " + format_bytes(histogram_bytes(sh)) +
+                         " histogram needs " + format_bytes(histogram_bytes(sh, order)) +
                          " of memory; the budget is " + format_bytes(memory));
     Histogram& hist = out.histogram;
     hist.width = sh.width;
@@ -308,7 +350,8 @@ HistogramFile read_histogram_file(const std::string& path, std::uint64_t memory)
     else
         hist.bins.assign(n, HistBin{});
     if (sh.last) hist.last.assign(n, LastColour{});
-    // Inflated row by row into place: a row's bins, then its last colours.
+    if (order) hist.last_order.assign(n, LastOrder{});
+    // Inflated row by row into place: a row's bins, then its last colours (and their order).
     z_stream z{};
     if (inflateInit(&z) != Z_OK) throw InternalError("zlib: inflateInit failed");
     std::vector<unsigned char> in(std::size_t(1) << 20);
@@ -343,6 +386,7 @@ HistogramFile read_histogram_file(const std::string& path, std::uint64_t memory)
         ok = sh.hits_only ? fill(hist.hits.data() + r * W, W * 8)
                           : fill(hist.bins.data() + r * W, W * sizeof(HistBin));
         if (ok && sh.last) ok = fill(hist.last.data() + r * W, W * sizeof(LastColour));
+        if (ok && order) ok = fill(hist.last_order.data() + r * W, W * sizeof(LastOrder));
     }
     // Nothing may follow the last row.
     if (ok && !ended) {

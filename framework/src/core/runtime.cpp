@@ -38,11 +38,11 @@ Runtime::Runtime(unsigned threads, const std::atomic<bool>* cancel, bool distrib
       cancel_(cancel), distributed_(distributed && ranks::size() > 1),
       impl_(serial ? nullptr : std::make_unique<Impl>(threads_)) {}
 
-unsigned Runtime::rank() const { return distributed_ ? ranks::rank() : 0; }
-unsigned Runtime::ranks() const { return distributed_ ? ranks::size() : 1; }
+unsigned Runtime::rank() const { return shard_ ? shard_k_ : distributed_ ? ranks::rank() : 0; }
+unsigned Runtime::ranks() const { return shard_ ? shard_n_ : distributed_ ? ranks::size() : 1; }
 void Runtime::combine(void* data, std::size_t bytes, std::size_t record,
                       const std::function<void(const void*, void*, std::size_t)>& fold, bool everywhere) {
-    if (distributed_) ranks::combine(data, bytes, record, fold, everywhere);
+    if (distributed_ && !shard_) ranks::combine(data, bytes, record, fold, everywhere);
 }
 
 Runtime::~Runtime() = default;

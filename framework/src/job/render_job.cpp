@@ -105,11 +105,14 @@ void check_repeat(RenderPlan& plan) {
 void check_memory_plan(RenderPlan& plan) {
     const RenderRequest& r = plan.request;
     const Pipeline& p = plan.pipeline;
-    const bool can_stream = r.may_stream && !plan.output.empty() && !plan.vector && !r.keep_image &&
-                            !r.encode && plan.repeat.across * plan.repeat.down == 1 && !r.serial;
-    const std::uint64_t held = can_stream ? StreamedImage::held_bytes(plan.output, p.renderer->width(),
-                                                                      p.renderer->height(), p.tiled)
-                                          : 0;
+    // (A shard streams no image: its strips' rows go nowhere, their histogram to its file.)
+    const bool can_stream = r.may_stream && (!plan.output.empty() || r.shards) && !plan.vector &&
+                            !r.keep_image && !r.encode && plan.repeat.across * plan.repeat.down == 1 &&
+                            !r.serial;
+    const std::uint64_t held =
+        can_stream && !r.shards
+            ? StreamedImage::held_bytes(plan.output, p.renderer->width(), p.renderer->height(), p.tiled)
+            : 0;
     plan.memory = check_memory_within(p, plan.threads, r.memory, can_stream, held);
     if (plan.vector) plan.memory.stream = false;
 }
@@ -166,6 +169,9 @@ void check_checkpoints(RenderPlan& plan) {
     // With --resume alone, the checkpoints go on in the file resumed.
     ck.path = r.checkpoint.empty() ? r.resume : r.checkpoint;
     ck.header = checkpoint_header(p);
+    // A shard's checkpoint continues that shard alone.
+    if (r.shards)
+        ck.header.identity += "# shard " + std::to_string(r.shard) + "/" + std::to_string(r.shards) + "\n";
     for (const auto& [name, other] :
          {std::pair{"the output", plan.output}, std::pair{"the config", r.source}})
         if (!other.empty() && same_file(ck.path, other))
@@ -210,6 +216,10 @@ void check_histograms(RenderPlan& plan) {
         if (h.header.renderer != p.renderer_type)
             throw InputError(who + " is a histogram of a " + h.header.renderer + " render, not of this " +
                              p.renderer_type + " one");
+        if (!h.header.shards.empty())
+            throw InputError(who + " holds " + shards_named(h.header.shards) + " of a render: merge " +
+                             (h.header.shards.size() == 1 ? "it" : "every shard") +
+                             " into the image with fixpoint merge");
         if (h.header.identity != p.histogram_identity)
             throw InputError(who + " is a histogram of another recipe (" +
                              recipe_difference(h.header.identity, p.histogram_identity) +
@@ -228,8 +238,11 @@ void check_histograms(RenderPlan& plan) {
     if (r.keep_histogram && !plan.vector && shape.width > 0)
         plan.histogram =
             HistogramFileHeader{render_version_tag(), p.renderer_type, p.histogram_identity, p.recipe, shape};
+    if (r.histogram.empty() && r.shards)
+        throw InputError(
+            "--shard: name the shard's file with --histogram PART.fph (fixpoint merge sums them)");
     if (r.histogram.empty()) return;
-    if (plan.vector || shape.width == 0) throw none("--histogram");
+    if (plan.vector || shape.width == 0) throw none(r.shards ? "--shard" : "--histogram");
     if (!is_histogram_file(r.histogram))
         throw InputError("--histogram: " + quote(r.histogram, 200) + ": name the file NAME.fph");
     for (const auto& [name, other] : {std::pair{"the output", plan.output}, std::pair{"the config", r.source},
@@ -249,6 +262,21 @@ void check_histograms(RenderPlan& plan) {
                          std::strerror(errno));
     plan.histogram =
         HistogramFileHeader{render_version_tag(), p.renderer_type, p.histogram_identity, p.recipe, shape};
+    if (r.shards) plan.histogram.shards = shard_string(r.shard - 1, r.shards);
+}
+
+// --shard K/N: one process's share of the render, into a histogram file and no image.
+void check_shard(const RenderRequest& r) {
+    if (!r.shards) return;
+    if (r.shard < 1 || r.shard > r.shards || r.shards > (1u << 16))
+        throw InternalError("render job: a shard out of its plan");
+    if (r.distributed && ranks::size() > 1)
+        throw InputError("--shard: a shard is one process's share of a render: not under mpirun");
+    if (!r.output.empty())
+        throw InputError("--shard: a shard makes a histogram, not an image: not with -o " +
+                         quote(r.output, 200) + " (fixpoint merge makes the image of every shard)");
+    if (r.tone || r.checkpoint_memory)
+        throw InternalError("render job: a shard of a tone or of a quality round");
 }
 
 } // namespace
@@ -263,9 +291,10 @@ RenderPlan plan_render(const Pipeline& pipeline, RenderRequest request, const st
         throw InputError(plan.pipeline.recipe_mark.str() + ": " + plan.pipeline.may_differ.front() +
                          "; refused (--strict)");
     plan.threads = r.serial ? 1 : r.threads ? r.threads : hardware_threads();
+    check_shard(r);
     RequestOutput out = request_output(plan.pipeline, r);
-    plan.output = std::move(out.path);
-    plan.output_mark = std::move(out.mark);
+    plan.output = r.shards ? std::string() : std::move(out.path);
+    plan.output_mark = r.shards ? std::nullopt : std::move(out.mark);
     if (!plan.output.empty()) check_output_request(plan.request, plan.output, plan.output_mark);
     check_format(plan);
     check_repeat(plan);
@@ -328,7 +357,9 @@ std::string file_recipe(const RenderPlan& plan) {
 
 std::uint64_t plan_work_units(const RenderPlan& plan) {
     const std::uint64_t units = plan.pipeline.renderer->work_units();
-    const unsigned n = plan.request.distributed ? ranks::size() : 1;
+    const unsigned n = plan.request.shards        ? plan.request.shards
+                       : plan.request.distributed ? ranks::size()
+                                                  : 1;
     return n > 1 ? (units + n - 1) / n : units;
 }
 
@@ -337,6 +368,9 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
     const RenderRequest& r = plan.request;
     const Renderer& R = *p.renderer;
     Runtime rt(plan.threads, hooks.cancel, r.distributed, r.serial);
+    if (r.shards) rt.set_shard(r.shard - 1, r.shards);
+    // The process that writes: rank 0, or a shard (which writes its histogram alone).
+    const bool writes = rt.rank() == 0 || rt.shard();
     rt.set_memory_budget(plan.memory.budget);
     if (hooks.done) rt.count_progress_in(hooks.done);
     CheckpointPlan& ck = plan.checkpoints;
@@ -347,7 +381,7 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
     // The kept histogram: rank 0 writes it, to a temporary file that takes its name once the
     // render is done.
     std::unique_ptr<HistogramWriter> kept;
-    if (!r.histogram.empty() && plan.histogram.shape.width > 0 && rt.rank() == 0) {
+    if (!r.histogram.empty() && plan.histogram.shape.width > 0 && writes) {
         kept = std::make_unique<HistogramWriter>(r.histogram, plan.histogram);
         rt.keep_histogram_in(kept.get());
     }
@@ -363,7 +397,7 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
     // output's name only once it is whole; the other ranks' rows go nowhere.
     std::unique_ptr<StreamedImage> streamed;
     DiscardedRows discarded;
-    if (plan.memory.stream && rt.rank() == 0) {
+    if (plan.memory.stream && rt.rank() == 0 && !r.shards) {
         if (r.make_folder) make_folder_of(plan.output);
         streamed = std::make_unique<StreamedImage>(plan.output, R.width(), R.height(), p.bit_depth, p.recipe,
                                                    plan.resolution, p.tiled);
@@ -376,7 +410,7 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
     const auto t0 = std::chrono::steady_clock::now();
     {
         ProgressBar bar(
-            plan_work_units(plan), [&rt] { return rt.done(); }, hooks.progress_bar && rt.rank() == 0,
+            plan_work_units(plan), [&rt] { return rt.done(); }, hooks.progress_bar && writes,
             hooks.progress_label);
         blamed(p, [&] {
             if (plan.vector)
@@ -394,14 +428,19 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
     }
     res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (rt.cancelled()) throw Cancelled();
-    if (rt.rank() != 0) return res; // rank 0 holds the image and writes
+    if (!writes) return res; // rank 0 holds the image and writes
     res.width = plan.vector || plan.memory.stream ? R.width() : img.width;
     res.height = plan.vector || plan.memory.stream ? R.height() : img.height;
-    if (!r.allow_empty)
+    // (A shard's few points are no sign of an empty picture: merge tells of the whole.)
+    if (!r.allow_empty && !r.shards)
         if (std::string w = check_drawn(p, res.stats); !w.empty()) res.warnings.push_back(std::move(w));
     // The other ranks are done: rank 0's errors from here on are its own.
     if (rt.ranks() > 1) ranks::set_phase(ranks::Phase::free);
     if (kept) kept->commit(res.stats);
+    if (r.shards) { // its histogram is what it makes
+        res.wrote = kept != nullptr;
+        return res;
+    }
     if (in_memory) {
         in_memory->stats = res.stats;
         res.kept = std::move(in_memory);
@@ -455,14 +494,18 @@ std::string summary_line(const RenderPlan& plan, const RenderResult& r) {
     std::snprintf(rate, sizeof rate, "%.2f s (%.3g %s/s, ", r.seconds,
                   double(st.samples) / std::max(r.seconds, 1e-9), st.unit.c_str());
     const unsigned nr = plan.request.distributed ? ranks::size() : 1;
-    std::string line = (plan.output.empty() ? std::string("render") : plan.output) + ": " +
-                       std::to_string(st.samples) + " " + st.unit + " in " + rate +
+    const RenderRequest& q = plan.request;
+    const std::string who =
+        q.shards ? q.histogram + ": shard " + std::to_string(q.shard) + "/" + std::to_string(q.shards) + ","
+        : plan.output.empty() ? std::string("render:")
+                              : plan.output + ":";
+    std::string line = who + " " + std::to_string(st.samples) + " " + st.unit + " in " + rate +
                        (nr > 1 ? std::to_string(nr) + " ranks x " : "") + plural(plan.threads, "thread") +
                        ", " + simd::active_target() + "), " + plural(st.restarts, "restarted chain") + ", " +
                        plural(st.bad_values, "bad value") + (st.how.empty() ? "" : ", " + st.how);
     if (!plan.checkpoints.path.empty())
         line += "; " + plural(r.checkpoints_written, "checkpoint") + " to " + plan.checkpoints.path;
-    if (!plan.request.histogram.empty()) line += "; histogram to " + plan.request.histogram;
+    if (!q.histogram.empty() && !q.shards) line += "; histogram to " + q.histogram;
     return line;
 }
 

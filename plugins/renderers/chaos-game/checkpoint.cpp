@@ -54,7 +54,8 @@ void ChaosGame::save(fp::RenderContext& ctx, const std::vector<Task>& tasks, con
 
 template <class T>
 void ChaosGame::resume(fp::CheckpointSource& in, std::vector<Task>& tasks, Keeping& keep,
-                       fp::Histogram& total, std::vector<LastWrite>& last, BlockResult& base) const {
+                       fp::Histogram& total, std::vector<LastWrite>& last, BlockResult& base,
+                       const std::vector<Span>& mine) const {
     PayloadHead head;
     in.read(&head, sizeof head);
     // The envelope matched the recipe (but points): these only fail for a damaged payload.
@@ -72,7 +73,10 @@ void ChaosGame::resume(fp::CheckpointSource& in, std::vector<Task>& tasks, Keepi
     // Every field bounded by the recipe: a forged payload (its CRC recomputed) must not make a
     // resume run longer than the render it claims to continue, nor read out of its arrays.
     // Each chain is in the payload once: pending (fresh, or suspended and running) or final.
-    std::vector<uint8_t> seen(chains_, 0);
+    // (A shard's payload holds its own chains alone: the others count as seen, and naming one
+    // is naming it twice.)
+    std::vector<uint8_t> seen(chains_, 1);
+    for (const Span& sp : mine) std::fill_n(seen.begin() + std::ptrdiff_t(sp.c0), sp.nb, uint8_t(0));
     const auto check_chain = [&](uint64_t chain) {
         if (chain >= chains_)
             throw fp::InputError("the checkpoint's payload names a chain that does not exist");
@@ -161,8 +165,9 @@ template void ChaosGame::save<double>(fp::RenderContext&, const std::vector<Task
                                       const fp::Histogram&, const std::vector<LastWrite>&,
                                       const BlockResult&) const;
 template void ChaosGame::resume<float>(fp::CheckpointSource&, std::vector<Task>&, Keeping&, fp::Histogram&,
-                                       std::vector<LastWrite>&, BlockResult&) const;
+                                       std::vector<LastWrite>&, BlockResult&, const std::vector<Span>&) const;
 template void ChaosGame::resume<double>(fp::CheckpointSource&, std::vector<Task>&, Keeping&, fp::Histogram&,
-                                        std::vector<LastWrite>&, BlockResult&) const;
+                                        std::vector<LastWrite>&, BlockResult&,
+                                        const std::vector<Span>&) const;
 
 } // namespace fp_chaos

@@ -131,6 +131,7 @@ public:
         base_.combine(data, bytes, record, fold, everywhere);
     }
     uint64_t memory_budget() const override { return base_.memory_budget(); }
+    bool shard() const override { return base_.shard(); }
 
 private:
     fp::RenderContext& base_;
@@ -160,15 +161,17 @@ void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, fp
                               uint32_t summary_rows, uint32_t rows) const {
     const uint32_t W = uint32_t(hist_.width), H = uint32_t(hist_.height),
                    image_rows = uint32_t(frame_.height);
-    PassOfStrips pass(ctx, (H + summary_rows - 1) / summary_rows + (image_rows + rows - 1) / rows);
+    // (A shard finishes nothing, so it counts no summary.)
+    const uint32_t summaries = ctx.shard() ? 0 : (H + summary_rows - 1) / summary_rows;
+    PassOfStrips pass(ctx, summaries + (image_rows + rows - 1) / rows);
     // Rank 0 adds up the summary, shades the strips and hands their rows on; the others lend
-    // their chains to each strip.
-    const bool root = ctx.rank() == 0;
+    // their chains to each strip. A shard hands on its own rows and shades none.
+    const bool root = ctx.rank() == 0 || ctx.shard();
     std::vector<float> pixels;
     fp::HistogramSummary whole;
     whole.begin(int(W), int(H));
     whole.density = density();
-    for (uint32_t r0 = 0; r0 < H; r0 += summary_rows) {
+    for (uint32_t r0 = 0; summaries && r0 < H; r0 += summary_rows) {
         fp::Histogram part;
         fp::RenderStats st;
         render_t<T>(pass, st, part, nullptr, r0, std::min(summary_rows, H - r0), false, true);
@@ -186,17 +189,20 @@ void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, fp
         const uint32_t p0 = finishing ? r0 * N - std::min(r0 * N, halo) : r0;
         const uint32_t p1 = finishing ? std::min(H, (r0 + on) * N + halo) : r0 + on;
         render_t<T>(pass, st, part, nullptr, p0, p1 - p0, colour_, colourer_->reads_hits_only());
-        // Every strip runs every chain: the counts of one, and the points drawn of all.
+        // Every strip runs every chain: the counts of one, and the points drawn of all (in the
+        // strip's own rows: its halo's are another strip's).
         const uint64_t drawn = r0 == 0 ? 0 : stats.drawn;
         if (r0 == 0) stats = st;
-        stats.drawn = drawn + st.drawn;
+        const uint32_t n = finishing ? N : 1;
+        uint64_t own = 0;
+        for (size_t i = size_t(r0 * n - p0) * W, end = i + size_t(on * n) * W; i < end; ++i)
+            own += part.hits_at(i);
+        stats.drawn = drawn + own;
         if (ctx.cancelled()) throw fp::Cancelled();
         if (!root) continue;
         // The strip's own rows of the histogram, without its halo.
-        if (ctx.keeps_histogram()) {
-            const uint32_t n = finishing ? N : 1;
-            ctx.keep_histogram(part, int(p0), int(r0 * n), int(on * n));
-        }
+        if (ctx.keeps_histogram()) ctx.keep_histogram(part, int(p0), int(r0 * n), int(on * n));
+        if (ctx.shard()) continue;
         pixels.resize(size_t(on) * size_t(frame_.width) * 3);
         if (finishing)
             fp::finish(finish_, *colourer_, part, int(p0), whole, frame_.width, int(r0), int(on),
@@ -205,10 +211,12 @@ void ChaosGame::render_strips(fp::RenderContext& ctx, fp::RenderStats& stats, fp
             colourer_->resolve_rows(part, int(r0), whole, frame_.background, pixels.data(), ctx);
         sink.rows(int(r0), int(on), pixels.data());
     }
-    const uint32_t strips = (image_rows + rows - 1) / rows, counts = (H + summary_rows - 1) / summary_rows;
+    const uint32_t strips = (image_rows + rows - 1) / rows;
     stats.how = "in " + std::to_string(strips) + " strips of " + std::to_string(rows) +
-                (rows == 1 ? " row" : " rows") + " after " + std::to_string(counts) + " pass" +
-                (counts == 1 ? "" : "es") + " counting hits";
+                (rows == 1 ? " row" : " rows") +
+                (summaries ? " after " + std::to_string(summaries) + " pass" + (summaries == 1 ? "" : "es") +
+                                 " counting hits"
+                           : "");
 }
 
 template void ChaosGame::render_strips<float>(fp::RenderContext&, fp::RenderStats&, fp::RowSink&, uint32_t,

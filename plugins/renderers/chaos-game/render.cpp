@@ -69,6 +69,11 @@ fp::Image ChaosGame::render(fp::RenderContext& ctx, fp::RenderStats& stats) cons
     else
         render_t<float>(ctx, stats, total, &img.pixels, 0, H, colour_, colourer_->reads_hits_only());
     if (ctx.cancelled()) throw fp::Cancelled();
+    if (ctx.shard()) {
+        // A shard's histogram is what it makes: `fixpoint merge` sums the shards and finishes.
+        if (ctx.keeps_histogram()) ctx.keep_histogram(total, 0, 0, total.height);
+        return img;
+    }
     if (ctx.rank() != 0) return img; // its share is in rank 0's histogram, which rank 0 resolves
     if (ctx.keeps_histogram()) ctx.keep_histogram(total, 0, 0, total.height);
     // (The image's buffer, made beside the chains, is the one image_of fills.)
@@ -167,7 +172,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
     // refuses the rest) keeps the chains' final states and stops for each checkpoint.
     std::unique_ptr<Keeping> keeping;
     if (ctx.checkpointing() || ctx.resume_from()) {
-        if (ranks > 1 || row0 != 0 || rows != uint32_t(hist_.height))
+        if ((ranks > 1 && !ctx.shard()) || row0 != 0 || rows != uint32_t(hist_.height))
             throw fp::InputError("checkpoints are kept of a whole render on one process (not in strips, not "
                                  "over MPI ranks)");
         keeping = std::make_unique<Keeping>();
@@ -196,7 +201,7 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
         }
     }
     if (fp::CheckpointSource* in = ctx.resume_from()) {
-        resume<T>(*in, work, *keep, total, folded_last, base);
+        resume<T>(*in, work, *keep, total, folded_last, base, spans);
         ctx.progress(keep->progress.load());
     } else {
         for (const Span& sp : spans) {
@@ -277,9 +282,11 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
     if (keep) hists.clear();
     // Over several ranks with last colours: this rank's winning (step, chain) per bin, for the
     // ranks' merge by the same order.
-    std::vector<LastWrite> rank_last(ranks > 1 && last ? px : 0);
+    // (A shard keeps them in its histogram, for the merge.)
+    const bool shares = ranks > 1 || ctx.shard();
+    std::vector<LastWrite> rank_last(shares && last ? px : 0);
     sum_workers(ctx, stats, hists, total, folded_last, rows, hits8, last, rank_last);
-    if (ranks > 1) combine_ranks(ctx, stats, total, rank_last);
+    if (shares) combine_ranks(ctx, stats, total, rank_last);
 }
 
 void ChaosGame::sum_workers(fp::RenderContext& ctx, fp::RenderStats& stats, std::vector<WorkerHist>& hists,
@@ -385,6 +392,10 @@ void ChaosGame::combine_ranks(fp::RenderContext& ctx, fp::RenderStats& stats, fp
         false);
     for (size_t i = 0; i < rank_last.size(); ++i)
         total.last[i] = fp::LastColour{rank_last[i].r, rank_last[i].g, rank_last[i].b};
+    if (!ctx.shard()) return;
+    total.last_order.resize(rank_last.size());
+    for (size_t i = 0; i < rank_last.size(); ++i)
+        total.last_order[i] = fp::LastOrder{rank_last[i].step, rank_last[i].chain, 0};
 }
 
 template void ChaosGame::render_t<float>(fp::RenderContext&, fp::RenderStats&, fp::Histogram&,

@@ -111,10 +111,11 @@ private:
 
     // ---- chaos-game/checkpoint.cpp
     /// A checkpointed render's state from the payload it resumes from: its tasks, the chains'
-    /// final states, the histogram (into total, and last writes into `last`), the stats.
+    /// final states, the histogram (into total, and last writes into `last`), the stats. `mine`:
+    /// the blocks this process runs (a shard's share; all of them otherwise).
     template <class T>
     void resume(fp::CheckpointSource& in, std::vector<Task>& tasks, Keeping& keep, fp::Histogram& total,
-                std::vector<LastWrite>& last, BlockResult& base) const;
+                std::vector<LastWrite>& last, BlockResult& base, const std::vector<Span>& mine) const;
     /// Writes the checkpoint: the tasks not done, the final states, the histogram folded into
     /// total and `last`.
     template <class T>

@@ -30,6 +30,18 @@ struct LastColour {
     std::uint16_t r = 0, g = 0, b = 0;
 };
 
+/// Where a bin's last colour came from: the (step, chain) of its last point, the order that
+/// decides which colour is last. A shard's histogram carries it (Histogram::last_order), so
+/// that shards merge as ranks do. (Added in ABI 21.)
+struct LastOrder {
+    std::uint64_t step = 0;
+    std::uint32_t chain = 0, pad = 0;
+};
+/// Whether `a` comes after `b` in the order that decides a bin's last colour.
+inline bool later(const LastOrder& a, const LastOrder& b) {
+    return a.step > b.step || (a.step == b.step && a.chain > b.chain);
+}
+
 struct Histogram {
     int width = 0, height = 0;
     std::vector<HistBin> bins; ///< row-major, top row first
@@ -42,6 +54,10 @@ struct Histogram {
     /// summarising and shading it. Read a bin's hits with hits_at(), the bins' number with
     /// size(): they serve both forms. (Added in ABI 14.)
     std::vector<std::uint64_t> hits;
+    /// Empty, or (a shard's histogram with `last`: RenderContext::shard) one entry per bin:
+    /// the order of its last colour, by which a merge of shards picks each bin's. (Added in
+    /// ABI 21.)
+    std::vector<LastOrder> last_order;
 
     void resize(int w, int h) {
         width = w;

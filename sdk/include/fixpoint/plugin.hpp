@@ -43,10 +43,11 @@ namespace fp {
 /// ABI 19: fp::Points::key and salt, Transform::uses_random, fixpoint/rng.hpp's map_key and
 /// map_uniform, for maps that draw random numbers (flam3's variations); FIXPOINT_PLUGIN_FAMILY,
 /// for a library of many plugins built from one table; ABI 20: HistogramSummary::density, for
-/// flam3's tone;
+/// flam3's tone; ABI 21: RenderContext::shard, Histogram::last_order and LastOrder, for shards
+/// that `fixpoint merge` sums;
 /// the host refuses a plugin built for another value ("rebuild it against this SDK"), so a
 /// plugin always matches the headers the host was built with.
-constexpr std::uint32_t abi_version = 20;
+constexpr std::uint32_t abi_version = 21;
 
 /// What a plugin can do that the host asks of its descriptor, as bits of
 /// PluginDescriptor::abilities: data, so that a new ability adds a bit here rather than a

@@ -109,9 +109,17 @@ public:
     virtual bool keeps_histogram() const;
     /// Rows [row0, row0 + rows) of the render's whole histogram (of histogram_shape()), from
     /// `part`, which holds its rows from part_row0 on (a strip with its halo, or the whole):
-    /// handed over by rank 0 after the ranks' sums, before the rows are finished, in order from
-    /// row 0 down, each row once. Called from the renderer's own thread. Default: nothing.
+    /// handed over by rank 0 after the ranks' sums (by a shard, its own share), before the rows
+    /// are finished, in order from row 0 down, each row once. Called from the renderer's own thread. Default:
+    /// nothing.
     virtual void keep_histogram(const Histogram& part, int part_row0, int row0, int rows);
+
+    /// A shard (`fixpoint render --shard K/N`, added in ABI 21): this process renders share
+    /// rank() of ranks() alone, as that MPI rank would, and nothing is combined. The renderer
+    /// hands that share's own histogram to keep_histogram (with Histogram::last_order where it
+    /// keeps last colours), so that `fixpoint merge` sums the shards into the whole; the image
+    /// is not used, so it need not finish one. Default: false.
+    virtual bool shard() const;
 };
 
 /// The histogram a renderer keeps (Renderer::histogram_shape): its size and what a bin holds.

@@ -9,15 +9,20 @@
 //   string renderer          the renderer plugin's name
 //   string identity          the recipe without its finishing parameters (Pipeline::histogram_identity)
 //   string recipe            the whole recipe of the render
+//   string shards            (format 2 only) a shard's: one character per share of the render's N,
+//                            '1' for the shares the file holds (render --shard K/N, merge)
 //   u32 width, u32 height    of the histogram (the image times renderer.supersample)
 //   u32 form                 bit 0: hits alone; bit 1: last colours
 //   zlib stream              the rows, top first: per row its bins (u64 hits, or u64 {hits, r,
 //                            g, b}: colour sums in units of 1/65535), then with last colours
-//                            u16 {r, g, b} per bin
+//                            u16 {r, g, b} per bin, and in a shard's file then u64 step, u32
+//                            chain, u32 0 per bin: the order of that colour, by which a merge
+//                            picks each bin's last colour
 //   u64 samples, drawn, restarts, bad values   the render's counts
 //   u64 stream bytes         the zlib stream's size
 //   u32 CRC-32               of everything before it (zlib's)
 //
+// A whole render's file is format 1 (format 2 without the shards string); a shard's, format 2.
 // Integers little-endian, strings as u64 length and bytes. Exact integers, not floats: the
 // sums of a large render pass 2^24, and `tone` promises the bytes of the full render. The file is
 // written to a temporary name of its own beside FILE and renamed once whole and synced.
@@ -29,13 +34,23 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace fp::host {
 
 struct HistogramFileHeader {
     std::string version, renderer, identity, recipe;
     HistogramShape shape;
+    /// "" for a whole render; a shard's (render --shard K/N) or a merge of some: one character
+    /// per share of N, '1' for those the file holds.
+    std::string shards = {};
 };
+
+/// The shards string of share `k` (from 0) of `n`.
+std::string shard_string(unsigned k, unsigned n);
+/// "shard 2/4", "shards 1/4 and 3/4", "shards 1/4, 2/4 and 4/4": the shares the string holds,
+/// or (with `missing`) those it lacks.
+std::string shards_named(const std::string& shards, bool missing = false);
 
 /// Whether `path` names a histogram file (by its extension, .fph).
 bool is_histogram_file(const std::string& path);
@@ -81,7 +96,14 @@ HistogramFileHeader read_histogram_header(const std::string& path);
 /// The whole file. `memory`: the most its histogram may take (fp::InputError beyond it).
 HistogramFile read_histogram_file(const std::string& path, std::uint64_t memory);
 
-/// The bytes a histogram of this shape takes in memory (and, uncompressed, in the file).
-std::uint64_t histogram_bytes(const HistogramShape& shape);
+/// The bytes a histogram of this shape takes in memory (and, uncompressed, in the file); with
+/// `order`, the last colours' order too (a shard's).
+std::uint64_t histogram_bytes(const HistogramShape& shape, bool order = false);
+
+/// `fixpoint merge`: the shards' histograms summed into one, checked first (every file whole,
+/// of one render version, renderer, recipe, shape and plan of N shares, no share twice; with
+/// `whole`, every share present), each refusal one fp::InputError line naming the file. The
+/// recipe is the first file's; the header's shards is "" once every share is in.
+HistogramFile merge_histograms(const std::vector<std::string>& paths, std::uint64_t memory, bool whole);
 
 } // namespace fp::host

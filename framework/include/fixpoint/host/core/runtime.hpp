@@ -33,6 +33,14 @@ public:
     void combine(void* data, std::size_t bytes, std::size_t record,
                  const std::function<void(const void*, void*, std::size_t)>& fold, bool everywhere) override;
 
+    /// A shard (render --shard K/N): this process renders share `k` (from 0) of `n` alone, as
+    /// MPI rank k of n would (rank() and ranks() say so), and combines nothing.
+    void set_shard(unsigned k, unsigned n) {
+        shard_ = true;
+        shard_k_ = k, shard_n_ = n;
+    }
+    bool shard() const override { return shard_; }
+
     std::uint64_t memory_budget() const override { return budget_; }
     /// The budget renderers see (check_memory's answer); unset: no limit.
     void set_memory_budget(std::uint64_t bytes) { budget_ = bytes; }
@@ -72,6 +80,8 @@ private:
     unsigned threads_;
     const std::atomic<bool>* cancel_;
     bool distributed_;
+    bool shard_ = false;
+    unsigned shard_k_ = 0, shard_n_ = 1;
     std::atomic<std::uint64_t> done_{0};
     std::atomic<std::uint64_t>* progress_ = &done_;
     std::uint64_t budget_ = UINT64_MAX;

@@ -108,6 +108,9 @@ struct RenderRequest {
     std::shared_ptr<const HistogramFile> tone;
     /// Keep the histogram in memory too (RenderResult::kept): the preview re-tones from it.
     bool keep_histogram = false;
+    /// --shard K/N: render share `shard` (1 to `shards`) of the render alone, into --histogram
+    /// (no image; `fixpoint merge` sums the shards). 0: the whole render.
+    unsigned shard = 0, shards = 0;
 };
 
 /// What --checkpoint and --resume ask of a render, checked (plan_render).
