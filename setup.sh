@@ -55,6 +55,9 @@ sanitize=
 [ "$mode" = test ] && packages+=(libflam3-dev flam3-utils)
 # The preview page's tests in a real browser: headless Chromium driven by Selenium.
 [ "$mode" = test ] && packages+=(chromium chromium-driver python3-selenium)
+# A one-node Slurm cluster that tests/cluster starts on localhost (auth/none, no munge): a job
+# array of shards with a killed task, requeued, then merged.
+[ "$mode" = test ] && packages+=(slurmctld slurmd slurm-client)
 # The linters, run by CTest (tests/lint/): clang-tidy on the changed C++ files, ESLint on web/,
 # flake8 on the Python (docs/testing.md).
 [ "$mode" = test ] && packages+=(clang-tidy eslint flake8)

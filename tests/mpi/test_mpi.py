@@ -310,14 +310,54 @@ def test_memory_check_counts_the_ranks_on_this_machine(tmp_path):
     assert not (tmp_path / "x.png").exists()
 
 
-def test_checkpoints_are_refused_on_ranks(tmp_path):
-    # Checkpoints are kept of a render on one process: under mpirun, one line before rendering.
-    r = mpirun(2, "render", SOURCE / "configs/inversion/fig6a.yaml", "-o", tmp_path / "x.png",
-               "--checkpoint", tmp_path / "ck.bin", *sets(points=20000))
+def test_a_killed_job_resumes_from_each_ranks_checkpoint(tmp_path):
+    # Each rank keeps its share's state in ck.bin.K-of-N. One rank killed with SIGKILL after
+    # every rank's first checkpoint ends the job; --resume on the same rank count continues it
+    # to the bytes of one process.
+    config = SOURCE / "configs/inversion/fig6a.yaml"
+    job = sets(points=300000000, width=200, height=200)
+    one = tmp_path / "one.png"
+    r = plain("render", config, "-o", one, "--quiet", "--threads", 2, *job)
+    assert r.returncode == 0, r.stderr
+    ck = tmp_path / "ck.bin"
+    out = tmp_path / "x.png"
+    cmd = [MPIRUN, "--quiet", "-np", "2", "--oversubscribe", CLI, "render", str(config), "-o", str(out), "--quiet",
+           "--threads", "1", "--checkpoint", str(ck), "--checkpoint-every", "0.3s", *job]
+    p = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, cwd=tmp_path, env=mpi_env())
+    mine = [tmp_path / "ck.bin.1-of-2", tmp_path / "ck.bin.2-of-2"]
+    end = time.monotonic() + 300
+    while not all(f.exists() for f in mine) and p.poll() is None and time.monotonic() < end:
+        time.sleep(0.05)
+    assert p.poll() is None, "the job ended before its ranks were killed: " + p.stderr.read()
+    pids = subprocess.run(["pgrep", "-f", str(ck)], capture_output=True, text=True).stdout.split()
+    ranks = [int(x) for x in pids if int(x) != p.pid]
+    assert ranks, "no rank to kill"
+    os.kill(max(ranks), signal.SIGKILL)
+    p.communicate(timeout=120)
+    assert p.returncode != 0
+    assert not out.exists()
+    r = mpirun(2, "render", config, "-o", out, "--threads", 1, "--resume", ck, *job)
+    assert r.returncode == 0, r.stderr
+    assert "(each rank to its own)" in r.stderr, r.stderr
+    assert content(out) == content(one)
+
+
+def test_checkpoints_resume_on_their_rank_count_only(tmp_path):
+    config = SOURCE / "configs/inversion/fig6a.yaml"
+    ck = tmp_path / "ck.bin"
+    r = mpirun(2, "render", config, "-o", tmp_path / "x.png", "--quiet", "--checkpoint", ck, *sets(points=20000))
+    assert r.returncode == 0, r.stderr
+    assert sorted(os.listdir(tmp_path)) == ["ck.bin.1-of-2", "ck.bin.2-of-2", "x.png"]
+    before = sorted(os.listdir(tmp_path))
+    r = mpirun(3, "render", config, "-o", tmp_path / "y.png", "--resume", ck, *sets(points=40000))
     assert r.returncode == 2, r.stderr
-    ours = [l for l in r.stderr.splitlines() if "checkpoint" in l]
-    assert ours == ["--checkpoint: checkpoints are kept of a render on one process, not under mpirun"], r.stderr
-    assert not (tmp_path / "x.png").exists() and not (tmp_path / "ck.bin").exists()
+    ours = [line for line in r.stderr.splitlines() if "--resume" in line]
+    assert ours == [f"--resume: no checkpoint '{ck}.1-of-3' of rank 1 of 3: '{ck}' was checkpointed on 2 ranks: "
+                    "resume it with mpirun -np 2"], r.stderr
+    # One process is not a rank of two either.
+    r = plain("render", config, "-o", tmp_path / "y.png", "--resume", tmp_path / "ck.bin.1-of-2", *sets(points=40000))
+    assert r.returncode == 2 and "# rank 1 of 2" in r.stderr, r.stderr
+    assert sorted(os.listdir(tmp_path)) == before
 
 
 def test_without_mpi_a_build_refuses_ranks(tmp_path):

@@ -128,6 +128,34 @@ bool same_file(const std::string& a, const std::string& b) {
     return ca == fs::weakly_canonical(fs::absolute(b), ec) && !ec;
 }
 
+// Rank K-1 of N's checkpoint under mpirun: FILE.K-of-N.
+std::string rank_file(const std::string& base) {
+    return base + "." + std::to_string(ranks::rank() + 1) + "-of-" + std::to_string(ranks::size());
+}
+
+// A rank's checkpoint to resume that is not there: perhaps the job ran on another rank count,
+// which the other files say.
+void check_rank_file(const std::string& base, const std::string& mine) {
+    std::error_code ec;
+    if (fs::exists(mine, ec)) return;
+    const fs::path b(base);
+    const fs::path dir = b.parent_path().empty() ? fs::path(".") : b.parent_path();
+    const std::string stem = b.filename().string() + ".";
+    std::string other;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+        const std::string name = e.path().filename().string();
+        const std::size_t of = name.rfind("-of-");
+        if (name.compare(0, stem.size(), stem) == 0 && of != std::string::npos && of > stem.size() &&
+            name.find_first_not_of("0123456789", of + 4) == std::string::npos && of + 4 < name.size())
+            other = name.substr(of + 4);
+    }
+    throw InputError("--resume: no checkpoint " + quote(mine, 200) + " of rank " +
+                     std::to_string(ranks::rank() + 1) + " of " + std::to_string(ranks::size()) +
+                     (other.empty() ? std::string(": each rank resumes its own (FILE.K-of-N)")
+                                    : ": " + quote(base, 200) + " was checkpointed on " + other +
+                                          " ranks: resume it with mpirun -np " + other));
+}
+
 // --checkpoint, --checkpoint-every, --resume: checked before the render (the checkpoint to resume
 // read whole and compared with the recipe); an empty plan without them.
 void check_checkpoints(RenderPlan& plan) {
@@ -156,8 +184,12 @@ void check_checkpoints(RenderPlan& plan) {
         return;
     }
     const std::string opt = r.resume.empty() ? "--checkpoint" : "--resume";
-    if (ranks::size() > 1)
-        throw InputError(opt + ": checkpoints are kept of a render on one process, not under mpirun");
+    // Under mpirun, each rank keeps its own share's state (as a shard does), in FILE.K-of-N for
+    // rank K-1 of N: a job resumes on the rank count it was checkpointed with.
+    const bool per_rank = r.distributed && ranks::size() > 1;
+    if (ranks::size() > 1 && !per_rank)
+        throw InputError(opt + ": checkpoints are kept of a render on one process, or of each rank's share "
+                               "under mpirun");
     if (!p.renderer->keeps_checkpoints() || plan.vector)
         throw InputError(p.renderer_mark.str() + ": renderer: " + p.renderer_type +
                          (plan.vector ? " draws this picture without points" : " keeps no checkpoints") +
@@ -167,11 +199,16 @@ void check_checkpoints(RenderPlan& plan) {
                                "are kept of a render that fits (see --memory)");
     ck.every_s = r.checkpoint_every.empty() ? 300 : parse_duration(r.checkpoint_every, "--checkpoint-every");
     // With --resume alone, the checkpoints go on in the file resumed.
-    ck.path = r.checkpoint.empty() ? r.resume : r.checkpoint;
+    const std::string resume = per_rank && !r.resume.empty() ? rank_file(r.resume) : r.resume;
+    ck.path = r.checkpoint.empty() ? resume : per_rank ? rank_file(r.checkpoint) : r.checkpoint;
     ck.header = checkpoint_header(p);
-    // A shard's checkpoint continues that shard alone.
+    // A shard's checkpoint continues that shard alone, a rank's that rank's share.
     if (r.shards)
         ck.header.identity += "# shard " + std::to_string(r.shard) + "/" + std::to_string(r.shards) + "\n";
+    if (per_rank)
+        ck.header.identity +=
+            "# rank " + std::to_string(ranks::rank() + 1) + " of " + std::to_string(ranks::size()) + "\n";
+    if (per_rank && !resume.empty()) check_rank_file(r.resume, resume);
     for (const auto& [name, other] :
          {std::pair{"the output", plan.output}, std::pair{"the config", r.source}})
         if (!other.empty() && same_file(ck.path, other))
@@ -179,7 +216,7 @@ void check_checkpoints(RenderPlan& plan) {
                              ": a checkpoint needs a file of its own");
     std::error_code ec;
     if (!r.resume.empty()) {
-        auto file = std::make_unique<CheckpointFile>(r.resume);
+        auto file = std::make_unique<CheckpointFile>(resume);
         file->check_against(ck.header);
         ck.resume = std::move(file);
     } else if (!r.force && fs::exists(fs::symlink_status(ck.path, ec))) {
@@ -504,7 +541,8 @@ std::string summary_line(const RenderPlan& plan, const RenderResult& r) {
                        ", " + simd::active_target() + "), " + plural(st.restarts, "restarted chain") + ", " +
                        plural(st.bad_values, "bad value") + (st.how.empty() ? "" : ", " + st.how);
     if (!plan.checkpoints.path.empty())
-        line += "; " + plural(r.checkpoints_written, "checkpoint") + " to " + plan.checkpoints.path;
+        line += "; " + plural(r.checkpoints_written, "checkpoint") + " to " + plan.checkpoints.path +
+                (nr > 1 ? " (each rank to its own)" : "");
     if (!q.histogram.empty() && !q.shards) line += "; histogram to " + q.histogram;
     return line;
 }

@@ -168,13 +168,13 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
         for (size_t b = rank; b < spans.size(); b += ranks) mine.push_back(spans[b]);
         spans = std::move(mine);
     }
-    // A checkpointed render (`--checkpoint`, `--resume`; whole renders on one process: the host
-    // refuses the rest) keeps the chains' final states and stops for each checkpoint.
+    // A checkpointed render (`--checkpoint`, `--resume`; whole renders: the host refuses strips)
+    // keeps the chains' final states and stops for each checkpoint. Over ranks, and in a shard,
+    // each keeps its own share's: nothing in the rounds is collective.
     std::unique_ptr<Keeping> keeping;
     if (ctx.checkpointing() || ctx.resume_from()) {
-        if ((ranks > 1 && !ctx.shard()) || row0 != 0 || rows != uint32_t(hist_.height))
-            throw fp::InputError("checkpoints are kept of a whole render on one process (not in strips, not "
-                                 "over MPI ranks)");
+        if (row0 != 0 || rows != uint32_t(hist_.height))
+            throw fp::InputError("checkpoints are kept of a whole render (not in strips)");
         keeping = std::make_unique<Keeping>();
         keeping->finals.assign(chains_, ChainRec{0, 0, 0, 0, not_final, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
     }
