@@ -282,11 +282,12 @@ void ChaosGame::render_t(fp::RenderContext& ctx, fp::RenderStats& stats, fp::His
     if (keep) hists.clear();
     // Over several ranks with last colours: this rank's winning (step, chain) per bin, for the
     // ranks' merge by the same order.
-    // (A shard keeps them in its histogram, for the merge.)
-    const bool shares = ranks > 1 || ctx.shard();
-    std::vector<LastWrite> rank_last(shares && last ? px : 0);
+    // A shard keeps their order in its histogram instead, for the merge (16 bytes a bin, not
+    // 24 more beside it: fresh pages cost).
+    std::vector<LastWrite> rank_last(ranks > 1 && !ctx.shard() && last ? px : 0);
+    if (ctx.shard() && last) assign_huge(total.last_order, px, poll);
     sum_workers(ctx, stats, hists, total, folded_last, rows, hits8, last, rank_last);
-    if (shares) combine_ranks(ctx, stats, total, rank_last);
+    if (ranks > 1 && !ctx.shard()) combine_ranks(ctx, stats, total, rank_last);
 }
 
 void ChaosGame::sum_workers(fp::RenderContext& ctx, fp::RenderStats& stats, std::vector<WorkerHist>& hists,
@@ -329,6 +330,7 @@ void ChaosGame::sum_workers(fp::RenderContext& ctx, fp::RenderStats& stats, std:
                 }
                 total.last[i] = fp::LastColour{best.r, best.g, best.b};
                 if (!rank_last.empty()) rank_last[i] = best;
+                if (!total.last_order.empty()) total.last_order[i] = fp::LastOrder{best.step, best.chain, 0};
             }
         }
         uint64_t d = 0;
@@ -392,10 +394,6 @@ void ChaosGame::combine_ranks(fp::RenderContext& ctx, fp::RenderStats& stats, fp
         false);
     for (size_t i = 0; i < rank_last.size(); ++i)
         total.last[i] = fp::LastColour{rank_last[i].r, rank_last[i].g, rank_last[i].b};
-    if (!ctx.shard()) return;
-    total.last_order.resize(rank_last.size());
-    for (size_t i = 0; i < rank_last.size(); ++i)
-        total.last_order[i] = fp::LastOrder{rank_last[i].step, rank_last[i].chain, 0};
 }
 
 template void ChaosGame::render_t<float>(fp::RenderContext&, fp::RenderStats&, fp::Histogram&,
