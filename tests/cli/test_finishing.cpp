@@ -22,11 +22,6 @@ const std::vector<std::string> stage = {"--set", "renderer.supersample=2",
                                         "--set", "renderer.filter={type: gaussian, radius: 0.75}",
                                         "--set", "renderer.estimator_radius=2"};
 
-std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
-    args.insert(args.end(), more.begin(), more.end());
-    return args;
-}
-
 struct Case {
     const char* name;
     const char* config; ///< under the source tree

@@ -22,11 +22,6 @@ using namespace fp::test;
 
 namespace {
 
-std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
-    args.insert(args.end(), more.begin(), more.end());
-    return args;
-}
-
 // What tone changes: the whole finishing stage, the colourer's tone and the background.
 const std::vector<std::string> retone = {"--set", "renderer.filter={type: mitchell, radius: 1.5}",
                                          "--set", "renderer.estimator_radius=3",

@@ -40,6 +40,11 @@ std::string scratch_dir(const std::string& name);
 /// Write `text` to `path`.
 void write_file(const std::string& path, const std::string& text);
 std::string read_file(const std::string& path);
+/// `args` with `more` after them: a command line built of its parts.
+inline std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
+    args.insert(args.end(), more.begin(), more.end());
+    return args;
+}
 
 /// Bad input as a user meets it: write `yaml` to bad.yaml in a fresh scratch folder `name`, run
 /// the CLI there with `args`, and check (gtest) that it exits with 2, prints exactly one line on
