@@ -39,6 +39,7 @@ packages=(
     libssl-dev # the golden corpus's SHA-256 (tests/golden-recipes/; also pulled in by cpp-httplib)
     libopenmpi-dev openmpi-bin # mpirun -np N fixpoint render (FIXPOINT_MPI)
     libtinyxml2-dev # flam3's palette file (palette: flam3:N)
+    ccache # the compiler cache of both builds (below)
 )
 quick=${FIXPOINT_QUICK:-}
 if [ -n "$quick" ] && [ -n "${CI:-}" ]; then
@@ -87,8 +88,19 @@ jobs=$(nproc 2>/dev/null || echo 2)
 # everything for a changed flag.
 werror=()
 [ -n "${CI:-}" ] && werror=(-DFIXPOINT_WERROR=ON)
+# Both builds compile through ccache where it is installed. Its base directory is this checkout,
+# so that the compile lines it hashes name paths relative to it (the tests take theirs from
+# tests/support/cli.cpp alone): a clone elsewhere, as CI makes, is served what an earlier
+# build compiled. The sanitizer build has debug information, which names the folder it was
+# compiled in; it is left out of the hash there (NOHASHDIR), so a report's paths may name the
+# folder of the build that filled the cache, with the right file and line.
+launcher=()
+if command -v ccache >/dev/null 2>&1; then
+    export CCACHE_BASEDIR="$PWD"
+    launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
 started=$SECONDS
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${werror[@]}" >/dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${werror[@]}" "${launcher[@]}" >/dev/null
 cmake --build build -j"$jobs"
 [ "$mode" = test ] && stage "Release build (build)"
 
@@ -132,14 +144,16 @@ export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=$leaks"
 # reported by LeakSanitizer); the MPI tests then check only that it refuses to run as ranks.
 CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DFIXPOINT_SANITIZE=ON \
     -DFIXPOINT_FUZZ=ON -DFIXPOINT_WERROR=ON -DFIXPOINT_BUILD_TESTS=ON -DFIXPOINT_BUILD_BENCH=OFF \
-    -DFIXPOINT_PYTHON=OFF -DFIXPOINT_MPI=OFF >/dev/null
-cmake --build build-asan -j"$jobs"
+    -DFIXPOINT_PYTHON=OFF -DFIXPOINT_MPI=OFF "${launcher[@]}" >/dev/null
+CCACHE_NOHASHDIR=1 cmake --build build-asan -j"$jobs"
 stage "sanitizer build (build-asan)"
 
-# Every test but the style check, the out-of-tree plugins, the guide's code blocks and the
-# preview page in the browser (nothing sanitizer-specific in them: the page's JavaScript is the
-# same, and the server under it is tested under the sanitizers by serve_requests, serve_access and serve_http; its full-size
-# renders would take minutes in this build).
+# Every test but the style check, the out-of-tree plugins, the guide's code blocks, the
+# preview page in the browser and the cluster (nothing sanitizer-specific in them: the page's
+# JavaScript is the same, and the server under it is tested under the sanitizers by
+# serve_requests, serve_access and serve_http; the cluster's shards, merges and checkpoints are
+# the CLI's, tested here by the Shards and Checkpoint tests, and its Slurm flow would take
+# minutes in this build).
 # (No Python in this build: an interpreter not built with ASan under an ASan executable
 # reports its own allocator's habits; the Release build runs the Python tests.)
 started=$SECONDS
@@ -147,7 +161,7 @@ started=$SECONDS
 # instruction set alike); the sanitizer build is clang at -O1 with SSE4 alone, which gives other
 # bytes for 2 of its 78 recipes (inversions in polygons, in float: docs/render-versions.md), so
 # it is not run there.
-ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -E '^(clang_format|external_plugin|external_scheme|doc_code_blocks|browser_page|golden_recipes|golden_recipes_refuse|golden_recipes_every_target)$'
+ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -E '^(clang_format|external_plugin|external_scheme|doc_code_blocks|browser_page|cluster_shards|golden_recipes|golden_recipes_refuse|golden_recipes_every_target)$'
 stage "tests (build-asan)"
 started=$SECONDS
 tests/fuzz/run.sh build-asan 60 validate

@@ -10,7 +10,7 @@ TEST(Cancel, AStreamedPngSaysOnlyFixpointsLine) {
     // In strips (--memory), each strip iterates every chain: the first takes seconds at 2e9
     // points, and the signal comes while no row is written. A signal before the handler is in
     // place would kill it without the line, which fails the test rather than passing it.
-    const std::string render = std::string(FIXPOINT_BIN) + " render " + FIXPOINT_SOURCE_DIR +
+    const std::string render = fp::test::fixpoint_bin() + " render " + fp::test::source_dir() +
                                "/configs/inversion/fig6a.yaml -o big.png --memory 24M --threads 1 --set "
                                "renderer.width=4000 --set renderer.height=4000 --set renderer.points=2e9";
     const auto r = fp::test::shell(dir, render + " & pid=$!; sleep 1.5; kill -INT $pid; wait $pid");

@@ -78,10 +78,11 @@ TEST(Checkpoint, KilledRenderResumesToTheSameBytes) {
     const std::string dir = scratch_dir("checkpoint_killed");
     // Paper 02's Mann iteration with switching (the generic step, which sees the step index).
     const std::string config = source_dir() + "/configs/iterations/fig10a.yaml";
-    const std::string bin = FIXPOINT_BIN;
+    const std::string bin = fixpoint_bin();
     // Long enough to be killed well before its end (about 3 s on two threads of the 2-core
-    // machine, a checkpoint every 0.2 s); killed once the first checkpoint exists.
-    const std::string points = "renderer.points=100000000";
+    // machine, a checkpoint every 0.2 s; under ASan 4 million points take about as long);
+    // killed once the first checkpoint exists.
+    const std::string points = cli_sanitized() ? "renderer.points=4000000" : "renderer.points=100000000";
     write_file(dir + "/kill.sh",
                "cd '" + dir + "' || exit 1\n'" + bin + "' render --quiet --threads 2 '" + config +
                    "' --set " + points +
@@ -202,7 +203,7 @@ TEST(Checkpoint, AFailedCheckpointWriteIsAnErrorAndKeepsThePreviousOne) {
     const std::string before = read_file(dir + "/ck.bin");
     const std::string err = dir + "/err.txt";
     const std::string script =
-        "cd '" + dir + "' || exit 1\ntrap '' XFSZ\nulimit -f 4\nexec '" + std::string(FIXPOINT_BIN) +
+        "cd '" + dir + "' || exit 1\ntrap '' XFSZ\nulimit -f 4\nexec '" + fixpoint_bin() +
         "' render -q s.yaml --set renderer.points=800000 -o out.png --resume ck.bin 2>'" + err + "'\n";
     write_file(dir + "/full.sh", script);
     const int status = std::system(("bash '" + dir + "/full.sh'").c_str());

@@ -11,7 +11,7 @@ using namespace fp::test;
 
 namespace {
 
-const std::string dir = std::string(FIXPOINT_FIXTURES) + "/schemes/";
+const std::string dir = fixtures_dir() + "/schemes/";
 
 // `fixpoint conformance` on fixture `name`: exit 1, and the one finding `finding`.
 void expect_finding(const std::string& name, const std::string& finding) {

@@ -95,11 +95,12 @@ TEST(Draft, NotForPrint) {
 
 // `fixpoint watch CFG -o OUT --threads 1` in the background, its stderr in LOG.
 pid_t start_watch(const std::string& cfg, const std::string& out, const std::string& log) {
+    const std::string bin = fp::test::fixpoint_bin(); // (before the fork: no allocation after it)
     const pid_t pid = fork();
     if (pid == 0) {
         const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         ::dup2(fd, 2);
-        ::execl(FIXPOINT_BIN, FIXPOINT_BIN, "watch", cfg.c_str(), "-o", out.c_str(), "--threads", "1",
+        ::execl(bin.c_str(), bin.c_str(), "watch", cfg.c_str(), "-o", out.c_str(), "--threads", "1",
                 static_cast<char*>(nullptr));
         ::_exit(127);
     }

@@ -121,7 +121,7 @@ TEST(Hardening, SetMadeMappingsHaveAPosition) {
 
 namespace {
 
-const std::string bin = FIXPOINT_BIN;
+const std::string bin = fixpoint_bin();
 
 // A PNG written to a full disk once reported success over a truncated file. The file-size limit
 // (SIGXFSZ ignored) makes every write past 4 KiB fail with EFBIG, as a full disk fails it.
@@ -333,7 +333,7 @@ TEST(Hardening, PluginFolderProblemsAreReported) {
 // A plugin that throws something other than a std::exception once aborted the process, in a
 // render and in the conformance suite.
 TEST(Hardening, APluginThrowingANonStandardExceptionIsReported) {
-    const std::string fixtures = std::string(FIXPOINT_FIXTURES) + "/throws";
+    const std::string fixtures = fixtures_dir() + "/throws";
     const std::string dir = fp::test::scratch_dir("throws_int");
     const std::string yaml =
         "renderer:\n  type: chaos-game\n  width: 32\n  height: 32\n  points: 1000\n  maps:\n"

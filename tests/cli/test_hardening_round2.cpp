@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 const std::string base =
     chaos_game({"width: 256", "height: 256", "points: 400000", "chains: 64"}, sierpinski);
 
-const std::string bin = FIXPOINT_BIN;
+const std::string bin = fixpoint_bin();
 
 int lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 

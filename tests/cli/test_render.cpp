@@ -121,7 +121,8 @@ TEST(Render, RecipeRecordsThePluginsAndWarnsWhenOneDiffers) {
     render(dir, "first.png");
     const auto r = run_cli({"recipe", dir + "/first.png"});
     ASSERT_EQ(r.rc, 0) << r.err;
-    const auto plugins = fs::path(FIXPOINT_BIN).parent_path().parent_path() / "lib" / "fixpoint" / "plugins";
+    const auto plugins =
+        fs::path(fixpoint_bin()).parent_path().parent_path() / "lib" / "fixpoint" / "plugins";
     const std::string circle = "1.0.0 fnv1a64:" + fnv1a64((plugins / "circle.so").string());
     for (const char* name : {"chaos-game", "inversion", "circle"})
         EXPECT_NE(r.out.find(std::string("  ") + name + ": \"1.0.0 fnv1a64:" +
@@ -312,7 +313,7 @@ TEST(Plugins, BrokenPluginFilesAreSkippedAndNamed) {
 
     // A real shared library that is not a plugin.
     const auto dir2 = scratch_dir("not_a_plugin");
-    fs::copy_file(fs::path(FIXPOINT_BIN).parent_path().parent_path() / "lib" / "libfixpoint_sdk.so",
+    fs::copy_file(fs::path(fixpoint_bin()).parent_path().parent_path() / "lib" / "libfixpoint_sdk.so",
                   dir2 + "/sdk.so");
     r = run_cli({"--plugin-dir", dir2, "plugins"});
     EXPECT_EQ(r.rc, 0);
@@ -323,7 +324,8 @@ TEST(Plugins, BrokenPluginFilesAreSkippedAndNamed) {
     // The same plugin under two names: listed once; a config that uses the name fails, naming
     // both files (which one is meant is not known), at the type's line and column.
     const auto dir3 = scratch_dir("duplicate");
-    const auto plugins = fs::path(FIXPOINT_BIN).parent_path().parent_path() / "lib" / "fixpoint" / "plugins";
+    const auto plugins =
+        fs::path(fixpoint_bin()).parent_path().parent_path() / "lib" / "fixpoint" / "plugins";
     fs::copy_file(plugins / "circle.so", dir3 + "/circle-copy.so");
     const std::string two = "two plugins named 'circle': '" + fs::canonical(plugins / "circle.so").string() +
                             "' and '" + dir3 + "/circle-copy.so'";

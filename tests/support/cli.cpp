@@ -69,6 +69,8 @@ void move_fd(int fd, int target) {
 
 bool cli_address_space_limited() { return !asan_build; }
 
+bool cli_sanitized() { return asan_build; }
+
 std::uint64_t default_cli_address_space() {
     const std::uint64_t threads = std::max(1u, std::thread::hardware_concurrency());
     return (std::uint64_t(4) << 30) + threads * (std::uint64_t(128) << 20);
@@ -184,6 +186,10 @@ std::string read_file(const std::string& path) {
 }
 
 std::string source_dir() { return FIXPOINT_SOURCE_DIR; }
+
+std::string fixpoint_bin() { return FIXPOINT_BIN; }
+
+std::string fixtures_dir() { return FIXPOINT_FIXTURES; }
 
 std::string run_bad_input(const std::string& name, const std::string& yaml,
                           const std::vector<std::string>& args, const CliLimits& limits) {

@@ -30,6 +30,11 @@ struct CliLimits {
 /// allocation instead (ASan's max_allocation_size_mb), which catches a runaway size.
 bool cli_address_space_limited();
 
+/// Whether the CLI under test runs under ASan (built like the tests), about 30-50 times slower
+/// than the Release build: the few tests whose renders take seconds there choose smaller ones,
+/// asserting the same thing (setup.sh runs both builds' tests).
+bool cli_sanitized();
+
 /// Run build/bin/fixpoint with `args`, feeding `input` on stdin, within `limits`.
 CliResult run_cli(const std::vector<std::string>& args, const std::string& input = "",
                   const CliLimits& limits = {});
@@ -96,5 +101,11 @@ Interrupted interrupt_cli(const std::vector<std::string>& args, const std::strin
 
 /// The source tree's configs/ folder and tests/ folder.
 std::string source_dir();
+
+/// The CLI under test (build/bin/fixpoint), and the folder of the plugin fixtures built by tests/.
+/// (Functions, not macros in every test: the test files' compile lines then name no path of
+/// this checkout, so a compiler cache serves them to a clone anywhere: setup.sh.)
+std::string fixpoint_bin();
+std::string fixtures_dir();
 
 } // namespace fp::test

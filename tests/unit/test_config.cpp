@@ -3,6 +3,7 @@
 #include <fixpoint/host/core/config.hpp>
 #include <fixpoint/host/core/host.hpp>
 
+#include "cli.hpp"
 #include "host.hpp"
 
 #include <gtest/gtest.h>
@@ -79,7 +80,7 @@ TEST(Config, EdgeDistanceSuggestions) {
 
 TEST(Host, WrongAbiIsRefusedNamingTheFile) {
     Registry reg;
-    const std::string file = std::string(FIXPOINT_FIXTURES) + "/wrong-abi.so";
+    const std::string file = fixtures_dir() + "/wrong-abi.so";
     EXPECT_EQ(error_of([&] { reg.load_file(file); }),
               "plugin '" + file + "' was built for plugin ABI " + std::to_string(fp::abi_version + 41) +
                   ", this fixpoint needs ABI " + std::to_string(fp::abi_version) +

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cli.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -15,7 +17,7 @@
 
 namespace {
 
-const std::string fixture = std::string(FIXPOINT_SOURCE_DIR) + "/tests/fixtures/flam3-palettes-tiny.xml";
+const std::string fixture = fp::test::source_dir() + "/tests/fixtures/flam3-palettes-tiny.xml";
 
 std::string refusal(const std::function<void()>& f) {
     try {
@@ -86,7 +88,7 @@ TEST(Palette, Flam3FileRefusals) {
     EXPECT_EQ(refusal([] { (void)fp::read_flam3_palette("/nonexistent/p.xml", "0", "palette"); }),
               "palette: flam3's palettes are read from '/nonexistent/p.xml', which is not there: install "
               "Debian's flam3-palette (or set FIXPOINT_FLAM3_PALETTES to the file)");
-    const std::string yaml = std::string(FIXPOINT_SOURCE_DIR) + "/bench/circles.yaml";
+    const std::string yaml = fp::test::source_dir() + "/bench/circles.yaml";
     EXPECT_EQ(refusal([&] { (void)fp::read_flam3_palette(yaml, "0", "palette"); }),
               "palette: '" + yaml + "' is not a flam3 palette file (no <palettes>)");
 }
