@@ -9,6 +9,8 @@
 #include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cctype>
 #include <csignal>
 #include <cstdio>
 #include <new>
@@ -50,6 +52,66 @@ int run_reported(const Command& c) {
     }
 }
 
+// The options a command knows (its own and the global ones), as typed: "--threads", "-o".
+std::vector<std::string> option_names(const CLI::App& app) {
+    std::vector<std::string> names;
+    for (const CLI::App* a = &app; a; a = a->get_parent())
+        for (const CLI::Option* opt : a->get_options()) {
+            for (const auto& l : opt->get_lnames()) names.push_back("--" + l);
+            for (const auto& s : opt->get_snames()) names.push_back("-" + s);
+        }
+    return names;
+}
+
+// A parse error in one line, with "did you mean" for what a typo is likeliest to be: the
+// command's name, or an option's. Other errors keep CLI11's words.
+std::string parse_error_line(const CLI::App& app, int argc, char** argv, const CLI::ParseError& e) {
+    const CLI::App* command = nullptr;
+    std::vector<std::string> commands;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+        commands.push_back(sub->get_name());
+    const auto global = option_names(app);
+    for (int i = 1; i < argc && !command; ++i) {
+        const std::string a = argv[i];
+        if (a.rfind('-', 0) == 0) {
+            // A global option's value is not the command (--plugin-dir DIR, --simd X).
+            if (a.find('=') == std::string::npos &&
+                std::find(global.begin(), global.end(), a) != global.end() && a != "--version" &&
+                a != "--help" && a != "-h")
+                ++i;
+            continue;
+        }
+        if (std::find(commands.begin(), commands.end(), a) != commands.end()) {
+            command = app.get_subcommand(a);
+            break;
+        }
+        const auto near = suggest(a, commands);
+        std::string all;
+        for (const auto& c : commands) all += (all.empty() ? "" : ", ") + c;
+        return "fixpoint: " + quote(a) + " is not a command" +
+               (near.empty() ? "" : " (did you mean " + quote(near[0]) + "?)") + "; the commands are " + all;
+    }
+    if (command) {
+        const auto known = option_names(*command);
+        bool after = false;
+        for (int i = 1; i < argc; ++i) {
+            const std::string a = argv[i];
+            after = after || a == command->get_name();
+            if (!after || a == "-" || a.rfind('-', 0) != 0 || a == "--") continue;
+            const std::string name = a.substr(0, a.find('='));
+            // (A negative number is a value, not an option.)
+            if (name.size() > 1 && (std::isdigit(static_cast<unsigned char>(name[1])) || name[1] == '.'))
+                continue;
+            if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+            const auto near = suggest(name, known);
+            return "fixpoint " + command->get_name() + ": unknown option " + quote(name) +
+                   (near.empty() ? "" : " (did you mean " + quote(near[0]) + "?)") + " (see fixpoint " +
+                   command->get_name() + " --help)";
+        }
+    }
+    return std::string("fixpoint: ") + e.what() + " (see fixpoint --help)";
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -75,6 +137,9 @@ int main(int argc, char** argv) {
                  " - renders fractal and symmetric patterns from YAML pipelines"};
     app.set_version_flag("--version", FIXPOINT_VERSION);
     app.require_subcommand(1);
+    // The global options may follow the command too (`fixpoint render --plugin-dir D x.yaml`):
+    // the commands, made below, inherit this.
+    app.fallthrough();
     Options o;
     app.add_option("--plugin-dir", o.plugin_dirs, "Also load plugins from this folder (repeatable)");
     std::string simd;
@@ -99,7 +164,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "fixpoint: %s (see fixpoint --help)\n", e.what());
+        std::fprintf(stderr, "%s\n", parse_error_line(app, argc, argv, e).c_str());
         return 2;
     }
     if (!simd.empty() && !simd::force_target(simd)) {

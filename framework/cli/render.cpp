@@ -226,7 +226,12 @@ int cmd_render(const Options& o, bool validate_only) {
     Pipeline p = load_for_print(reg, o.config, o.sets, o.print, o.allow_python);
     if (o.draft) p = load_for_print(reg, o.config, with_draft(o.sets, p), o.print, o.allow_python);
     if (!o.strict) told(p); // (with --strict, what may differ is the one error line)
-    RenderPlan plan = plan_render(p, render_request(o), &interrupted());
+    // validate checks the config, not the folder's state: an output that exists (the image of
+    // the last render, most often) is noted, not refused; render would refuse it unless named
+    // or forced.
+    RenderRequest request = render_request(o);
+    if (validate_only) request.force = true;
+    RenderPlan plan = plan_render(p, request, &interrupted());
     if (validate_only) {
         // The animation's frames are checked before "valid" is said of anything.
         const std::string animation = validate_animation(reg, o.config, o.sets, &interrupted());
@@ -234,6 +239,12 @@ int cmd_render(const Options& o, bool validate_only) {
             spdlog::info("{}: valid: a {}x{} render to {}", o.config, p.renderer->width(),
                          p.renderer->height(), plan.output);
             if (!animation.empty()) spdlog::info("{}: valid: {}", o.config, animation);
+            std::error_code ec;
+            if (!o.force && o.out.empty() && !plan.output.empty() &&
+                fs::exists(fs::symlink_status(plan.output, ec)))
+                spdlog::info("{}: note: {} exists: render replaces it only when it is named with -o or "
+                             "given --force",
+                             o.config, quote(plan.output, 200));
         }
         return 0;
     }

@@ -195,10 +195,29 @@ Vec2 qnumber_value(const CNode& n, const std::string& path) {
     return v;
 }
 
-Sequence sequence_value(const CNode& n, const std::string& path) {
+// A range declared on a sequence (`seq(...).above(0).below(1)`) bounds real numbers: a ranged
+// coefficient is a real one in every number system, for a + qb (or a + bi) with b != 0 has no
+// order to compare with the bounds. Each value is checked where it is written. (A bare pair
+// [x, y] is checked as the two reals it is over the reals; in a q-system it is the one number
+// x + qy, which SchemeBase refuses for a ranged coefficient: fixpoint/scheme.hpp.)
+Vec2 ranged_value(const ParamSpec& s, Vec2 v, const CNode& n, const std::string& path) {
+    if (!std::isfinite(s.lo) && !std::isfinite(s.hi)) return v;
+    const std::string got = n.is_scalar() ? excerpt(n.scalar) : n.describe();
+    if (v.y != 0)
+        fail(n.mark, path,
+             "must be a real number " + range_text(s) +
+                 " (a coefficient with a declared range is real in every number system), got " + got);
+    const bool below = s.lo_open ? !(v.x > s.lo) : !(v.x >= s.lo);
+    const bool above = s.hi_open ? !(v.x < s.hi) : !(v.x <= s.hi);
+    if ((std::isfinite(s.lo) && below) || (std::isfinite(s.hi) && above))
+        fail(n.mark, path, "must be " + range_text(s) + ", got " + got);
+    return v;
+}
+
+Sequence sequence_value(const ParamSpec& s, const CNode& n, const std::string& path) {
     Sequence seq;
     if (!n.is_seq()) {
-        seq.values.push_back(qnumber_value(n, path));
+        seq.values.push_back(ranged_value(s, qnumber_value(n, path), n, path));
         return seq;
     }
     if (n.items.empty()) fail(n.mark, path, "a periodic list must not be empty");
@@ -206,11 +225,14 @@ Sequence sequence_value(const CNode& n, const std::string& path) {
     if (n.items.size() == 2 && parse_real(n.items[0], a) && parse_real(n.items[1], b)) {
         seq.bare_pair = true;
         if (!std::isfinite(a) || !std::isfinite(b)) fail(n.mark, path, "must be finite, got " + n.describe());
-        seq.values = {Vec2{a, 0}, Vec2{b, 0}};
+        seq.values = {ranged_value(s, Vec2{a, 0}, n.items[0], path + "[0]"),
+                      ranged_value(s, Vec2{b, 0}, n.items[1], path + "[1]")};
         return seq;
     }
-    for (std::size_t i = 0; i < n.items.size(); ++i)
-        seq.values.push_back(qnumber_value(n.items[i], path + "[" + std::to_string(i) + "]"));
+    for (std::size_t i = 0; i < n.items.size(); ++i) {
+        const std::string ip = path + "[" + std::to_string(i) + "]";
+        seq.values.push_back(ranged_value(s, qnumber_value(n.items[i], ip), n.items[i], ip));
+    }
     return seq;
 }
 
@@ -316,7 +338,7 @@ TParam validate_param(const Registry& reg, const ParamSpec& s, const CNode& n, c
     case ParamType::Vec2s:
         t.value = list_value<Vec2>(s, n, path, "points", [](const auto&... a) { return vec2_value(a...); });
         break;
-    case ParamType::Sequence: t.value = sequence_value(n, path); break;
+    case ParamType::Sequence: t.value = sequence_value(s, n, path); break;
     case ParamType::Object: t.object = validate(reg, s.kind, n, path); break;
     case ParamType::Objects: {
         check_count(s, n, path, (std::string(kind_name(s.kind)) + "s").c_str());

@@ -378,6 +378,17 @@ private:
         for (const ParamSpec& s : D::params) {
             if (s.type != ParamType::Sequence) continue;
             seqs_.push_back(p.sequence(s.name).resolve(real));
+            // A declared range makes the coefficient real (the host checks each value written;
+            // here only a bare pair [x, y] read as x + qy can still have a q part).
+            if (std::isfinite(s.lo) || std::isfinite(s.hi))
+                for (Vec2 v : seqs_.back().values)
+                    if (v.y != 0)
+                        throw ParamError(s.name, "[" + scheme::format_number(Vec2{v.x, 0}) + ", " +
+                                                     scheme::format_number(Vec2{v.y, 0}) +
+                                                     "] is the number " + scheme::format_number(v) +
+                                                     " here, and a coefficient with a declared range is real "
+                                                     "(write the periodic list with its period twice: [x, y, "
+                                                     "x, y])");
             if (real)
                 for (Vec2 v : seqs_.back().values)
                     if (v.y != 0)
