@@ -20,6 +20,7 @@ int cmd_serve(const Options& o) {
         std::printf("fixpoint serve: open %s\n", url.c_str());
         std::fflush(stdout);
     };
+    if (!o.quiet) so.info = [](const std::string& l) { spdlog::info("{}", l); };
     return serve(make_registry(o), so, interrupted());
 }
 
@@ -37,14 +38,17 @@ void add_serve_commands(CLI::App& app, Options& o, std::vector<Command>& table) 
     ServeOptions& so = o.serve;
     auto* serve_cmd = app.add_subcommand("serve", "Serve the live preview page: edit a config, see it render "
                                                   "(docs/serve-api.md)");
-    serve_cmd->add_option("config", so.config, "Pipeline file (YAML) the page opens, inside --root");
+    serve_cmd->add_option("config", so.config,
+                          "Pipeline file (YAML) the page opens: a path from here, or from --root when "
+                          "one is given");
     serve_cmd->add_option("--port", so.port, "Port (default 8420; 0: any free port)")
         ->check(CLI::Range(0, 65535));
     serve_cmd->add_option("--host", so.host,
                           "Address to listen on (default 127.0.0.1); any other needs the token printed in "
                           "the address");
     serve_cmd->add_option("--root", so.root,
-                          "The only folder the page reads and writes (default: the current one)");
+                          "The only folder the page reads and writes (default: the current one, or the "
+                          "config's own when it lies outside)");
     add_threads(serve_cmd, so.threads, "Render threads (default: all cores)");
     serve_cmd->add_flag("--allow-python", so.allow_python,
                         "Accept configs with a python-scheme (its Python code runs when the page checks "

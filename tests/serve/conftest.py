@@ -18,9 +18,11 @@ FIG4A = os.path.join(SOURCE, "configs", "inversion", "fig4a.yaml")
 
 
 class Server:
-    def __init__(self, root, *args):
+    def __init__(self, root, *args, cwd=None):
+        """Serving `root` (--root), or with cwd= and root None, the folder serve picks itself."""
         self.root = str(root)
-        self.proc = subprocess.Popen([BIN, "serve", *args, "--port", "0", "--root", self.root],
+        given = [] if cwd is not None else ["--root", self.root]
+        self.proc = subprocess.Popen([BIN, "serve", *args, "--port", "0", *given], cwd=cwd,
                                      stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         line = self.proc.stdout.readline()
         m = re.fullmatch(r"fixpoint serve: open (http://[^/]+/)(\?token=([0-9a-f]{32}))?\n", line)

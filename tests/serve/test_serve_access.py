@@ -169,6 +169,55 @@ def test_a_config_outside_the_root_does_not_start(tmp_path):
     assert r.stderr == f"CONFIG: 'none.yaml' is not a file in '{os.path.realpath(tmp_path)}'\n"
 
 
+def test_a_config_path_from_the_working_folder_picks_the_root(tmp_path):
+    # Without --root, CONFIG is a path from the working folder, as on any command line.
+    (tmp_path / "work").mkdir()
+    (tmp_path / "elsewhere").mkdir()
+    (tmp_path / "elsewhere" / "a.yaml").write_text(fig4a_text())
+    (tmp_path / "work" / "sub").mkdir()
+    (tmp_path / "work" / "sub" / "b.yaml").write_text(fig4a_text())
+    work, elsewhere = str(tmp_path / "work"), os.path.realpath(tmp_path / "elsewhere")
+    # Outside the working folder (absolute, or through ..): its own folder is served, and said.
+    for config in (os.path.join(elsewhere, "a.yaml"), "../elsewhere/a.yaml"):
+        s = Server(elsewhere, config, cwd=work)
+        try:
+            assert s.api("api/state")["path"] == "a.yaml"
+        finally:
+            assert s.stop() == 0
+        assert s.proc.stderr.read() == (f"fixpoint serve: serving the config's folder '{elsewhere}' "
+                                        "(--root serves another)\n")
+    # Inside it: the working folder is served, the config by its path from there.
+    for config in ("sub/b.yaml", os.path.join(work, "sub", "b.yaml")):
+        s = Server(work, config, cwd=work)
+        try:
+            assert s.api("api/state")["path"] == "sub/b.yaml"
+        finally:
+            assert s.stop() == 0
+        assert s.proc.stderr.read() == ""
+    # With --root, an absolute CONFIG inside it is taken by its path from the root.
+    s = Server(tmp_path / "work", os.path.join(work, "sub", "b.yaml"))
+    try:
+        assert s.api("api/state")["path"] == "sub/b.yaml"
+    finally:
+        assert s.stop() == 0
+
+
+def test_a_config_outside_the_given_root_or_missing_is_one_line(tmp_path):
+    (tmp_path / "a.yaml").write_text(fig4a_text())
+    (tmp_path / "root").mkdir()
+    outside = os.path.join(os.path.realpath(tmp_path), "a.yaml")
+    r = subprocess.run([BIN, "serve", outside, "--port", "0", "--root", str(tmp_path / "root")],
+                       capture_output=True, text=True, timeout=60)
+    assert (r.returncode, r.stdout) == (2, "")
+    assert r.stderr == (f"CONFIG '{outside}': outside the served folder '{os.path.realpath(tmp_path / 'root')}' "
+                        "(--root): serve a folder that holds it, or leave --root out to serve the config's own "
+                        "folder\n")
+    for missing in (os.path.join(str(tmp_path), "none.yaml"), "../none.yaml"):
+        r = subprocess.run([BIN, "serve", missing, "--port", "0"], cwd=tmp_path / "root",
+                           capture_output=True, text=True, timeout=60)
+        assert (r.returncode, r.stderr) == (2, f"CONFIG: '{missing}' is not a file\n")
+
+
 def test_a_config_that_became_a_symlink_out_is_403_in_state(tmp_path, tmp_path_factory):
     (tmp_path / "a.yaml").write_text(fig4a_text())
     s = Server(tmp_path, "a.yaml")

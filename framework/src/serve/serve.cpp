@@ -19,6 +19,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iterator>
@@ -145,13 +146,57 @@ private:
 
 } // namespace
 
+// The served folder and CONFIG's path in it (docs/serve-api.md). With --root, a relative
+// CONFIG is relative to the root, as every path of a request is, and an absolute one must lie
+// inside it. Without --root, CONFIG is a path from the working folder, like any path on the
+// command line: the root is the working folder when CONFIG lies inside it, else CONFIG's own
+// folder (a config elsewhere is served with its pictures and scripts beside it).
+struct Served {
+    std::string root, config;
+    bool config_folder = false; ///< the root defaulted to CONFIG's folder (said at start)
+};
+Served served(const ServeOptions& o) {
+    Served s{o.root.empty() ? "." : o.root, o.config};
+    const fs::path given(o.config);
+    if (o.config.empty() || (!o.root.empty() && given.is_relative())) return s;
+    std::error_code ec;
+    const fs::path root = fs::canonical(s.root, ec);
+    if (ec) return s; // (refused below, naming the folder)
+    // A plain relative path (no ..) is kept as given when it stays inside: messages name it so.
+    const bool plain = given.is_relative() && std::none_of(given.begin(), given.end(),
+                                                           [](const fs::path& part) { return part == ".."; });
+    const fs::path abs = fs::weakly_canonical(fs::absolute(given, ec), ec);
+    if (ec || !fs::is_regular_file(abs)) {
+        if (plain) return s; // (refused below, as not a file in the root)
+        throw InputError("CONFIG: " + quote(o.config, 200) + " is not a file");
+    }
+    const fs::path rel = abs.lexically_relative(root);
+    if (!rel.empty() && *rel.begin() != "..") {
+        if (!plain) s.config = rel.string();
+        return s;
+    }
+    if (!o.root.empty())
+        throw InputError("CONFIG " + quote(o.config, 200) + ": outside the served folder " +
+                         quote(root.string(), 200) +
+                         " (--root): serve a folder that holds it, or leave "
+                         "--root out to serve the config's own folder");
+    s.root = abs.parent_path().string();
+    s.config = abs.filename().string();
+    s.config_folder = true;
+    return s;
+}
+
 int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& stop) {
     Context c;
     c.reg = &reg;
+    const Served where = served(o);
     std::error_code ec;
-    c.root = fs::canonical(o.root, ec);
+    c.root = fs::canonical(where.root, ec);
     if (ec || !fs::is_directory(c.root))
-        throw InputError("--root: " + quote(o.root, 200) + " is not a folder");
+        throw InputError("--root: " + quote(where.root, 200) + " is not a folder");
+    if (where.config_folder && o.info)
+        o.info("fixpoint serve: serving the config's folder " + quote(c.root.string(), 200) +
+               " (--root serves another)");
     if (o.port < 0 || o.port > 65535)
         throw InputError("--port: " + std::to_string(o.port) + " is not a port (0 to 65535)");
     c.host = o.host;
@@ -164,14 +209,14 @@ int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& s
     // server works in the root, so that a config (and what it names: a picture, a script)
     // reads as `fixpoint render` run there would read it, and messages name paths alike.
     WorkIn work_in(c.root);
-    if (!o.config.empty()) {
+    if (!where.config.empty()) {
         try {
-            c.config = c.inside(o.config, "CONFIG");
+            c.config = c.inside(where.config, "CONFIG");
         } catch (const HttpError& e) {
             throw InputError(e.message);
         }
         if (!fs::is_regular_file(c.config))
-            throw InputError("CONFIG: " + quote(o.config, 200) + " is not a file in " +
+            throw InputError("CONFIG: " + quote(where.config, 200) + " is not a file in " +
                              quote(c.root.string(), 200));
     }
     Scratch scratch;

@@ -12,10 +12,13 @@
 namespace fp::host {
 
 struct ServeOptions {
-    std::string config;             ///< the config the page opens (relative to root); may be empty
+    /// The config the page opens; may be empty. Relative to `root` when one is given, else a
+    /// path from the working folder (the root is then that folder, or the config's own when it
+    /// lies outside: `info` says so).
+    std::string config;
     std::string host = "127.0.0.1"; ///< --host; anything but loopback needs the token
     int port = 8420;                ///< --port; 0: any free port (printed)
-    std::string root = ".";         ///< --root: the only folder the page reads and writes
+    std::string root;               ///< --root: the only folder the page reads and writes ("": see config)
     unsigned threads = 0;           ///< render threads (0: all cores)
     /// --allow-python: configs may hold a python-scheme, whose Python runs when a config is
     /// checked; without it serve refuses them (a page could run any code otherwise).
@@ -24,6 +27,9 @@ struct ServeOptions {
     /// Called once the server listens, with the address to open (the token included when one
     /// is needed); the CLI prints it as "fixpoint serve: open URL".
     std::function<void(const std::string&)> on_listen;
+    /// Called with a line for the user before listening (which folder is served, when it is
+    /// not the working one by default); may be empty.
+    std::function<void(const std::string&)> info;
 };
 
 /// Runs the server until `stop` becomes true (SIGINT). Returns the exit code; throws
