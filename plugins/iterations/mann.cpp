@@ -25,4 +25,5 @@ struct Mann final : fp::SchemeBase<Mann> {
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::scheme::describe<Mann>("mann", "the Mann iteration p <- (1 - alpha) p + alpha T(p)"))
+FIXPOINT_PLUGIN(fp::scheme::describe<Mann>("mann",
+                                           "the Mann iteration (Mann 1953): p <- (1 - alpha) p + alpha T(p)"))

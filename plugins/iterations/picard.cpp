@@ -28,4 +28,5 @@ public:
 
 } // namespace
 
-FIXPOINT_PLUGIN(fp::describe<Picard>(fp::Kind::IterationScheme, "picard", "the Picard iteration p <- T(p)"))
+FIXPOINT_PLUGIN(fp::describe<Picard>(fp::Kind::IterationScheme, "picard",
+                                     "the Picard iteration (Picard 1890, paper 02 Sec. 3): p <- T(p)"))

@@ -139,6 +139,16 @@ std::string markdown_reference(const Registry& reg) {
     }
     for (const auto& [kind, entries] : kinds) {
         out += "\n## " + std::string(kind_titles[int(kind)]) + "\n";
+        // The schemes go by their authors' names in the literature (khan is the Picard-Mann
+        // hybrid): a table of which is which, from each description's words before its colon.
+        if (kind == Kind::IterationScheme) {
+            out += "\n| scheme | what it is |\n|---|---|\n";
+            for (const auto* e : entries) {
+                const std::string d = e->desc->summary ? e->desc->summary : "";
+                out += "| [`" + std::string(e->desc->name) + "`](#" + e->desc->name + ") | " +
+                       d.substr(0, d.find(": ")) + " |\n";
+            }
+        }
         for (const auto* e : entries) out += "\n" + markdown_plugin(*e, 3);
     }
     return out;
