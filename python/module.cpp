@@ -209,6 +209,34 @@ py::tuple render(const std::string& config, bool is_text, const std::vector<std:
     return py::make_tuple(image, p.recipe, st, warnings, p.bit_depth);
 }
 
+/// validate(config, is_text, sets, threads, output, allow_python, memory, pixels) -> dict: every check
+/// render() would make (the schemas, the plugins' own, the output path, the memory plan), with
+/// nothing rendered, as `fixpoint validate`. An output that exists is not refused (render()
+/// replaces a named output): the dict names it under "exists".
+py::dict validate_config(const std::string& config, bool is_text, const std::vector<std::string>& sets,
+                         unsigned threads, const std::string& output, bool allow_python,
+                         const std::string& memory, bool pixels) {
+    const Pipeline p = pipeline_of(config, is_text, sets, allow_python);
+    RenderRequest request;
+    request.output = output;
+    request.source = is_text ? "" : config;
+    request.raster_only = "{}: the Python module writes images (.png, .exr, .tif)";
+    request.threads = threads;
+    request.keep_image = pixels;
+    if (!memory.empty()) request.memory = parse_size(memory, "memory");
+    const RenderPlan plan = plan_render(p, request);
+    py::dict d;
+    d["width"] = p.renderer->width();
+    d["height"] = p.renderer->height();
+    d["output"] = plan.output.empty() ? py::object(py::none()) : py::object(py::str(plan.output));
+    std::error_code ec;
+    d["exists"] = !plan.output.empty() && fs::exists(fs::symlink_status(plan.output, ec));
+    d["threads"] = plan.threads;
+    d["streams"] = plan.memory.stream; // (in strips: the image does not fit the memory whole)
+    d["warnings"] = p.warnings;
+    return d;
+}
+
 /// Float pixels (height, width, channels) as an 8- or 16-bit image file stores them.
 py::array quantise(const py::array_t<float, py::array::c_style | py::array::forcecast>& a, int bit_depth) {
     if (a.ndim() != 3) throw InputError("quantise: expected an array of shape (height, width, channels)");
@@ -228,6 +256,21 @@ py::array quantise(const py::array_t<float, py::array::c_style | py::array::forc
     py::array_t<std::uint8_t> out(shape);
     quantise_pixels(img, 8, out.mutable_data());
     return out;
+}
+
+/// The PNG bytes of float pixels (height, width, 3), 8 or 16 bits, as render -o writes them
+/// (no recipe): what a notebook shows of an image (fixpoint.Picture._repr_png_).
+py::bytes encode_png(const py::array_t<float, py::array::c_style | py::array::forcecast>& a, int bit_depth) {
+    if (a.ndim() != 3 || a.shape(2) != 3)
+        throw InputError("encode_png: expected an array of shape (height, width, 3)");
+    if (bit_depth != 8 && bit_depth != 16)
+        throw InputError("encode_png: bit_depth must be 8 or 16, got " + std::to_string(bit_depth));
+    Image img;
+    img.height = int(a.shape(0));
+    img.width = int(a.shape(1));
+    img.channels = 3;
+    img.pixels.assign(a.data(), a.data() + a.size());
+    return py::bytes(encode_image(img, Format::Png, bit_depth, ""));
 }
 
 py::array_t<double> eval(const std::string& transform, const std::string& scheme,
@@ -338,7 +381,9 @@ PYBIND11_MODULE(_fixpoint, m) {
         }
     });
     m.def("render", &render);
+    m.def("validate", &validate_config);
     m.def("quantise", &quantise);
+    m.def("encode_png", &encode_png);
     m.def("eval", &eval);
     m.def("plugins", &list_plugins);
     m.def("describe", &describe_plugin);

@@ -16,7 +16,7 @@ from ._errors import Error
 from . import _fixpoint
 
 __version__ = _fixpoint.__version__
-__all__ = ["Error", "render", "eval", "plugins", "describe", "add_plugin_dir", "quantise", "read_recipe"]
+__all__ = ["Error", "render", "validate", "eval", "plugins", "describe", "add_plugin_dir", "quantise", "read_recipe"]
 
 
 def _warn():
@@ -88,17 +88,45 @@ def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None
         image, recipe, stats, warns, bit_depth = _fixpoint.render(
             text, is_text, assignments, int(threads), progress, os.fspath(output) if output else "",
             bool(allow_python), bool(pixels), job)
+    except Error as e:
+        if isinstance(config, dict):
+            raise Error(str(e), source="<config>") from None
+        raise
     finally:
         _warn()
     for w in warns:
         _warnings.warn(w, RuntimeWarning, stacklevel=2)
     render.last_stats = stats
-    if image is None or dtype == "float32":
+    if image is None:
         return image, recipe
-    return _fixpoint.quantise(image, bit_depth), recipe
+    from ._picture import Picture  # (numpy, only once an image is returned)
+
+    return Picture(image if dtype == "float32" else _fixpoint.quantise(image, bit_depth)), recipe
 
 
 render.last_stats = None
+
+
+def validate(config, *, sets=(), threads=0, output=None, memory=None, allow_python=False, pixels=True,
+             **overrides):
+    """Check ``config`` as ``render()`` would (schemas, the plugins' checks, the output path,
+    the memory plan) and render nothing, as ``fixpoint validate``. Raises fixpoint.Error
+    where render() would; else returns a dict: ``width``, ``height``, ``output`` (the file
+    render(output=...) would write, or None), ``exists`` (that file is there: render()
+    replaces it), ``threads``, ``streams`` (with pixels=False, too large for ``memory`` whole:
+    render() would write it in strips) and ``warnings``. Arguments as render()'s.
+    """
+    text, is_text = _config(config)
+    assignments = list(sets) + [f"{k.replace('__', '.')}={_yaml(v)}" for k, v in overrides.items()]
+    try:
+        return _fixpoint.validate(text, is_text, assignments, int(threads), os.fspath(output) if output else "",
+                                  bool(allow_python), str(memory) if memory is not None else "", bool(pixels))
+    except Error as e:
+        if isinstance(config, dict):
+            raise Error(str(e), source="<config>") from None
+        raise
+    finally:
+        _warn()
 
 
 def eval(transform, points, scheme="{type: picard}", steps=1):  # noqa: A001 (the CLI's name)
@@ -115,6 +143,11 @@ def eval(transform, points, scheme="{type: picard}", steps=1):  # noqa: A001 (th
         pts = pts.reshape(1, 2)
     try:
         return _fixpoint.eval(_yaml(transform), _yaml(scheme), pts, int(steps))
+    except Error as e:
+        for value, name in ((transform, "transform"), (scheme, "scheme")):
+            if isinstance(value, dict) and e.file == f"<{name}>":
+                raise Error(str(e), source=f"<{name}>", name=name) from None
+        raise
     finally:
         _warn()
 

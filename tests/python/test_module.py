@@ -1,5 +1,6 @@
 """fixpoint's Python module: render, eval, plugins, describe, errors."""
 
+import io
 import threading
 import time
 
@@ -169,6 +170,78 @@ def test_bad_config_raises_error_with_file_line_column(tmp_path):
     # The same line as the CLI's.
     r = run_cli("render", cfg, "-o", tmp_path / "x.png")
     assert r.returncode != 0 and r.stderr.strip() == str(err)
+
+
+def test_an_image_shows_inline_as_the_png_the_cli_writes(tmp_path):
+    png = tmp_path / "cli.png"
+    image, _ = fixpoint.render(FIG6A, output=png, **SMALL)
+    assert isinstance(image, np.ndarray) and image.dtype == np.uint8
+    shown = image._repr_png_()  # what Jupyter shows for an image at the end of a cell
+    assert shown.startswith(b"\x89PNG\r\n")
+    assert np.array_equal(np.asarray(Image.open(io.BytesIO(shown)).convert("RGB")), image)
+    assert np.array_equal(np.asarray(Image.open(png).convert("RGB")), image)
+    # Float pixels show as their 8-bit quantisation; a 16-bit image as 16 bits.
+    linear, _ = fixpoint.render(FIG6A, dtype="float32", **SMALL)
+    assert np.array_equal(np.asarray(Image.open(io.BytesIO(linear._repr_png_())).convert("RGB")), image)
+    deep, _ = fixpoint.render(FIG6A, output__bit_depth=16, **SMALL)
+    assert deep.dtype == np.uint16 and deep._repr_png_()[24:26] == b"\x10\x02"  # IHDR: 16 bits, RGB
+    # A slice that is still an image shows; one that is not shows as an array.
+    assert Image.open(io.BytesIO(image[10:20, 5:25]._repr_png_())).size == (20, 10)
+    assert image[:, :, 0]._repr_png_() is None and image[:0]._repr_png_() is None
+
+
+def test_validate_checks_as_render_does_and_renders_nothing(tmp_path):
+    out = tmp_path / "x.png"
+    v = fixpoint.validate(FIG6A, output=out, **SMALL)
+    assert (v["width"], v["height"], v["output"], v["exists"], v["streams"]) == (160, 120, str(out), False, False)
+    assert v["threads"] >= 1 and v["warnings"] == [] and not out.exists()
+    out.write_bytes(b"an earlier render")
+    assert fixpoint.validate(FIG6A, output=out)["exists"] is True  # (render() replaces a named file)
+    assert out.read_bytes() == b"an earlier render"
+    assert fixpoint.validate(FIG6A)["output"] is None
+    # Refused as render() refuses: the same line.
+    with pytest.raises(fixpoint.Error) as e:
+        fixpoint.validate(FIG6A, output=tmp_path / "x.svg")
+    with pytest.raises(fixpoint.Error) as r:
+        fixpoint.render(FIG6A, output=tmp_path / "x.svg")
+    assert str(e.value) == str(r.value) and not (tmp_path / "x.svg").exists()
+    with pytest.raises(fixpoint.Error) as e:
+        fixpoint.validate({"renderer": {"type": "chaos-game"}})
+    assert str(e.value) == "config['renderer']: missing required parameter 'maps' for chaos-game"
+    # The memory plan: too large for 24M whole, written in strips without pixels, refused with them.
+    big = {"renderer__width": 4000, "renderer__height": 4000}
+    assert fixpoint.validate(FIG6A, output=tmp_path / "big.png", pixels=False, memory="24M", **big)["streams"]
+    with pytest.raises(fixpoint.Error, match="memory"):
+        fixpoint.validate(FIG6A, memory="24M", **big)
+    assert not (tmp_path / "big.png").exists()
+
+
+def test_errors_in_dict_configs_name_the_key_path():
+    # A dict has no lines and columns the user saw: the error names its keys as Python does.
+    cfg = {"renderer": {"type": "chaos-game", "width": 64, "height": 64, "points": 1000,
+                        "maps": [{"type": "inversion", "shape": {"type": "circle", "radius": -0.9}}]}}
+    with pytest.raises(fixpoint.Error) as e:
+        fixpoint.render(cfg)
+    assert str(e.value) == "config['renderer']['maps'][0]['shape']['radius']: must be > 0, got -0.9"
+    assert e.value.keys == ("renderer", "maps", 0, "shape", "radius")
+    assert (e.value.file, e.value.line, e.value.column) == (None, None, None)
+    cfg["renderer"]["maps"][0]["shape"]["radius"] = 0.9
+    cfg["renderer"]["mapz"] = 1
+    with pytest.raises(fixpoint.Error) as e:
+        fixpoint.render(cfg)
+    assert str(e.value) == "config['renderer']: unknown parameter 'mapz' for chaos-game (did you mean 'maps'?)"
+    # eval's dicts by the argument's name.
+    with pytest.raises(fixpoint.Error) as e:
+        fixpoint.eval({"type": "inversion", "shape": {"type": "circle", "radius": -1}}, [[1, 2]])
+    assert str(e.value) == "transform['shape']['radius']: must be > 0, got -1"
+    with pytest.raises(fixpoint.Error) as e:
+        fixpoint.eval({"type": "inversion", "shape": {"type": "circle"}}, [[1, 2]], scheme={"type": "mann", "alpha": "x"})
+    assert str(e.value).startswith("scheme['alpha']: cannot read 'x' as a number")
+    # YAML text keeps its line and column, and the key path is there too.
+    with pytest.raises(fixpoint.Error) as e:
+        fixpoint.render("{renderer: {type: chaos-game, width: -1}}")
+    assert str(e.value) == "<config>:1:38: renderer.width: must be in [1, 65536], got -1"
+    assert (e.value.line, e.value.column, e.value.keys) == (1, 38, ("renderer", "width"))
 
 
 def test_bad_override_and_bad_arguments(tmp_path):
