@@ -49,6 +49,9 @@ fi
 sanitize=
 # The Python tests: pytest, and Pillow to read the PNGs the CLI writes.
 [ "$mode" = test ] && packages+=(python3-pytest python3-pil)
+# The notebook (docs/notebook.ipynb), executed by tests/python/test_notebook.py as Jupyter runs
+# it; interact()'s widgets and the progress bars of progress=True.
+[ "$mode" = test ] && packages+=(python3-nbclient python3-nbformat python3-ipykernel python3-ipywidgets python3-tqdm)
 # flam3's palettes, read where Debian installs them (a test reads palette 0 of the real file).
 [ "$mode" = test ] && packages+=(flam3-palette)
 # flam3 itself, the outside reference of the flam3 variations and genomes: libflam3 in a test

@@ -8,6 +8,7 @@
 #include <fixpoint/host/core/build.hpp>
 #include <fixpoint/host/core/config.hpp>
 #include <fixpoint/host/core/image_io.hpp>
+#include <fixpoint/host/core/param_list.hpp>
 #include <fixpoint/host/core/pipeline.hpp>
 #include <fixpoint/host/core/registry.hpp>
 #include <fixpoint/host/core/runtime.hpp>
@@ -258,6 +259,27 @@ py::array quantise(const py::array_t<float, py::array::c_style | py::array::forc
     return out;
 }
 
+/// params(config, is_text, sets) -> list of dicts: every parameter of the config with its
+/// place and declaration (host/core/param_list.hpp), the data interact() builds its widgets
+/// from, as serve's page builds its panel.
+py::list config_params(const std::string& config, bool is_text, const std::vector<std::string>& sets) {
+    CNode root = is_text ? parse_yaml(config, "<config>") : parse_yaml(read_yaml_text(config), config);
+    for (const auto& s : sets) apply_override(root, s);
+    py::list out;
+    for (const ParamEntry& e : list_params(registry(), root)) {
+        py::dict d;
+        d["path"] = e.path, d["name"] = e.name, d["owner"] = e.owner, d["kind"] = e.kind;
+        d["value"] = e.value, d["written"] = e.written, d["required"] = e.required;
+        d["default"] = e.default_value, d["description"] = e.description, d["depth"] = e.depth;
+        d["min"] = e.min ? py::object(py::float_(*e.min)) : py::object(py::none());
+        d["max"] = e.max ? py::object(py::float_(*e.max)) : py::object(py::none());
+        d["min_open"] = e.min_open, d["max_open"] = e.max_open;
+        d["choices"] = e.choices, d["plugin_kind"] = e.plugin_kind, d["count"] = e.count;
+        out.append(d);
+    }
+    return out;
+}
+
 /// The PNG bytes of float pixels (height, width, 3), 8 or 16 bits, as render -o writes them
 /// (no recipe): what a notebook shows of an image (fixpoint.Picture._repr_png_).
 py::bytes encode_png(const py::array_t<float, py::array::c_style | py::array::forcecast>& a, int bit_depth) {
@@ -382,6 +404,7 @@ PYBIND11_MODULE(_fixpoint, m) {
     });
     m.def("render", &render);
     m.def("validate", &validate_config);
+    m.def("params", &config_params);
     m.def("quantise", &quantise);
     m.def("encode_png", &encode_png);
     m.def("eval", &eval);

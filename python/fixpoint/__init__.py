@@ -16,7 +16,7 @@ from ._errors import Error
 from . import _fixpoint
 
 __version__ = _fixpoint.__version__
-__all__ = ["Error", "render", "validate", "eval", "plugins", "describe", "add_plugin_dir", "quantise", "read_recipe"]
+__all__ = ["Error", "render", "validate", "params", "vary", "interact", "eval", "plugins", "describe", "add_plugin_dir", "quantise", "read_recipe"]
 
 
 def _warn():
@@ -58,7 +58,9 @@ def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None
                values are YAML text or Python values (lists, numbers).
     threads    worker threads (0: all the machine has); the image does not depend on it.
     progress   called with the fraction done (0 to 1), from this thread, about ten times a
-               second; an exception it raises stops the render and is raised here.
+               second; an exception it raises stops the render and is raised here. A tqdm
+               bar moves through its total; True draws a new one (tqdm.auto: a notebook's
+               widget), where tqdm is installed.
     output     also write the image there, with its recipe, as ``fixpoint render -o`` does
                (``output.tiled`` of the config included).
     pixels     False: only write ``output`` and return ``(None, recipe)``; an image too large
@@ -85,9 +87,15 @@ def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None
                for k, v in [("memory", memory), ("checkpoint", checkpoint),
                             ("checkpoint_every", checkpoint_every), ("resume", resume),
                             ("strict", "true" if strict else None)] if v is not None}
-        image, recipe, stats, warns, bit_depth = _fixpoint.render(
-            text, is_text, assignments, int(threads), progress, os.fspath(output) if output else "",
-            bool(allow_python), bool(pixels), job)
+        from ._notebook import Progress
+
+        bar = Progress(progress)
+        try:
+            image, recipe, stats, warns, bit_depth = _fixpoint.render(
+                text, is_text, assignments, int(threads), bar.callback(), os.fspath(output) if output else "",
+                bool(allow_python), bool(pixels), job)
+        finally:
+            bar.close()
     except Error as e:
         if isinstance(config, dict):
             raise Error(str(e), source="<config>") from None
@@ -127,6 +135,45 @@ def validate(config, *, sets=(), threads=0, output=None, memory=None, allow_pyth
         raise
     finally:
         _warn()
+
+
+def params(config, *, sets=(), **overrides):
+    """Every parameter of a config, in the order of its tree, as dicts: ``path`` (as sets=
+    takes it), ``name``, ``owner`` (the plugin that declares it), ``kind`` (bool, int, real,
+    choice, colour, point, sequence, plugin, list, ...), ``value`` (as written, else the
+    default; flow YAML), ``written``, ``default``, ``min``/``max`` (the declared range, or
+    None) with ``min_open``/``max_open``, ``choices``, ``description``: what serve's page
+    and interact() build their controls from."""
+    text, is_text = _config(config)
+    assignments = list(sets) + [f"{k.replace('__', '.')}={_yaml(v)}" for k, v in overrides.items()]
+    try:
+        return _fixpoint.params(text, is_text, assignments)
+    finally:
+        _warn()
+
+
+def vary(config, path, values, *, progress=None, **kw):
+    """Render ``config`` once per value of the parameter at ``path`` ("renderer.iteration.alpha")
+    and return the images stacked, shape (k, height, width, 3), with ``.captions``
+    ("PATH=VALUE") and ``.recipes``; a notebook shows them side by side. Values are Python
+    values or YAML text; the other arguments are render()'s. Every child is validated before
+    the first renders (as ``fixpoint render --vary``); ``progress`` covers the whole sweep.
+    """
+    from ._notebook import vary as run
+
+    return run(render, validate, _yaml, config, path, values, progress=progress, **kw)
+
+
+def interact(config, *, sets=(), **kw):
+    """Sliders, checkboxes and menus (ipywidgets) for a config's ranged numbers, flags and
+    choices, read from the plugins' declarations (params()), over its image: each change
+    renders again with that value. Returns the widget box (``.controls`` maps each path to its
+    widget, ``.image`` is the picture, ``.caption`` says what changed or what was refused).
+    Other arguments are render()'s: draft-sized overrides (renderer__points=...) keep it quick.
+    """
+    from ._notebook import interact as run
+
+    return run(render, params, _yaml, config, sets=sets, **kw)
 
 
 def eval(transform, points, scheme="{type: picard}", steps=1):  # noqa: A001 (the CLI's name)

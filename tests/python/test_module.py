@@ -190,6 +190,55 @@ def test_an_image_shows_inline_as_the_png_the_cli_writes(tmp_path):
     assert image[:, :, 0]._repr_png_() is None and image[:0]._repr_png_() is None
 
 
+def test_vary_stacks_the_renders_of_each_value_with_captions():
+    sweep = fixpoint.vary(FIG6A, "renderer.seed", [1, 2], **SMALL)
+    assert sweep.shape == (2, 120, 160, 3) and sweep.dtype == np.uint8
+    assert sweep.captions == ["renderer.seed=1", "renderer.seed=2"] and len(sweep.recipes) == 2
+    for k, seed in enumerate((1, 2)):
+        one, recipe = fixpoint.render(FIG6A, renderer__seed=seed, **SMALL)
+        assert np.array_equal(sweep[k], one) and sweep.recipes[k] == recipe
+    assert not np.array_equal(sweep[0], sweep[1])
+    strip = Image.open(io.BytesIO(sweep._repr_png_()))
+    assert strip.size == (2 * 160 + 3, 120)
+    # Every child is checked before the first renders: a bad last value renders nothing.
+    calls = []
+    with pytest.raises(fixpoint.Error, match=r"renderer\.seed"):
+        fixpoint.vary(FIG6A, "renderer.seed", [1, -1], progress=calls.append, **SMALL)
+    assert calls == []
+    # progress covers the whole sweep, once, upwards.
+    fixpoint.vary(FIG6A, "renderer.seed", [1, 2], progress=calls.append, **SMALL)
+    assert calls == sorted(calls) and calls[-1] == 1.0 and any(0.4 < c < 0.6 for c in calls)
+
+
+def test_progress_takes_a_tqdm_bar():
+    tqdm = pytest.importorskip("tqdm", reason="Debian's python3-tqdm is not installed")
+    bar = tqdm.tqdm(total=100, file=io.StringIO())
+    fixpoint.render(FIG6A, progress=bar, **SMALL)
+    assert bar.n == pytest.approx(100)
+    with pytest.raises(TypeError, match="progress: expected a callable, a tqdm bar or True"):
+        fixpoint.render(FIG6A, progress=3, **SMALL)
+
+
+def test_params_and_interact_read_the_declarations():
+    ps = {p["path"]: p for p in fixpoint.params(FIG6A)}
+    r = ps["renderer.maps[0].shape.radius"]
+    assert (r["kind"], r["value"], r["min"], r["min_open"], r["owner"]) == ("real", "0.65", 0.0, True, "circle")
+    assert ps["renderer.width"]["value"] == "1024"
+    assert fixpoint.params(FIG6A, renderer__width=64)[1]["value"] == "64"
+    pytest.importorskip("ipywidgets", reason="Debian's python3-ipywidgets is not installed")
+    panel = fixpoint.interact(FIG6A, **SMALL)
+    radius = panel.controls["renderer.maps[0].shape.radius"]
+    # An open bound is never offered; the value as written; the overrides are the panel's values.
+    assert 0 < radius.min < 0.01 and radius.value == 0.65 and panel.controls["renderer.width"].value == 160
+    assert "renderer.view" not in panel.controls  # (a list: no slider)
+    first = panel.image.value
+    assert first == fixpoint.render(FIG6A, **SMALL)[0]._repr_png_()
+    radius.value = 0.7
+    assert panel.caption.value == "renderer.maps[0].shape.radius=0.7"
+    moved, _ = fixpoint.render(FIG6A, sets=["renderer.maps[0].shape.radius=0.7"], **SMALL)
+    assert panel.image.value == moved._repr_png_() != first
+
+
 def test_validate_checks_as_render_does_and_renders_nothing(tmp_path):
     out = tmp_path / "x.png"
     v = fixpoint.validate(FIG6A, output=out, **SMALL)
