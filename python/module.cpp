@@ -152,6 +152,18 @@ void run_released(Work&& work, std::atomic<bool>& cancel, const std::function<st
     if (!progress.is_none()) progress(1.0);
 }
 
+/// What render() and validate() ask of the render job alike.
+RenderRequest python_request(const std::string& config, bool is_text, unsigned threads,
+                             const std::string& output, bool pixels) {
+    RenderRequest request;
+    request.output = output;
+    request.source = is_text ? "" : config;
+    request.raster_only = "{}: the Python module writes images (.png, .exr, .tif)";
+    request.keep_image = pixels;
+    request.threads = threads;
+    return request;
+}
+
 /// render(config, is_text, sets, threads, progress, output, allow_python, pixels, job)
 ///   -> (float pixels or None, recipe, stats, warnings, bit_depth)
 /// `job`: the render job's further requests as strings, as the CLI's options take them:
@@ -165,12 +177,7 @@ py::tuple render(const std::string& config, bool is_text, const std::vector<std:
                  bool pixels, const std::map<std::string, std::string>& job) {
     const Pipeline p = pipeline_of(config, is_text, sets, allow_python);
     if (!pixels && output.empty()) throw InputError("render: pixels=False needs an output file to write");
-    RenderRequest request;
-    request.output = output;
-    request.source = is_text ? "" : config;
-    request.raster_only = "{}: the Python module writes images (.png, .exr, .tif)";
-    request.keep_image = pixels;
-    request.threads = threads;
+    RenderRequest request = python_request(config, is_text, threads, output, pixels);
     const auto opt = [&job](const char* key) {
         const auto it = job.find(key);
         return it == job.end() ? std::string() : it->second;
@@ -218,12 +225,7 @@ py::dict validate_config(const std::string& config, bool is_text, const std::vec
                          unsigned threads, const std::string& output, bool allow_python,
                          const std::string& memory, bool pixels) {
     const Pipeline p = pipeline_of(config, is_text, sets, allow_python);
-    RenderRequest request;
-    request.output = output;
-    request.source = is_text ? "" : config;
-    request.raster_only = "{}: the Python module writes images (.png, .exr, .tif)";
-    request.threads = threads;
-    request.keep_image = pixels;
+    RenderRequest request = python_request(config, is_text, threads, output, pixels);
     if (!memory.empty()) request.memory = parse_size(memory, "memory");
     const RenderPlan plan = plan_render(p, request);
     py::dict d;

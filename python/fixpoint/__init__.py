@@ -33,6 +33,11 @@ def _yaml(value):
     return json.dumps(value)
 
 
+def _placed(error, config):
+    """The error to raise for `config`: a dict's names its key path (fixpoint.Error says why)."""
+    return Error(str(error), source="<config>") if isinstance(config, dict) else error
+
+
 def _config(config):
     """(text or path, is_text) for a path, a YAML string or a dict."""
     if isinstance(config, dict):
@@ -97,9 +102,7 @@ def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None
         finally:
             bar.close()
     except Error as e:
-        if isinstance(config, dict):
-            raise Error(str(e), source="<config>") from None
-        raise
+        raise _placed(e, config) from None
     finally:
         _warn()
     for w in warns:
@@ -130,9 +133,7 @@ def validate(config, *, sets=(), threads=0, output=None, memory=None, allow_pyth
         return _fixpoint.validate(text, is_text, assignments, int(threads), os.fspath(output) if output else "",
                                   bool(allow_python), str(memory) if memory is not None else "", bool(pixels))
     except Error as e:
-        if isinstance(config, dict):
-            raise Error(str(e), source="<config>") from None
-        raise
+        raise _placed(e, config) from None
     finally:
         _warn()
 
