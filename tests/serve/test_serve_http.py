@@ -89,14 +89,14 @@ def test_the_preview_stages_shrink_by_the_factors_and_end_with_the_cli_render(sr
     assert [int(h["X-Stage"]) for h, _ in got] == [0, 1, 2, 3]
     assert [h["X-Done"] for h, _ in got] == ["0", "0", "0", "1"]
     assert {h["X-Stages"] for h, _ in got} == {"4"}
-    assert [(int(h["X-Width"]), int(h["X-Height"])) for h, _ in got] == [(128, 128), (256, 256), (512, 512),
-                                                                         (1024, 1024)]
+    assert [(int(h["X-Width"]), int(h["X-Height"])) for h, _ in got] == [(64, 64), (128, 128), (256, 256),
+                                                                         (512, 512)]
     for h, png in got:
         assert h["Content-Type"] == "image/png"
         w, hh = int(h["X-Width"]), int(h["X-Height"])
         assert Image.open(io.BytesIO(png)).size == (w, hh)
         # chaos-game: the points divided by the factor squared, as many per pixel.
-        assert float(h["X-Samples-Per-Pixel"]) == 4000000 / (1024 * 1024)
+        assert float(h["X-Samples-Per-Pixel"]) == 4000000 / (512 * 512)
         assert float(h["X-Seconds"]) > 0
 
     # The last stage is the image `fixpoint render` writes for the same text, saved.
@@ -373,7 +373,7 @@ def test_a_change_of_tone_alone_is_finished_from_the_kept_histogram(tmp_path):
         assert toned["retoned"] is True and toned["stages"] == 1
         [(h, png)] = frames(s, toned["job"])
         assert h["X-Retoned"] == "1" and h["X-Done"] == "1"
-        assert (int(h["X-Width"]), int(h["X-Height"])) == (1024, 1024)
+        assert (int(h["X-Width"]), int(h["X-Height"])) == (512, 512)
         # The bytes `fixpoint render` writes for that text.
         (tmp_path / "toned.yaml").write_text(toned_text)
         rc, _, err = cli("render", "toned.yaml", "-o", "toned.png", "-q", cwd=str(tmp_path))

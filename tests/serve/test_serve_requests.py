@@ -80,14 +80,14 @@ def test_an_unknown_page_is_404(srv):
 # ------------------------------------------------------------------ check, and refusals as the CLI's
 def test_check_of_a_good_config(srv):
     assert srv.api("api/check", {"text": fig4a_text(), "path": "fig4a.yaml"}) == {
-        "ok": True, "renderer": "chaos-game", "width": 1024, "height": 1024, "warnings": []}
+        "ok": True, "renderer": "chaos-game", "width": 512, "height": 512, "warnings": []}
 
 
 BAD = {
     "typo": fig4a_text().replace("points:", "pionts:"),
     "range": fig4a_text().replace("radius: 0.21685}, colour: \"#c56cf0\"", "radius: -1}, colour: \"#c56cf0\""),
     "yaml": fig4a_text().replace("view: [-1.75, 1.75, -1.75, 1.75]", "view: [-1.75, 1.75, -1.75, 1.75"),
-    "memory": fig4a_text().replace("width: 1024", "width: 65536").replace("height: 1024", "height: 65536"),
+    "memory": fig4a_text().replace("width: 512", "width: 65536").replace("height: 512", "height: 65536"),
     "empty": "",
 }
 
