@@ -218,7 +218,7 @@ TEST(Animate, BadAnimationSectionsAreOneExactLine) {
     const std::vector<Bad> cases = {
         {"not_a_map", "animation: 3\n",
          "bad.yaml:13:12: animation: expected a mapping (frames, fps, "
-         "interpolation, keys), got '3'"},
+         "interpolation, loop, keys), got '3'"},
         {"unknown_key", "animation:\n  frame: 3\n",
          "bad.yaml:14:3: animation: unknown key 'frame' (did you mean 'frames'?)"},
         {"no_frames", "animation:\n  keys: {renderer.seed: {0: 1}}\n",
@@ -227,7 +227,9 @@ TEST(Animate, BadAnimationSectionsAreOneExactLine) {
          "bad.yaml:14:11: animation.frames: expected a whole number from 1 to 100000, got '0'"},
         {"interpolation",
          "animation:\n  frames: 3\n  interpolation: cubic\n  keys: {renderer.seed: {0: 1}}\n",
-         "bad.yaml:15:18: animation.interpolation: expected linear or smooth, got 'cubic'"},
+         "bad.yaml:15:18: animation.interpolation: expected linear, smooth or catmull-rom, got 'cubic'"},
+        {"loop", "animation:\n  frames: 3\n  loop: yes\n  keys: {renderer.seed: {0: 1}}\n",
+         "bad.yaml:15:9: animation.loop: expected true or false, got 'yes'"},
         {"no_keys", "animation:\n  frames: 3\n  keys: {}\n",
          "bad.yaml:15:9: animation.keys: expected a mapping of parameter paths to keyframes {frame: value, "
          "...}, "

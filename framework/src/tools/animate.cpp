@@ -6,7 +6,8 @@
 //   animation:
 //     frames: 120                 # required: frames 0 .. 119 (1 to 100000)
 //     fps: 30                     # frames per second of --video (default 30; (0, 1000])
-//     interpolation: linear       # or smooth (default linear)
+//     interpolation: linear       # smooth or catmull-rom (default linear)
+//     loop: false                 # true: periodic, the last keyframe runs on into the first
 //     keys:                       # required, at least one
 //       renderer.iteration.alpha: {0: 0.5, 60: 0.7, 119: 0.9}
 //       renderer.view: {0: [-2, 2, -2, 2], 119: [-1, 1, -1, 1]}
@@ -27,6 +28,20 @@
 //   a + (b - a) * s with s = t (linear) or s = t * t * (3 - 2 t) (smooth: smoothstep, which
 //   eases in and out of every keyframe and never leaves the range between two neighbouring
 //   keyframes, so a value valid at both keys stays valid between them).
+// - catmull-rom: the cubic Hermite curve through the keyframes whose slope at keyframe i (per
+//   frame) is (v[i+1] - v[i-1]) / (f[i+1] - f[i-1]), its neighbours' secant (Catmull and Rom
+//   1974, in the form for unevenly spaced keys); at the first and last keyframe of an animation
+//   that does not loop the missing neighbour is the key itself, so the slope is the one-sided
+//   secant. Between f0 and f1, with d = f1 - f0 and slopes m0, m1:
+//   v = h00 a + h10 d m0 + h01 b + h11 d m1, h00 = 2t^3 - 3t^2 + 1, h10 = t^3 - 2t^2 + t,
+//   h01 = -2t^3 + 3t^2, h11 = t^3 - t^2. Motion through the keys is smooth (the slope is
+//   continuous at every key), but the curve may overshoot between keys: a value valid at the
+//   keys may be refused between them, at the frame's check, before anything renders.
+// - loop: true makes the keys periodic with period `frames`: keyframe f stands for every frame
+//   f + k * frames, so after the last keyframe the value runs on to the first one's at
+//   frames + f_first (and before the first it comes from the last's at f_last - frames), with
+//   catmull-rom's neighbours taken round the loop. Frame `frames`, the one after the last, would
+//   be frame 0 exactly: a GIF or a video of the frames loops without a seam.
 // - Integers: a key whose parameter is an integer in its plugin's schema (points, seed, chains,
 //   a polygon's number of points, ...) is rounded to the nearest integer between keyframes,
 //   halves away from zero (std::llround). Every other number is a real, written in the
@@ -158,15 +173,15 @@ Animation parse_animation(const CNode& root) {
     const Mark& at = *root.key_mark("animation");
     if (!s.is_map())
         fail(s.type == CNode::Type::Null ? at : s.mark, "animation",
-             "expected a mapping (frames, fps, interpolation, keys), got " + s.describe());
+             "expected a mapping (frames, fps, interpolation, loop, keys), got " + s.describe());
     Animation a;
-    const std::vector<std::string> known = {"frames", "fps", "interpolation", "keys"};
+    const std::vector<std::string> known = {"frames", "fps", "interpolation", "loop", "keys"};
     for (std::size_t i = 0; i < s.keys.size(); ++i)
         if (std::find(known.begin(), known.end(), s.keys[i].first) == known.end()) {
             const auto near = suggest(s.keys[i].first, known);
             fail(s.key_marks[i], "animation",
                  "unknown key " + quote(s.keys[i].first) +
-                     (near.empty() ? " (expected frames, fps, interpolation, keys)"
+                     (near.empty() ? " (expected frames, fps, interpolation, loop, keys)"
                                    : " (did you mean '" + near[0] + "'?)"));
         }
     const CNode* frames = s.find("frames");
@@ -183,10 +198,19 @@ Animation parse_animation(const CNode& root) {
                  "expected a number in (0, 1000], got " + fps->describe());
     }
     if (const CNode* in = s.find("interpolation")) {
-        if (!in->is_scalar() || (in->scalar != "linear" && in->scalar != "smooth"))
+        if (!in->is_scalar() ||
+            (in->scalar != "linear" && in->scalar != "smooth" && in->scalar != "catmull-rom"))
             fail(in->type == CNode::Type::Null ? *s.key_mark("interpolation") : in->mark,
-                 "animation.interpolation", "expected linear or smooth, got " + in->describe());
-        a.smooth = in->scalar == "smooth";
+                 "animation.interpolation", "expected linear, smooth or catmull-rom, got " + in->describe());
+        a.interpolation = in->scalar == "smooth"        ? Interpolation::smooth
+                          : in->scalar == "catmull-rom" ? Interpolation::catmull_rom
+                                                        : Interpolation::linear;
+    }
+    if (const CNode* lp = s.find("loop")) {
+        if (!lp->is_scalar() || lp->quoted || (lp->scalar != "true" && lp->scalar != "false"))
+            fail(lp->type == CNode::Type::Null ? *s.key_mark("loop") : lp->mark, "animation.loop",
+                 "expected true or false, got " + lp->describe());
+        a.loop = lp->scalar == "true";
     }
     const CNode* keys = s.find("keys");
     if (!keys) fail(at, "animation", "missing 'keys:' (parameter paths and their keyframes)");
@@ -248,24 +272,75 @@ Animation parse_animation(const CNode& root) {
     return a;
 }
 
+namespace {
+
+/// Keyframe i of k, round the loop: index i mod m, its frame moved by whole periods.
+struct Near {
+    const CNode* value;
+    double frame;
+};
+Near key_at(const Animation& a, const AnimationKey& k, long i) {
+    const long m = long(k.frames.size());
+    const long wraps = (i >= 0 ? i : i - m + 1) / m; // floor(i / m)
+    const auto& [f, v] = k.frames[std::size_t(i - wraps * m)];
+    return {&v, double(f) + double(wraps) * double(a.frames)};
+}
+
+/// The slope (per frame, per component) at keyframe i: the secant of its neighbours, the key
+/// itself standing for a missing one where the animation does not loop.
+std::vector<double> slope(const Animation& a, const AnimationKey& k, long i) {
+    const long m = long(k.frames.size());
+    const Near lo = a.loop || i > 0 ? key_at(a, k, i - 1) : key_at(a, k, i);
+    const Near hi = a.loop || i < m - 1 ? key_at(a, k, i + 1) : key_at(a, k, i);
+    Flat l, h;
+    flatten(*lo.value, l);
+    flatten(*hi.value, h);
+    std::vector<double> out(l.v.size(), 0.0);
+    if (hi.frame > lo.frame)
+        for (std::size_t c = 0; c < out.size(); ++c) out[c] = (h.v[c] - l.v[c]) / (hi.frame - lo.frame);
+    return out;
+}
+
+} // namespace
+
 CNode animated_value(const Animation& a, const AnimationKey& k, long frame) {
     const auto& fs_ = k.frames;
-    if (frame <= fs_.front().first) return fs_.front().second;
-    if (frame >= fs_.back().first) return fs_.back().second;
-    std::size_t j = 1;
-    while (fs_[j].first < frame) ++j;
-    if (fs_[j].first == frame) return fs_[j].second;
-    const auto& [f0, n0] = fs_[j - 1];
-    const auto& [f1, n1] = fs_[j];
+    const long m = long(fs_.size());
+    // A loop's frames repeat with period `frames`: the would-be frame `frames` is frame 0.
+    if (a.loop) frame = ((frame % a.frames) + a.frames) % a.frames;
+    for (const auto& [f, v] : fs_)
+        if (f == frame) return v;
+    if (m == 1) return fs_.front().second;
+    // The segment [key i, key i + 1] holding the frame (round the loop where it loops).
+    long i = 0;
+    if (frame < fs_.front().first) {
+        if (!a.loop) return fs_.front().second;
+        i = -1;
+    } else if (frame > fs_.back().first) {
+        if (!a.loop) return fs_.back().second;
+        i = m - 1;
+    } else {
+        while (fs_[std::size_t(i + 1)].first < frame) ++i;
+    }
+    const Near k0 = key_at(a, k, i), k1 = key_at(a, k, i + 1);
     Flat a0, a1;
-    flatten(n0, a0);
-    flatten(n1, a1);
-    const double t = double(frame - f0) / double(f1 - f0);
-    const double s = a.smooth ? t * t * (3 - 2 * t) : t;
+    flatten(*k0.value, a0);
+    flatten(*k1.value, a1);
+    const double d = k1.frame - k0.frame;
+    const double t = (double(frame) - k0.frame) / d;
     Flat out;
-    for (std::size_t i = 0; i < a0.v.size(); ++i) out.v.push_back(a0.v[i] + (a1.v[i] - a0.v[i]) * s);
+    if (a.interpolation == Interpolation::catmull_rom) {
+        const std::vector<double> m0 = slope(a, k, i), m1 = slope(a, k, i + 1);
+        const double t2 = t * t, t3 = t2 * t;
+        const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
+        for (std::size_t c = 0; c < a0.v.size(); ++c)
+            out.v.push_back(h00 * a0.v[c] + h10 * d * m0[c] + h01 * a1.v[c] + h11 * d * m1[c]);
+    } else {
+        const double s = a.interpolation == Interpolation::smooth ? t * t * (3 - 2 * t) : t;
+        for (std::size_t c = 0; c < a0.v.size(); ++c) out.v.push_back(a0.v[c] + (a1.v[c] - a0.v[c]) * s);
+    }
     std::size_t at = 0;
-    return rebuild(n0, out, at, k.mark, k.integer);
+    return rebuild(*k0.value, out, at, k.mark, k.integer);
 }
 
 CNode frame_config(const CNode& root, const Animation& a, long frame) {
@@ -403,7 +478,8 @@ The animation: section, at the top level of the config beside renderer: and outp
   animation:
     frames: 120                  # frames 0 .. 119
     fps: 30                      # of --video (default 30)
-    interpolation: smooth        # linear (default) or smooth
+    interpolation: smooth        # linear (default), smooth or catmull-rom
+    loop: true                   # periodic: the last key runs on into the first (default false)
     keys:                        # a path as --set takes it: {frame: value, ...}
       renderer.iteration.alpha: {0: 0.5, 60: 0.7, 119: 0.9}
       renderer.view: {0: [-2, 2, -2, 2], 119: [-1, 1, -1, 1]}
@@ -413,7 +489,11 @@ Frame k is the config with each key's value at frame k set exactly as --set path
 (--list prints them). At a keyframe the value is the one written; before the first and after
 the last keyframe it stays; between keyframes f0 < f1, with t = (f - f0) / (f1 - f0), it is
 a + (b - a) * s, s = t (linear) or s = t*t*(3 - 2t) (smooth: smoothstep, easing in and out of
-each key without overshoot). Numbers, lists of numbers (elementwise) and colours ("#rrggbb"
+each key without overshoot). catmull-rom: the cubic through the keys whose slope at each key
+is its neighbours' secant, smooth through the keys but free to overshoot between them. loop:
+true repeats the keys every `frames` frames, the last keyframe running on into the first
+(catmull-rom's neighbours taken round the loop), so frame `frames` would be frame 0 and the
+video loops without a seam. Numbers, lists of numbers (elementwise) and colours ("#rrggbb"
 as [r, g, b] in [0, 1], interpolated componentwise as given, i.e. sRGB-encoded, not in linear
 light). A parameter that is an integer in its plugin's schema (points, seed, ...) is rounded
 to the nearest integer between keys, halves away from zero; every other number is real.

@@ -5,7 +5,8 @@
 //   animation:
 //     frames: 120                    # frames 0 .. 119
 //     fps: 30                        # of the video (default 30)
-//     interpolation: smooth          # linear (default) or smooth (smoothstep between keys)
+//     interpolation: smooth          # linear (default), smooth (smoothstep) or catmull-rom
+//     loop: true                     # periodic: frame 120 would be frame 0 (default false)
 //     keys:                          # a parameter path (as --set takes it): {frame: value, ...}
 //       renderer.iteration.alpha: {0: 0.5, 119: 0.9}
 //       renderer.maps[0].colour: {0: "#ff6b6b", 119: [0.2, 0.4, 1]}
@@ -30,10 +31,16 @@ struct AnimationKey {
     std::vector<std::pair<long, CNode>> frames;
 };
 
+/// How values run between keyframes (animate.cpp has the formulas).
+enum class Interpolation { linear, smooth, catmull_rom };
+
 struct Animation {
     long frames = 0;
     double fps = 30;
-    bool smooth = false;
+    Interpolation interpolation = Interpolation::linear;
+    /// loop: true: the keys repeat with period `frames`, the last keyframe running on into the
+    /// first, so that the would-be frame `frames` is frame 0 and the video loops seamlessly.
+    bool loop = false;
     std::vector<AnimationKey> keys;
 };
 
@@ -47,6 +54,7 @@ Animation parse_animation(const CNode& root);
 bool has_animation(const CNode& root);
 
 /// The value of one key at `frame`: a key's value as written at a keyframe, else interpolated.
+/// Any frame of a loop (frame `frames` is frame 0); before 0 or after the last a frame holds.
 CNode animated_value(const Animation& a, const AnimationKey& k, long frame);
 
 /// The config of one frame: `root` with every key's value at `frame` set, as --set path=value
@@ -62,7 +70,7 @@ struct AnimateOptions {
     std::string pattern;           ///< -o frames/%04d.png
     std::string frames;            ///< --frames A..B; empty: all
     std::string video;             ///< --video out.mp4; empty: none
-    unsigned threads = 1;
+    unsigned threads = 0;          ///< 0: the render job's default (every core, or one: RenderPlan)
     bool quiet = false, force = false, list = false;
     /// Where progress lines (without quiet) and warnings go, one line each.
     std::function<void(const std::string&)> info, warn;
