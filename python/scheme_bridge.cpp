@@ -7,6 +7,7 @@
 // per batch, so Python schemes are serialised, and deterministic like every scheme: a
 // step's result depends on its batch alone.
 #include <fixpoint/fixpoint.hpp>
+#include <fixpoint/scheme.hpp> // read_coefficient, numbers_param
 
 #include <pybind11/eval.h>
 #include <pybind11/numpy.h>
@@ -21,6 +22,7 @@
 #include <mutex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace py = pybind11;
 
@@ -158,6 +160,39 @@ std::string describe(py::error_already_set& e, const std::string& source) {
     return where + type + (msg.empty() ? "" : ": " + msg);
 }
 
+// The coefficients python-scheme declares (plugins/iterations/python-scheme.cpp), with no range.
+constexpr fp::ParamSpec coefficient_specs[] = {
+    fp::param::sequence("alpha", ""), fp::param::sequence("beta", ""), fp::param::sequence("gamma", ""),
+    fp::param::sequence("a", ""), fp::param::sequence("b", "")};
+
+// What every scheme's namespace holds beside numpy: I, the matrix of the number 1, and lin,
+// SchemeBase's c.lin on (x, y) pairs of arrays. Its sums are grouped as scheme-inl.hpp's
+// lin2_t/lin3_t group them, each matrix entry rounded to the points' precision first, and numpy
+// rounds every operation (no fused multiply-add, as the C++ build has -ffp-contract=off), so a
+// scheme written with it gives the C++ scheme's bits.
+constexpr const char* scheme_prelude = R"(
+I = np.eye(2)
+
+def lin(A, u, B, v, C=None, w=None):
+    """A u + B v (+ C w): 2x2 matrices (k['alpha'], I - k['alpha'], ...) acting on points
+    u = (x, y) of arrays, in the points' precision and in the order of the C++ SchemeBase."""
+    t = np.asarray(u[0]).dtype.type
+    def entries(M):
+        M = np.asarray(M, dtype=np.float64)
+        if M.shape != (2, 2):
+            raise ValueError(f"lin: a matrix is 2x2, got the shape {M.shape}")
+        return t(M[0, 0]), t(M[0, 1]), t(M[1, 0]), t(M[1, 1])
+    a, b, c, d = entries(A)
+    e, f, g, h = entries(B)
+    x = (a * u[0] + b * u[1]) + (e * v[0] + f * v[1])
+    y = (c * u[0] + d * u[1]) + (g * v[0] + h * v[1])
+    if C is not None:
+        p, q, r, s = entries(C)
+        x = x + (p * w[0] + q * w[1])
+        y = y + (r * w[0] + s * w[1])
+    return x, y
+)";
+
 class PyScheme final : public fp::IterationScheme {
 public:
     explicit PyScheme(const fp::ParamBag& p) {
@@ -166,18 +201,21 @@ public:
             throw fp::ParamError(has_file ? "code" : "file", "give either 'file' or 'code', not both");
         std::string code;
         if (has_file) {
-            source_ = p.string("file");
+            // (The host gives the file from the working folder, resolved from the config's.)
+            const std::string& file = p.string("file");
+            source_ = file;
             // A folder opens as a stream that reads nothing, and a FIFO or device would block
             // or never end: a scheme is a regular file.
             std::error_code ec;
-            const auto st = std::filesystem::status(source_, ec);
+            const auto st = std::filesystem::status(file, ec);
             if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
                 throw fp::ParamError("file",
                                      "'" + source_ + "' is not a regular file (a Python file is needed)");
-            std::ifstream in(source_, std::ios::binary);
+            std::ifstream in(file, std::ios::binary);
             if (!in)
-                throw fp::ParamError("file", "cannot read '" + source_ + "': " + std::strerror(errno) +
-                                                 " (a path relative to the working folder)");
+                throw fp::ParamError(
+                    "file", "cannot read '" + source_ + "': " + std::strerror(errno) +
+                                " (a path in a config is from its folder, in --set from the working folder)");
             std::ostringstream ss;
             ss << in.rdbuf();
             code = ss.str();
@@ -185,6 +223,10 @@ public:
             source_ = "<code>";
             code = p.string("code");
         }
+        numbers_ = p.object<fp::NumberSystem>("numbers");
+        for (const fp::ParamSpec& spec : coefficient_specs)
+            if (p.has(spec.name))
+                coefs_.push_back({spec.name, fp::scheme::read_coefficient(spec, p, numbers_->is_real())});
         ensure_interpreter();
         const char* const key = has_file ? "file" : "code";
         py::gil_scoped_acquire gil;
@@ -203,6 +245,7 @@ public:
             for (std::size_t i = 0; i < p.reals("args").size(); ++i) args[i] = p.reals("args")[i];
             ns["args"] = args;
             ns["np"] = py::module_::import("numpy");
+            builtins.attr("exec")(py::str(scheme_prelude), ns);
             py::object compiled = builtins.attr("compile")(py::str(code), py::str(source_), "exec");
             builtins.attr("exec")(compiled, ns);
             if (!ns.contains("step") || !PyCallable_Check(ns["step"].ptr()))
@@ -217,7 +260,20 @@ public:
                 applications = unsigned(a);
             }
             const bool picard = ns.contains("picard") && ns["picard"].cast<bool>();
+            // step(T, x, y, n, k) gets the coefficients; step(T, x, y, n) may not be given any.
+            const std::size_t arity =
+                py::len(py::module_::import("inspect").attr("signature")(step).attr("parameters"));
+            if (arity != 4 && arity != 5)
+                throw fp::ParamError(key, source_ + ": step takes (T, x, y, n) or (T, x, y, n, k), not " +
+                                              std::to_string(arity) + " arguments");
+            if (arity == 4 && !coefs_.empty())
+                throw fp::ParamError(coefs_[0].name,
+                                     "the coefficient is given, but " + source_ +
+                                         "'s step(T, x, y, n) takes none: write step(T, x, y, "
+                                         "n, k) and read its matrix k['" +
+                                         coefs_[0].name + "']");
             step_ = std::move(step);
+            takes_k_ = arity == 5;
             ns_ = std::move(ns);
             applications_ = applications;
             picard_ = picard;
@@ -264,20 +320,26 @@ private:
         try {
             using Array = py::array_t<T, py::array::c_style | py::array::forcecast>;
             // The map on whole arrays, in the batch's precision; each call gets new arrays.
-            py::cpp_function map([&t](Array x, Array y) {
+            // Each application of T in the step draws its own randoms from the points' keys, as
+            // SchemeBase's c.t does (salt 0, 1, ... within the step), for arrays of the batch.
+            std::uint32_t salt = 0;
+            py::cpp_function map([&t, &p, &salt](Array x, Array y) {
                 if (x.ndim() != 1 || y.ndim() != 1 || x.shape(0) != y.shape(0))
                     throw py::value_error("T(x, y): x and y must be 1-dimensional arrays of one length");
                 const auto len = std::size_t(x.shape(0));
                 Array ox(len), oy(len);
                 std::copy_n(x.data(), len, ox.mutable_data());
                 std::copy_n(y.data(), len, oy.mutable_data());
-                t.apply(fp::Points<T>{ox.mutable_data(), oy.mutable_data(), len}, nullptr);
+                const bool keyed = p.key && len == p.n;
+                t.apply(fp::Points<T>{ox.mutable_data(), oy.mutable_data(), len, keyed ? p.key : nullptr,
+                                      keyed ? salt++ : 0},
+                        nullptr);
                 return py::make_tuple(ox, oy);
             });
             Array x(p.n), y(p.n);
             std::copy_n(p.x, p.n, x.mutable_data());
             std::copy_n(p.y, p.n, y.mutable_data());
-            py::object r = step_(map, x, y, n);
+            py::object r = takes_k_ ? step_(map, x, y, n, coefficients(n)) : step_(map, x, y, n);
             if (!py::isinstance<py::tuple>(r) || py::len(r) != 2)
                 throw fp::InputError("python-scheme: " + source_ + ": step must return a tuple (x, y)");
             const Array rx = Array::ensure(r.cast<py::tuple>()[0]),
@@ -299,6 +361,27 @@ private:
         }
     }
 
+    /// The coefficients at step n, each as its multiplier's matrix (NumberSystem::multiplier):
+    /// {"alpha": [[a, b], [c, d]], ...}, float64 as SchemeBase's Mat2.
+    py::dict coefficients(std::uint64_t n) const {
+        py::dict k;
+        for (const Coefficient& c : coefs_) {
+            const fp::Mat2 m = numbers_->multiplier(c.values.at(n));
+            py::array_t<double> a(std::vector<py::ssize_t>{2, 2});
+            double* d = a.mutable_data();
+            d[0] = m.a, d[1] = m.b, d[2] = m.c, d[3] = m.d;
+            k[py::str(c.name)] = a;
+        }
+        return k;
+    }
+
+    struct Coefficient {
+        std::string name;
+        fp::Sequence values;
+    };
+    std::shared_ptr<const fp::NumberSystem> numbers_;
+    std::vector<Coefficient> coefs_;
+    bool takes_k_ = false;
     std::string source_;
     // (py::object, not py::dict: a dict's default constructor calls Python, which may not be
     // running yet when the members are made.)

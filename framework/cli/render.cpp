@@ -260,7 +260,7 @@ int cmd_animate(const Options& o, AnimateOptions ao) {
     install_sigint();
     const Registry reg = make_registry(o);
     ao.config = o.config, ao.sets = o.sets, ao.quiet = o.quiet, ao.force = o.force;
-    ao.threads = threads_of(o);
+    ao.threads = o.threads; // (0: the job's default, per frame)
     ao.info = [](const std::string& s) { spdlog::info("{}", s); };
     ao.warn = [](const std::string& s) { spdlog::warn("{}", s); };
     try {
@@ -278,7 +278,7 @@ int cmd_watch(const Options& o) {
     w.config = o.config;
     w.out = o.out;
     w.sets = o.sets;
-    w.threads = threads_of(o);
+    w.threads = o.threads; // (0: the job's default)
     w.no_draft = o.no_draft;
     const bool quiet = o.quiet;
     w.info = [quiet](const std::string& l) {

@@ -9,12 +9,26 @@
 // promise that step is exactly T, checked by the conformance suite). `args` in the code's
 // namespace holds the item's `args` as a tuple of floats.
 //
+// As SchemeBase (fixpoint/scheme.hpp) has it, a scheme may compute in any number system
+// (`numbers`) with named coefficients, sequences over n in the papers' names (alpha, beta,
+// gamma, a, b). A step that takes a fifth argument gets them as k: each coefficient's value at
+// step n as its 2x2 multiplier matrix, and `lin(A, u, B, v[, C, w])` forms A u + B v (+ C w) in
+// SchemeBase's order and the points' precision, so that the C++ scheme's bits come out:
+//
+//     def step(T, x, y, n, k):   # the Mann iteration, in any number system
+//         return lin(I - k["alpha"], (x, y), k["alpha"], T(x, y))
+//
+// `file` is relative to the config that names it (the host resolves files, ParamRole::file).
+// Python runs one batch at a time (its global lock), so a render takes one thread unless
+// asked for more (ability::one_batch_at_a_time).
+//
 // This plugin does not link Python: a plugin folder is loaded by every command, and one that
 // needs libpython would make every command load it (or fail where it is missing). The
 // Python side lives in a library beside the plugins (python-scheme-bridge.so), loaded when
 // a python-scheme is first built; in the fixpoint CLI that first loads libpython itself,
 // while inside a Python process the bridge uses the running interpreter.
 #include <fixpoint/fixpoint.hpp>
+#include <fixpoint/scheme.hpp> // numbers_param (its loops are compiled in, unused)
 
 #include <dlfcn.h>
 
@@ -89,14 +103,21 @@ private:
 };
 
 constexpr fp::ParamSpec params[] = {
-    fp::param::string("file",
-                      "the Python file that defines step(T, x, y, n) (relative to the working folder)")
+    fp::scheme::numbers_param,
+    fp::param::string("file", "the Python file that defines step(T, x, y, n) (relative to the config)")
         .opt()
         .reads_file(),
     fp::param::string("code",
                       "the Python code itself, instead of a file (recipes then hold the whole scheme)")
         .opt(),
     fp::param::reals("args", "numbers the code reads as the tuple `args`").def("[]"),
+    // The coefficients' names: those of paper 02's schemes (SchemeBase's plugins use no others).
+    fp::param::sequence("alpha", "alpha_n, a coefficient: step(T, x, y, n, k) reads its matrix k['alpha']")
+        .opt(),
+    fp::param::sequence("beta", "beta_n, a coefficient: k['beta']").opt(),
+    fp::param::sequence("gamma", "gamma_n, a coefficient: k['gamma']").opt(),
+    fp::param::sequence("a", "a_n, a coefficient: k['a']").opt(),
+    fp::param::sequence("b", "b_n, a coefficient: k['b']").opt(),
 };
 
 } // namespace
@@ -106,4 +127,5 @@ FIXPOINT_PLUGIN(fp::describe<PythonScheme>(
                     "an iteration scheme written in Python: step(T, x, y, n) on numpy arrays", params)
                     .with_example("{code: \"a = args[0]\\ndef step(T, x, y, n):\\n    tx, ty = T(x, y)\\n"
                                   "    return (1 - a) * x + a * tx, (1 - a) * y + a * ty\\n\", args: [0.5]}")
-                    .with_runs_code())
+                    .with_runs_code()
+                    .with_abilities(fp::ability::one_batch_at_a_time))

@@ -108,7 +108,7 @@
 //   "buffer_probabilities": the same with "(one per buffer)";
 //   "child": "child 2 does not exist: there are 2 buffers, numbered from 0";
 //   "picture": "cannot read the picture \"p.png\": no such file (give a PNG file, relative to
-//     the working folder, or hues)" (or "it cannot be opened", "it is not a PNG file", "Cairo
+//     the config, or hues)" (or "it cannot be opened", "it is not a PNG file", "Cairo
 //     cannot decode it (...)"); "colour stealing needs a colourer that shows the points'
 //     colours (map-colour or flame); this one shows only where they fall";
 //   "maps": "maps[1]: a colour_map is used only by colour stealing: give the renderer a
@@ -332,7 +332,7 @@ constexpr fp::ParamSpec params[] = {
     fp::estimator_curve_param,
     fp::param::string("picture", "colour stealing (Barnsley): each point takes the colour of this picture at "
                                  "the point of the colour IFS (the maps' colour_map) run with the same "
-                                 "choices; hues (built in) or a PNG file relative to the working folder")
+                                 "choices; hues (built in) or a PNG file relative to the config")
         .opt()
         .reads_file("hues"),
 };

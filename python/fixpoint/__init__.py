@@ -61,7 +61,8 @@ def render(config, *, sets=(), threads=0, progress=None, output=None, dtype=None
     sets       overrides as the CLI's --set takes them: ["renderer.points=1e6", ...].
     overrides  the same as keywords, with ``__`` for the dots: renderer__points=1e6;
                values are YAML text or Python values (lists, numbers).
-    threads    worker threads (0: all the machine has); the image does not depend on it.
+    threads    worker threads (0: all the machine has, or one for a python-scheme, whose Python
+               runs one batch at a time); the image does not depend on it.
     progress   called with the fraction done (0 to 1), from this thread, about ten times a
                second; an exception it raises stops the render and is raised here. A tqdm
                bar moves through its total; True draws a new one (tqdm.auto: a notebook's

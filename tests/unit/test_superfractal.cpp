@@ -375,11 +375,10 @@ TEST(Superfractal, ColourStealingIsValidated) {
     const std::string h = "{type: superfractal, " + fg;
     EXPECT_EQ(error_of(h + ", picture: " + dir + "/none.png}"),
               "renderer.picture: cannot read the picture \"" + dir +
-                  "/none.png\": no such file (give a PNG file, relative to the working folder, or hues)");
-    EXPECT_EQ(
-        error_of(h + ", picture: " + dir + "/not.png}"),
-        "renderer.picture: cannot read the picture \"" + dir +
-            "/not.png\": it is not a PNG file (give a PNG file, relative to the working folder, or hues)");
+                  "/none.png\": no such file (give a PNG file, relative to the config, or hues)");
+    EXPECT_EQ(error_of(h + ", picture: " + dir + "/not.png}"),
+              "renderer.picture: cannot read the picture \"" + dir +
+                  "/not.png\": it is not a PNG file (give a PNG file, relative to the config, or hues)");
     EXPECT_EQ(error_of(h + ", picture: hues, colourer: {type: density}}"),
               "renderer.picture: colour stealing needs a colourer that shows the points' colours (map-colour "
               "or flame); this one shows only where they fall");
@@ -399,7 +398,7 @@ TEST(Superfractal, BadPictureStopsTheCliWithOneLine) {
         fp::test::run_bad_input("superfractal-bad-picture",
                                 "renderer:\n  type: superfractal\n  " + fg + "\n  picture: missing.png\n");
     EXPECT_EQ(line, "bad.yaml:4:12: renderer.picture: cannot read the picture \"missing.png\": no such file "
-                    "(give a PNG file, relative to the working folder, or hues)");
+                    "(give a PNG file, relative to the config, or hues)");
 }
 
 TEST(Superfractal, Cancels) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 namespace fp::host {
@@ -326,7 +327,11 @@ TParam validate_param(const Registry& reg, const ParamSpec& s, const CNode& n, c
             if (std::find(options.begin(), options.end(), n.scalar) == options.end())
                 fail(n.mark, path, "must be one of " + quoted_list(options) + ", got " + quote(n.scalar));
         }
-        t.value = n.scalar;
+        // (The plugin gets the path from the working folder, which its messages show; the
+        // recipe records it absolute: value_node.)
+        t.value = s.role == ParamRole::file && !is_builtin_file(s, n.scalar)
+                      ? file_from_config(n.scalar, n.mark)
+                      : n.scalar;
         break;
     }
     case ParamType::Vec2: t.value = vec2_value(s, n, path); break;
@@ -544,6 +549,11 @@ CNode object_node(const TObject& t, const std::vector<TParam>* extras, bool skip
 }
 
 CNode value_node(const TParam& p, bool skip_finish) {
+    // A file a plugin reads, in the recipe: absolute, so that the recipe rendered again from its
+    // image, from any folder, reads the same file (file_from_config).
+    if (const auto* file = std::get_if<std::string>(&p.value);
+        file && p.spec->role == ParamRole::file && !file->empty() && !is_builtin_file(*p.spec, *file))
+        return scalar_node(std::filesystem::absolute(*file).lexically_normal().string(), true);
     struct V {
         CNode operator()(bool b) const { return scalar_node(b ? "true" : "false"); }
         CNode operator()(std::int64_t i) const { return scalar_node(std::to_string(i)); }
@@ -606,6 +616,32 @@ CNode value_node(const TParam& p, bool skip_finish) {
 }
 
 } // namespace
+
+bool is_builtin_file(const ParamSpec& s, const std::string& value) {
+    if (!s.builtins) return false;
+    const std::string_view all(s.builtins);
+    for (std::size_t a = 0; a <= all.size();) {
+        const std::size_t b = std::min(all.find('|', a), all.size());
+        if (all.substr(a, b - a) == value) return true;
+        a = b + 1;
+    }
+    return false;
+}
+
+std::string file_from_config(const std::string& value, const Mark& at) {
+    const std::filesystem::path file(value);
+    if (file.is_absolute() || !at.source) return value;
+    const std::string& source = *at.source;
+    // "<text>", "<default of ...>": no file; "--set a=b", "--vary ...": the command line.
+    if (source.empty() || source[0] == '<' || source.rfind("--", 0) == 0) return value;
+    const std::filesystem::path folder = std::filesystem::path(source).parent_path();
+    if (folder.empty()) return value;
+    const std::filesystem::path joined = (folder / file).lexically_normal();
+    // From the working folder where the file lies inside it (messages name it so), else as joined.
+    std::error_code ec;
+    const std::filesystem::path near = std::filesystem::proximate(joined, ec);
+    return !ec && !near.empty() && *near.begin() != ".." ? near.string() : joined.string();
+}
 
 CNode resolved(const TObject& t, bool without_finish) { return object_node(t, nullptr, without_finish); }
 

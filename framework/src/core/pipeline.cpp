@@ -150,6 +150,9 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
     // with those a recipe (or a config copied from one) was made with.
     std::map<std::string, const PluginEntry*> used;
     used_plugins(*typed, used);
+    for (const auto& [name, e] : used)
+        if (e->desc->abilities & ability::one_batch_at_a_time && p.one_thread.empty())
+            p.one_thread = name + " runs one batch at a time";
     CNode record = map_node();
     for (const auto& [name, e] : used) {
         const std::string hash = file_hash(e->file);

@@ -109,7 +109,7 @@ static RenderRequest render_request(const Context& c, const Pipeline& p, const s
     r.force = force;
     r.replace_hint = "render with \"force\": true to replace it";
     r.source = path;
-    r.threads = c.threads;
+    r.threads = c.threads_asked;
     r.check_path = [&c](const std::string& file, const Mark* mark) {
         c.inside(file, "output", mark ? mark->str() : "");
     };
@@ -212,7 +212,7 @@ void api_preview(const Context& c, const httplib::Request& req, httplib::Respons
     // PNG is encoded in memory.
     RenderRequest request;
     request.encode = Format::Png;
-    request.threads = c.threads;
+    request.threads = c.threads_asked;
     std::vector<RenderPlan> stages;
     // A text whose histogram is the kept one (only finishing parameters changed: tone, filter,
     // density estimation, background) is finished from it in one stage, with no iterating.

@@ -1,5 +1,6 @@
 #include "context.hpp"
 
+#include <fixpoint/host/core/build.hpp>
 #include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/text.hpp>
 
@@ -251,22 +252,11 @@ void check_read_file(const Context& c, const CNode& node, const std::string& key
     const CNode* v = node.find(key);
     if (!v || !v->is_scalar()) return; // (the plugin refuses what is not a string)
     try {
-        c.inside(v->scalar, child_path(at, key), v->mark.str());
+        // The file the render will read: from the config's folder (file_from_config).
+        c.inside(file_from_config(v->scalar, v->mark), child_path(at, key), v->mark.str());
     } catch (const HttpError& e) {
         throw InputError(e.message); // config content: a refusal at its line
     }
-}
-
-// One of the values a file parameter declares as built in rather than a file ("hues").
-bool is_builtin(const ParamSpec& s, const std::string& value) {
-    if (!s.builtins) return false;
-    const std::string_view all(s.builtins);
-    for (std::size_t a = 0; a <= all.size();) {
-        const std::size_t b = std::min(all.find('|', a), all.size());
-        if (all.substr(a, b - a) == value) return true;
-        a = b + 1;
-    }
-    return false;
 }
 
 void check_node(const Context& c, const CNode& n, const std::string& at) {
@@ -294,7 +284,7 @@ void check_node(const Context& c, const CNode& n, const std::string& at) {
                 const ParamSpec& s = d.params[i];
                 if (s.role != ParamRole::file) continue;
                 const CNode* v = n.find(s.name);
-                if (v && v->is_scalar() && !is_builtin(s, v->scalar)) check_read_file(c, n, s.name, at);
+                if (v && v->is_scalar() && !is_builtin_file(s, v->scalar)) check_read_file(c, n, s.name, at);
             }
         }
     for (const auto& [key, child] : n.keys) check_node(c, child, child_path(at, key));

@@ -48,6 +48,9 @@ struct Context {
     bool loopback = true;
     std::string token; ///< empty on loopback
     unsigned threads = 1;
+    /// --threads as given (0: not given), for the render requests: the job picks the default
+    /// (one thread for a pipeline whose batches run one at a time, else every core).
+    unsigned threads_asked = 0;
     std::filesystem::path scratch; ///< a private temporary folder
     const std::atomic<bool>* stop = nullptr;
     Previewer* preview = nullptr;

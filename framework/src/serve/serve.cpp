@@ -203,6 +203,7 @@ int serve(const Registry& reg, const ServeOptions& o, const std::atomic<bool>& s
     c.loopback = is_loopback(o.host);
     if (!c.loopback) c.token = make_token();
     c.threads = o.threads ? o.threads : hardware_threads();
+    c.threads_asked = o.threads;
     c.stop = &stop;
     c.allow_python = o.allow_python;
     // Every path of a request is relative to the root, as the CLI's are to its folder: the

@@ -20,7 +20,7 @@
 // point's address as a base-m fraction, Barnsley's "fractal homeomorphism" onto an interval;
 // for curves made of just-touching pieces (F and G of paper 03, eq. (2)) the colour then runs
 // continuously along every child. `picture` is `hues` (built in, 512 x 512: the hue wheel along
-// u, deep to light along v) or a PNG file, relative to the working folder and read with Cairo
+// u, deep to light along v) or a PNG file, relative to the config (the host resolves it) and read with Cairo
 // (the image's recipe names the file, not its pixels). The colour IFS draws nothing from the
 // random streams: a render with a picture has the geometry of the render without, pixel for
 // pixel, and colour points are copied with their points when bad values are repaired.
@@ -100,7 +100,7 @@ inline Picture png_picture(const std::string& file) {
     using fp_render::CairoSurface;
     auto refuse = [&](const std::string& why) {
         throw fp::ParamError("picture", "cannot read the picture \"" + fp::excerpt(file, 200) + "\": " + why +
-                                            " (give a PNG file, relative to the working folder, or hues)");
+                                            " (give a PNG file, relative to the config, or hues)");
     };
     {
         // Cairo tells a missing file apart, but reports any file that is not a PNG as "out of

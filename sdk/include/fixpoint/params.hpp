@@ -51,8 +51,10 @@ enum class ParamRole : std::uint8_t {
     work,
     /// Samples per pixel (orbit-trap `samples`): a draft takes one.
     samples,
-    /// A file the plugin reads (a picture, a script), relative to the working folder: serve keeps
-    /// it inside its root. `builtins` names the values that are not files ("hues").
+    /// A file the plugin reads (a picture, a script): the host hands the plugin its path from the
+    /// working folder, resolved from the folder of the config that names it (host/core/build.hpp's
+    /// file_from_config), the recipe records it absolute, and serve keeps it inside its root. `builtins`
+    /// names the values that are not files ("hues").
     file,
     /// Read only when the histogram is finished into an image (tone, filter, density estimation,
     /// the background): `fixpoint tone` may change it on a kept histogram (`render --histogram`),

@@ -57,6 +57,9 @@ namespace ability {
 /// and applied through its `iteration` scheme from its `start` or its `view`: a chaos game.
 /// `fixpoint explore` measures the Lyapunov exponent of such maps.
 constexpr std::uint32_t weighted_maps = 1u << 0;
+/// Its batches run one at a time, whatever the threads (python-scheme: Python's global lock), so
+/// more threads only wait for each other: a render takes one thread unless asked for more.
+constexpr std::uint32_t one_batch_at_a_time = 1u << 1;
 } // namespace ability
 
 struct PluginDescriptor {

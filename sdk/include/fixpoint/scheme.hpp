@@ -290,6 +290,31 @@ inline std::string format_number(Vec2 v) {
     return f(v.x) + (v.y < 0 ? "-" : "+") + f(std::fabs(v.y)) + "q";
 }
 
+/// Coefficient `s` of a scheme (a sequence parameter) as the scheme computes with it, in the
+/// reals or not: a bare pair [x, y] is resolved (Sequence::resolve), and a q-number is refused
+/// where the scheme computes in the reals or the coefficient declares a range (a + qb has no
+/// order; the host checks each value written, here only a bare pair read as x + qy can still
+/// have a q part). SchemeBase and python-scheme read their coefficients through it.
+inline Sequence read_coefficient(const ParamSpec& s, const ParamBag& p, bool real) {
+    Sequence seq = p.sequence(s.name).resolve(real);
+    if (std::isfinite(s.lo) || std::isfinite(s.hi))
+        for (Vec2 v : seq.values)
+            if (v.y != 0)
+                throw ParamError(s.name,
+                                 "[" + format_number(Vec2{v.x, 0}) + ", " + format_number(Vec2{v.y, 0}) +
+                                     "] is the number " + format_number(v) +
+                                     " here, and a coefficient with a declared range is real (write the "
+                                     "periodic list with its period twice: [x, y, x, y])");
+    if (real)
+        for (Vec2 v : seq.values)
+            if (v.y != 0)
+                throw ParamError(s.name,
+                                 format_number(v) +
+                                     " is a q-system number, but the scheme computes in the real numbers "
+                                     "(set numbers: {type: q-system, A: ..., B: ...})");
+    return seq;
+}
+
 } // namespace fp::scheme
 
 namespace fp {
@@ -374,29 +399,9 @@ protected:
 private:
     void read(const ParamBag& p) {
         numbers_ = p.object<NumberSystem>("numbers");
-        const bool real = numbers_->is_real();
-        for (const ParamSpec& s : D::params) {
-            if (s.type != ParamType::Sequence) continue;
-            seqs_.push_back(p.sequence(s.name).resolve(real));
-            // A declared range makes the coefficient real (the host checks each value written;
-            // here only a bare pair [x, y] read as x + qy can still have a q part).
-            if (std::isfinite(s.lo) || std::isfinite(s.hi))
-                for (Vec2 v : seqs_.back().values)
-                    if (v.y != 0)
-                        throw ParamError(s.name, "[" + scheme::format_number(Vec2{v.x, 0}) + ", " +
-                                                     scheme::format_number(Vec2{v.y, 0}) +
-                                                     "] is the number " + scheme::format_number(v) +
-                                                     " here, and a coefficient with a declared range is real "
-                                                     "(write the periodic list with its period twice: [x, y, "
-                                                     "x, y])");
-            if (real)
-                for (Vec2 v : seqs_.back().values)
-                    if (v.y != 0)
-                        throw ParamError(s.name, scheme::format_number(v) +
-                                                     " is a q-system number, but the scheme computes in the "
-                                                     "real numbers (set numbers: {type: q-system, A: ..., B: "
-                                                     "...})");
-        }
+        for (const ParamSpec& s : D::params)
+            if (s.type == ParamType::Sequence)
+                seqs_.push_back(scheme::read_coefficient(s, p, numbers_->is_real()));
     }
 
     template <class T>

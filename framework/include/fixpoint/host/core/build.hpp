@@ -52,6 +52,20 @@ std::shared_ptr<const Object> build(const Registry& reg, const TObject& t);
 std::shared_ptr<const Object> build_from_text(const Registry& reg, Kind kind, const std::string& text,
                                               const std::string& source, const std::string& path);
 
+/// One of the values a file parameter (ParamRole::file) declares as built in rather than a
+/// file (superfractal's picture: "hues").
+bool is_builtin_file(const ParamSpec& s, const std::string& value);
+
+/// The file a file parameter's `value` names, written at `at`: a relative path written in a
+/// config file is taken from that file's folder (a config and the script or picture beside it
+/// move together, and render the same from any working folder); one given on the command line
+/// (--set, --vary), in a text that is no file (a Python string, a page's unsaved text) or
+/// absolute stands as it is, from the working folder. The result is from the working folder
+/// where the file lies inside it, and the plugin gets it so (its messages name the file so); the recipe
+/// records it absolute (resolved): a recipe rendered again from its image, anywhere, reads the
+/// same file.
+std::string file_from_config(const std::string& value, const Mark& at);
+
 /// The tree with every default filled in, as YAML nodes (canonical numbers: shortest text
 /// that reads back to the same double).
 /// without_finish: leaves out the parameters whose role is finish (ParamRole::finish), at every

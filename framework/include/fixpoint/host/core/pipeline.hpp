@@ -53,6 +53,10 @@ struct Pipeline {
     /// `recipe_mark` (render_version:, else the top of the file).
     std::vector<std::string> may_differ;
     Mark recipe_mark;
+    /// Why a render of it takes one thread unless asked for more, or empty: a plugin in it
+    /// runs its batches one at a time (ability::one_batch_at_a_time: python-scheme's Python),
+    /// so more threads would only wait for each other.
+    std::string one_thread;
 };
 
 /// The tree of a config file. `path` may name an image fixpoint wrote (PNG, EXR, TIFF, SVG):

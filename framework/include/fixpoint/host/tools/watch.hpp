@@ -15,8 +15,8 @@ struct WatchOptions {
     std::string config;            ///< the YAML file watched
     std::string out;               ///< -o: the image written (a draft, then the full render)
     std::vector<std::string> sets; ///< --set, applied to every version of the file
-    unsigned threads = 1;
-    bool no_draft = false; ///< --no-draft: the full image only
+    unsigned threads = 0;          ///< 0: the render job's default
+    bool no_draft = false;         ///< --no-draft: the full image only
     /// How often the file is read for a change, in milliseconds.
     int poll_ms = 100;
     /// Where the lines go: what was written (info), and a version of the file that fp refuses
