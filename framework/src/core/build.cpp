@@ -1,5 +1,7 @@
 // Schema validation and object construction.
 #include <fixpoint/host/core/build.hpp>
+#include <fixpoint/host/core/histogram_file.hpp>
+#include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/text.hpp>
 
 #include <algorithm>
@@ -634,6 +636,10 @@ std::string file_from_config(const std::string& value, const Mark& at) {
     const std::string& source = *at.source;
     // "<text>", "<default of ...>": no file; "--set a=b", "--vary ...": the command line.
     if (source.empty() || source[0] == '<' || source.rfind("--", 0) == 0) return value;
+    // The recipe of an image or a kept histogram: from the working folder, as recipes were
+    // always read (one made since records the file absolute), so that an old recipe reads the
+    // file it read before.
+    if (is_recipe_image(source) || is_histogram_file(source)) return value;
     const std::filesystem::path folder = std::filesystem::path(source).parent_path();
     if (folder.empty()) return value;
     const std::filesystem::path joined = (folder / file).lexically_normal();

@@ -59,8 +59,9 @@ bool is_builtin_file(const ParamSpec& s, const std::string& value);
 /// The file a file parameter's `value` names, written at `at`: a relative path written in a
 /// config file is taken from that file's folder (a config and the script or picture beside it
 /// move together, and render the same from any working folder); one given on the command line
-/// (--set, --vary), in a text that is no file (a Python string, a page's unsaved text) or
-/// absolute stands as it is, from the working folder. The result is from the working folder
+/// (--set, --vary), in a text that is no file (a Python string, a page's unsaved text), in the
+/// recipe of an image or a histogram file (as recipes were always read), or absolute stands as
+/// it is, from the working folder. The result is from the working folder
 /// where the file lies inside it, and the plugin gets it so (its messages name the file so); the recipe
 /// records it absolute (resolved): a recipe rendered again from its image, anywhere, reads the
 /// same file.
