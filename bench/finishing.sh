@@ -23,11 +23,16 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 . "$here/lib.sh" # wall
 finish=(--set renderer.supersample=2 --set "renderer.filter={type: gaussian, radius: 0.5}")
-# The finished setting of the time-to-quality rows: FINISH_SS (supersample, default 2) and
-# FINISH_DE (estimator_radius, default 3), with flam3's gaussian of radius 0.5.
-ss=${FINISH_SS:-2} de=${FINISH_DE:-3}
+# The finished setting of the time-to-quality rows: FINISH_SS (supersample, default 2),
+# FINISH_DE (estimator_radius, default 3) and FINISH_Q (estimator_quality, default 0: flam3's
+# kernels from the hits as they are), with flam3's gaussian of radius 0.5.
+ss=${FINISH_SS:-2} de=${FINISH_DE:-3} q=${FINISH_Q:-0}
 FINISH_LABEL="supersample $ss, gaussian 0.5, estimator_radius $de"
 estimate=(--set renderer.supersample="$ss" --set renderer.estimator_radius="$de")
+if [ "$q" != 0 ]; then
+    FINISH_LABEL+=", estimator_quality $q"
+    estimate+=(--set renderer.estimator_quality="$q")
+fi
 ssim_of() { /usr/bin/python3 "$quality" "$@" | sed 's/ssim=\([0-9.]*\).*/\1/'; }
 
 echo "$(date -u +%FT%TZ), $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"

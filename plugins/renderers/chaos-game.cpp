@@ -569,6 +569,7 @@ constexpr fp::ParamSpec params[] = {
     fp::estimator_radius_param,
     fp::estimator_minimum_param,
     fp::estimator_curve_param,
+    fp::estimator_quality_param,
     fp::param::string(
         "sets", "draw the sets of the maps with their centres (paper 01's left panels): over the fractal, "
                 "beside it (an image twice as wide: the sets left, the fractal right), or only the sets "

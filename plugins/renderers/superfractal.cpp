@@ -330,6 +330,7 @@ constexpr fp::ParamSpec params[] = {
     fp::estimator_radius_param,
     fp::estimator_minimum_param,
     fp::estimator_curve_param,
+    fp::estimator_quality_param,
     fp::param::string("picture", "colour stealing (Barnsley): each point takes the colour of this picture at "
                                  "the point of the colour IFS (the maps' colour_map) run with the same "
                                  "choices; hues (built in) or a PNG file relative to the config")

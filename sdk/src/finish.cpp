@@ -165,6 +165,13 @@ std::size_t DensityKernels::index(double c) const {
     return std::min(k, last);
 }
 
+double DensityKernels::count_scale(const FinishSpec& spec, const HistogramSummary& whole) {
+    if (!(spec.estimator_quality > 0) || whole.hits == 0) return 1.0;
+    const double N = spec.supersample;
+    const double pixels = double(whole.width) * double(whole.height) / (N * N);
+    return spec.estimator_quality * pixels / double(whole.hits);
+}
+
 int FinishSpec::halo() const {
     const int N = supersample;
     const int filter_reach = (int(spatial_taps(filter.get(), N).size()) - N) / 2;
@@ -190,6 +197,7 @@ FinishSpec FinishSpec::read(const ParamBag& p) {
     s.estimator_radius = p.real("estimator_radius");
     s.estimator_minimum = p.real("estimator_minimum");
     s.estimator_curve = p.real("estimator_curve");
+    s.estimator_quality = p.real("estimator_quality");
     (void)spatial_taps(s.filter.get(), s.supersample); // (its error now, not after the chains)
     (void)DensityKernels::make(s);
     return s;
@@ -201,6 +209,7 @@ namespace {
 struct Plan {
     std::vector<double> taps;
     DensityKernels de;
+    double count_scale = 1; // DensityKernels::count_scale
 };
 
 // finish() of the image rows [o0, o0 + on): on ctx's workers within the strip, or serially.
@@ -262,7 +271,7 @@ void finish_rows(const FinishSpec& spec, const Plan& plan, const Colourer& colou
                         for (std::size_t xx = x >= std::size_t(w) ? x - std::size_t(w) : 0;
                              xx <= std::min(Ws - 1, x + std::size_t(w)); ++xx)
                             c += double(part.hits_at(std::size_t(yy - p0) * Ws + xx));
-                    c *= de.window_scale;
+                    c *= de.window_scale * plan.count_scale;
                     const DensityKernels::Kernel& K = de.kernels[de.index(c)];
                     const int r = K.reach, side = 2 * r + 1;
                     if (y + r < b0 || y - r >= b1) continue;
@@ -341,7 +350,8 @@ void finish(const FinishSpec& spec, const Colourer& colourer, const Histogram& p
             RenderContext* ctx) {
     if (part.width != width * spec.supersample)
         throw InternalError("finish: the histogram is not the image's width times N");
-    const Plan plan{spatial_taps(spec.filter.get(), spec.supersample), DensityKernels::make(spec)};
+    const Plan plan{spatial_taps(spec.filter.get(), spec.supersample), DensityKernels::make(spec),
+                    DensityKernels::count_scale(spec, whole)};
     // In bands of image rows, one a worker, each finished from its own rows of the histogram
     // and their halo (as a strip: the same bytes), in buffers a fraction of the image's, so
     // that they stay in cache and their pages are few.

@@ -136,3 +136,19 @@ TEST(Flam3Export, WhatAGenomeCannotHoldIsRefused) {
 }
 
 } // namespace
+
+// What a genome cannot hold is said, not dropped: flam3 chooses its kernels from the hits as
+// they are, so estimator_quality is a warning (and the estimate itself is carried over).
+TEST(Flam3Export, EstimatorQualityIsAWarning) {
+    const std::string dir = scratch_dir("flam3_export_quality");
+    write_file(dir + "/own.yaml", own);
+    const auto e = run_cli({"export", dir + "/own.yaml", "-o", dir + "/own.flam3", "--set",
+                            "renderer.estimator_radius=3", "--set", "renderer.estimator_quality=4"});
+    ASSERT_EQ(e.rc, 0) << e.err;
+    EXPECT_NE(e.err.find("warning: " + dir +
+                         "/own.yaml: estimator_quality: flam3 chooses its kernels from the "
+                         "hits as they are"),
+              std::string::npos)
+        << e.err;
+    EXPECT_NE(read_file(dir + "/own.flam3").find("estimator_radius=\"3\""), std::string::npos);
+}

@@ -25,6 +25,7 @@ namespace {
 // What tone changes: the whole finishing stage, the colourer's tone and the background.
 const std::vector<std::string> retone = {"--set", "renderer.filter={type: mitchell, radius: 1.5}",
                                          "--set", "renderer.estimator_radius=3",
+                                         "--set", "renderer.estimator_quality=2",
                                          "--set", "renderer.colourer.gamma=3.1",
                                          "--set", "renderer.background=[0.1, 0.05, 0.2]"};
 

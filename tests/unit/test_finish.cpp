@@ -176,6 +176,36 @@ TEST(Finish, OneHitSpreadsByItsKernelsRadius) {
     EXPECT_NEAR(rgb[3 * (10 * 21 + 10)], 1 / norm, 1e-6);
 }
 
+// estimator_quality Q: a bin's counted hits are scaled by Q (image pixels) / (the histogram's
+// hits), so a histogram of k times the hits picks the same kernels. One bin of 1 hit and one of
+// 16 (alone in a 21 x 21 histogram, so both are at the maximum density a = 1) spread over the
+// same disc of radius 3 at Q = 1 / 441 (count_scale 1 / hits: counted 1), to the same bytes;
+// without Q the 16 hits take kernel 15, h = 4 / 16^0.4 = 1.32, reach 1: 5 bins lit.
+TEST(Finish, EstimatorQualityKeepsTheKernelsAsTheHitsGrow) {
+    const auto c = make<fp::Colourer>("{type: density, gamma: 1}");
+    std::vector<std::uint64_t> one(21 * 21, 0), sixteen(21 * 21, 0);
+    one[10 * 21 + 10] = 1, sixteen[10 * 21 + 10] = 16;
+    const fp::Histogram H1 = hits(21, 21, one), H16 = hits(21, 21, sixteen);
+    fp::FinishSpec q = spec(1, "", 3);
+    q.estimator_quality = 1.0 / 441.0;
+    EXPECT_DOUBLE_EQ(fp::DensityKernels::count_scale(q, fp::HistogramSummary::of(H16)), 1.0 / 16.0);
+    EXPECT_EQ(finish_whole(q, *c, H16), finish_whole(q, *c, H1));
+    EXPECT_EQ(finish_whole(q, *c, H1), finish_whole(spec(1, "", 3), *c, H1));
+    const std::vector<float> plain = finish_whole(spec(1, "", 3), *c, H16);
+    int lit = 0;
+    for (std::size_t i = 0; i < plain.size(); i += 3) lit += plain[i] > 0;
+    EXPECT_EQ(lit, 5) << "reach 1: the centre and its 4 neighbours (the corners, at 1.41, lie outside h)";
+    // By hand: Q 2 on 4 x 2 bins at supersample 2 (2 image pixels) with 8 hits: 2 * 2 / 8.
+    fp::FinishSpec q2 = spec(2, "", 1);
+    q2.estimator_quality = 2;
+    EXPECT_DOUBLE_EQ(
+        fp::DensityKernels::count_scale(q2, fp::HistogramSummary::of(hits(4, 2, {1, 1, 1, 1, 1, 1, 1, 1}))),
+        0.5);
+    EXPECT_EQ(fp::DensityKernels::count_scale(spec(2, "", 1),
+                                              fp::HistogramSummary::of(hits(4, 2, {1, 1, 1, 1, 1, 1, 1, 1}))),
+              1.0);
+}
+
 // Supersample 2 without a filter: each pixel is the mean of its 2 x 2 bins' densities, with
 // their hits read as an image pixel's (4 h): a pixel half of whose bins are hit has coverage 1/2.
 TEST(Finish, SupersampleAveragesEachPixelsBins) {

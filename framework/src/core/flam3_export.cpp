@@ -200,6 +200,9 @@ Flam3Export export_flam3(const Registry& reg, const std::string& config,
     if (est > 0) {
         flame->SetAttribute("estimator_minimum", text(*r, "estimator_minimum", "0").c_str());
         flame->SetAttribute("estimator_curve", text(*r, "estimator_curve", "0.4").c_str());
+        if (std::stod(text(*r, "estimator_quality", "0")) > 0)
+            warn.push_back("estimator_quality: flam3 chooses its kernels from the hits as they are (its "
+                           "picture is this one's where its quality is estimator_quality)");
     }
     if (const CNode* b = r->find("background")) flame->SetAttribute("background", joined(*b).c_str());
 

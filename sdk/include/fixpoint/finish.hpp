@@ -39,6 +39,11 @@ struct FinishSpec {
     /// flam3's estimator_radius, estimator_minimum and estimator_curve (in image pixels);
     /// radius 0: no estimation.
     double estimator_radius = 0, estimator_minimum = 0, estimator_curve = 0.4;
+    /// The hits per image pixel (on average over the image) at which the estimator's kernels are
+    /// chosen: a bin's counted hits are scaled by this over the histogram's own mean, so the
+    /// kernels, and with them the picture, do not change as the points grow, only its noise
+    /// falls. 0: the hits as they are (flam3's, whose kernels shrink as the points grow).
+    double estimator_quality = 0;
 
     bool estimates() const { return estimator_radius > 0; }
     bool active() const { return supersample > 1 || filter || estimates(); }
@@ -80,6 +85,15 @@ constexpr ParamSpec estimator_minimum_param =
         .min(0)
         .max(64)
         .as(ParamRole::finish);
+constexpr ParamSpec estimator_quality_param =
+    param::real("estimator_quality",
+                "the density estimation's kernels as they are at this many hits per image pixel (on "
+                "average over the image), whatever the points drawn: more points then give the same "
+                "picture with less noise; 0: from the hits as they are (flam3's, sharper as the points grow)")
+        .def("0")
+        .min(0)
+        .max(1e12)
+        .as(ParamRole::finish);
 constexpr ParamSpec estimator_curve_param =
     param::real("estimator_curve",
                 "how fast the kernel shrinks with the hits: radius / (hits + 1)^curve (flam3's)")
@@ -103,7 +117,8 @@ std::vector<double> spatial_taps(const Filter* filter, int supersample);
 /// kernel whose h is an integer drops its rim (flam3 keeps the energy only where h is not
 /// one). A bin's count c is its hits summed over the (2 floor(N / 2) + 1)^2 bins around it,
 /// times (N / (N + 1))^2 for an even N; it takes kernel ceil(c) - 1 up to 100, beyond that 100 +
-/// floor((c - 100)^curve), at most the last.
+/// floor((c - 100)^curve), at most the last. With estimator_quality Q, c is first multiplied by
+/// Q P / H, P the image's pixels and H the histogram's hits (count_scale).
 struct DensityKernels {
     struct Kernel {
         int reach = 0;            ///< ceil(h) - 1: the half-width of the square applied
@@ -121,6 +136,9 @@ struct DensityKernels {
     static DensityKernels make(const FinishSpec& spec);
     /// The kernel of a bin whose counted hits are c (> 0).
     std::size_t index(double c) const;
+    /// What a bin's counted hits are multiplied by before index(): 1, or with estimator_quality
+    /// Q, Q (image pixels) / (the histogram's hits): the counts of a histogram of Q hits a pixel.
+    static double count_scale(const FinishSpec& spec, const HistogramSummary& whole);
 };
 
 /// Finishes image rows [o0, o0 + on) (image `width` pixels wide) from `part`: rows [p0, p0 +
