@@ -271,8 +271,15 @@ TEST(Quality, BadRequestsGetOneLineAndNothingWritten) {
               "--quality: expected a sample level in (0, 40] (log2 of the points per lit pixel), got 0");
     EXPECT_EQ(refused(k, {"render", k.dir + "/s.yaml", "-o", k.dir + "/t.png", "--quality", "4",
                           "--checkpoint", k.dir + "/c.ck"}),
-              "--quality: not with --checkpoint, --resume or --histogram: it continues its rounds through a "
-              "checkpoint of its own");
+              "--quality: not with --checkpoint or --resume: it continues its rounds through a checkpoint of "
+              "its own");
+    // --histogram's checks come before the first round: an existing file, nothing written.
+    write_file(k.dir + "/h.fph", "kept");
+    Kept k3 = k;
+    k3.before = files_in(k.dir);
+    EXPECT_EQ(refused(k3, {"render", k.dir + "/s.yaml", "-o", k.dir + "/t.png", "--quality", "4",
+                           "--histogram", k.dir + "/h.fph"}),
+              "--histogram: '" + k.dir + "/h.fph' exists: add --force to replace it");
     EXPECT_EQ(refused(k, {"render", k.dir + "/s.yaml", "-o", k.dir + "/t.png", "--quality", "4", "--draft"}),
               "--quality renders one image to a sample level: not with --vary or --draft");
     const std::string line = refused(k, {"render", source_dir() + "/configs/orbit-trap/fig10a.yaml", "-o",
@@ -293,6 +300,29 @@ TEST(Quality, BadRequestsGetOneLineAndNothingWritten) {
     EXPECT_EQ(far, k.dir +
                        "/far.yaml:2:3: renderer: nothing was drawn (0 of 1000 points landed in the image); "
                        "check the view and the parameters");
+}
+
+// --quality with --histogram keeps the histogram of the point it stopped at: the file of the
+// plain render of those points, byte for byte, and toned it gives the quality render's image.
+TEST(Quality, KeepsTheHistogramOfItsStopPoint) {
+    const std::string dir = scratch_dir("quality_histogram");
+    write_file(dir + "/s.yaml", chaos_game({"width: 64", "height: 48", "points: 3000", "chains: 64",
+                                            "supersample: 2", "estimator_radius: 2"},
+                                           sierpinski));
+    const auto q = run_cli(
+        {"render", dir + "/s.yaml", "-o", dir + "/q.png", "--quality", "5", "--histogram", dir + "/q.fph"});
+    ASSERT_EQ(q.rc, 0) << q.err;
+    const std::string points = points_of(q.err.substr(q.err.rfind("q.png: ")));
+    ASSERT_FALSE(points.empty()) << q.err;
+    EXPECT_GT(std::stoll(points), 3000) << "one round: nothing continued";
+    const auto plain = run_cli({"render", "--quiet", dir + "/s.yaml", "--set", "renderer.points=" + points,
+                                "-o", dir + "/plain.png", "--histogram", dir + "/plain.fph"});
+    ASSERT_EQ(plain.rc, 0) << plain.err;
+    EXPECT_EQ(read_file(dir + "/q.fph"), read_file(dir + "/plain.fph"));
+    EXPECT_EQ(read_file(dir + "/q.png"), read_file(dir + "/plain.png"));
+    const auto t = run_cli({"tone", "--quiet", dir + "/q.fph", "-o", dir + "/t.png"});
+    ASSERT_EQ(t.rc, 0) << t.err;
+    EXPECT_EQ(read_file(dir + "/t.png"), read_file(dir + "/q.png"));
 }
 
 // The sample level by hand: a 2 x 2 image supersampled 2 x 2; pixel (0, 0) has hits in two of

@@ -1,5 +1,6 @@
 // --quality Q: host/job/quality.hpp says what the sample level is and why the stop point is the
 // recipe's alone.
+#include <fixpoint/host/core/histogram_file.hpp>
 #include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/host/core/ranks.hpp>
 #include <fixpoint/host/job/quality.hpp>
@@ -64,9 +65,9 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
                 "--quality: expected a sample level in (0, 40] (log2 of the points per lit pixel), got ") +
             got);
     }
-    if (!request.checkpoint.empty() || !request.resume.empty() || !request.histogram.empty())
-        throw InputError("--quality: not with --checkpoint, --resume or --histogram: it continues its rounds "
-                         "through a checkpoint of its own");
+    if (!request.checkpoint.empty() || !request.resume.empty())
+        throw InputError("--quality: not with --checkpoint or --resume: it continues its rounds through a "
+                         "checkpoint of its own");
     if (ranks::size() > 1)
         throw InputError(
             "--quality: its rounds continue through checkpoints, which are kept on one process: not "
@@ -102,6 +103,9 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
         round.encode.reset();
         round.keep_image = true;
         round.checkpoint_memory = ck; // (one at the end of the round)
+        // --histogram: each round keeps its histogram in memory; the last one's is written.
+        round.histogram.clear();
+        round.keep_histogram = !request.histogram.empty();
         RenderPlan plan = plan_render(p, round, hooks.cancel);
         const HistogramShape shape = p.renderer->histogram_shape();
         SampleLevel count(std::max(1, shape.height / std::max(1, p.renderer->height())));
@@ -131,6 +135,15 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
     // The last round's image, written as render writes it, with the recipe of the points it
     // stopped at.
     res.plan = plan_render(p, request, hooks.cancel);
+    if (!request.histogram.empty()) {
+        // (The last round's recipe is the final plan's: the same pipeline.)
+        if (!res.result.kept) throw InternalError("--quality: the last round kept no histogram");
+        const HistogramFile& h = *res.result.kept;
+        HistogramWriter file(request.histogram, res.plan.histogram);
+        file.rows(h.histogram, 0, 0, h.histogram.height);
+        file.commit(h.stats);
+        res.result.kept.reset();
+    }
     write_render(res.plan, image, hooks);
     res.result.wrote = true;
     res.result.seconds = seconds;
