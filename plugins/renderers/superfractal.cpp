@@ -184,6 +184,11 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
         picture_ = name == "hues" ? hues_picture() : png_picture(name);
     }
     rgb_ = colour_ && !steal_;
+    palette_ = colourer_->palette_index();
+    if (palette_ && steal_)
+        throw fp::ParamError("picture",
+                             "colour stealing takes the points' colours from the picture: not with "
+                             "a colourer's palette (leave out the picture, or the palette)");
 
     const auto& items = p.objects("maps");
     if (items.empty()) throw fp::ParamError("maps", "the list of maps is empty");
@@ -198,9 +203,19 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
         fp::Rgb c = fp_render::palette_colour(j);
         std::array<double, 6> cm{};
         bool has_cm = false;
+        // flam3's palette index of the map: its `color`, else the maps spread over the palette.
+        float index = items.size() > 1 ? float(double(j) / double(items.size() - 1)) : 0.0f, speed = 0.5f;
         if (items[j].extras) {
             ifs_of[j] = uint32_t(items[j].extras->integer("ifs"));
             if (items[j].extras->has("colour")) c = items[j].extras->colour("colour");
+            if (items[j].extras->has("color")) {
+                if (!palette_)
+                    throw fp::ParamError("maps", "maps[" + std::to_string(j) +
+                                                     "].color: a palette index (flam3's), but the colourer "
+                                                     "takes no palette (flame with palette: ...)");
+                index = float(items[j].extras->real("color"));
+            }
+            speed = float(items[j].extras->real("color_speed"));
             if (items[j].extras->has("colour_map")) {
                 const auto& v = items[j].extras->reals("colour_map");
                 std::copy(v.begin(), v.end(), cm.begin());
@@ -213,6 +228,8 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
         }
         colour_maps_.push_back(cm);
         has_colour_map.push_back(has_cm);
+        map_index_.push_back(index);
+        map_speed_.push_back(speed);
         k = std::max(k, ifs_of[j] + 1);
         maps_.push_back(std::move(m));
         colours_.push_back(c);
@@ -250,8 +267,8 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
 uint64_t Superfractal::memory_bytes(unsigned) const {
     const uint64_t N = uint64_t(finish_.supersample);
     const uint64_t px = uint64_t(frame_.width) * uint64_t(frame_.height) * N * N;
-    const uint64_t per_point =
-        2 * sizeof(double) + (rgb_ ? 3 * sizeof(float) : 0) + (steal_ ? 2 * sizeof(double) : 0);
+    const uint64_t per_point = 2 * sizeof(double) + (rgb_ ? 3 * sizeof(float) : 0) +
+                               (steal_ ? 2 * sizeof(double) : 0) + (palette_ ? sizeof(float) : 0);
     const uint64_t buffers = 2 * buffers_ * points_ * per_point; // two generations
     // (Hit counts alone, 8 bytes a bin, for a colourer that reads no more: as the child is plotted.)
     const uint64_t hist = px * (colourer_->reads_hits_only() ? sizeof(uint64_t) : sizeof(fp::HistBin));
@@ -275,6 +292,17 @@ constexpr fp::ParamSpec map_item_params[] = {
                       "colour of the points the map produces (default: a built-in palette by index; "
                       "not used with a picture)")
         .opt(),
+    fp::param::real("color", "flam3's color: the map's index into the colourer's palette (default: the maps "
+                             "spread evenly from 0 to 1)")
+        .min(0)
+        .max(1)
+        .opt(),
+    fp::param::real("color_speed",
+                    "flam3's color_speed: how far a point's palette index moves toward the map's color at "
+                    "each step")
+        .def("0.5")
+        .min(0)
+        .max(1),
     fp::param::reals("colour_map",
                      "colour stealing: the map of the colour IFS on the picture square "
                      "run with this map, affine coefficients [a, b, c, d, e, f] (u' = a u + b v "

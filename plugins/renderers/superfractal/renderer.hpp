@@ -31,6 +31,7 @@ struct Generation {
     fp_render::Buffer<double> x, y;
     fp_render::Buffer<float> r, g, b; ///< empty when the colourer needs no colour or colours are stolen
     fp_render::Buffer<double> u, v;   ///< the colour IFS's points; empty without colour stealing
+    fp_render::Buffer<float> ci;      ///< the palette index (Colourer::palette_index); else empty
 };
 
 class Superfractal final : public fp::Renderer {
@@ -59,6 +60,10 @@ private:
     bool colour_ = true; ///< the colourer reads the colour sums
     bool steal_ = false; ///< colour stealing: points carry (u, v) of the colour IFS, not a colour
     bool rgb_ = true;    ///< points carry a colour (colour_ and not steal_)
+    /// The colourer's palette_index(): the points carry a palette index too, blended toward each
+    /// map's `color` by its `color_speed` (flam3's rule, as in chaos-game).
+    bool palette_ = false;
+    std::vector<float> map_index_, map_speed_; ///< per map: its color and color_speed
     fp::Rgb initial_colour_;
     Picture picture_;
     std::vector<std::array<double, 6>> colour_maps_; ///< per map: [a, b, c, d, e, f] of its colour map

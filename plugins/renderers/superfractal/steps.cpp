@@ -23,6 +23,10 @@ void Superfractal::fill_start(Generation& g, size_t b, size_t begin, size_t end,
         g.x[base + i] = sxmin_ + (sxmax_ - sxmin_) * u;
         g.y[base + i] = symin_ + (symax_ - symin_) * w;
     }
+    // flam3's random start of the palette index, from the same stream after the points (which
+    // are then those of a render without a palette).
+    if (palette_)
+        for (size_t i = begin; i < end; ++i) g.ci[base + i] = fp::uniform_float(rng);
     if (steal_) {
         std::fill(g.u.begin() + std::ptrdiff_t(base + begin), g.u.begin() + std::ptrdiff_t(base + end), 0.5);
         std::fill(g.v.begin() + std::ptrdiff_t(base + begin), g.v.begin() + std::ptrdiff_t(base + end), 0.5);
@@ -92,7 +96,15 @@ uint64_t Superfractal::step_chunk(const Generation& cur, Generation& next, size_
                     g[i] = cur.g[s];
                     bl[i] = cur.b[s];
                 }
-                colourer_->update(map_index, fp::ColourState{r, g, bl, len}, colours_.data(), nullptr);
+                fp::ColourState cs{r, g, bl, len};
+                if (palette_) {
+                    float* __restrict ci = next.ci.data() + base + b0;
+                    for (size_t i = 0; i < len; ++i) ci[i] = cur.ci[s0 + m * i];
+                    cs.index = ci;
+                    cs.map_index = map_index_.data();
+                    cs.map_speed = map_speed_.data();
+                }
+                colourer_->update(map_index, cs, colours_.data(), nullptr);
             }
             for (size_t i = 0; i < len; ++i) bad += (std::isfinite(x[i]) && std::isfinite(y[i])) ? 0u : 1u;
         }
@@ -124,6 +136,7 @@ uint64_t Superfractal::repair(Generation& g, size_t b, uint64_t stream) const {
             g.g[base + to] = g.g[base + from];
             g.b[base + to] = g.b[base + from];
         }
+        if (palette_) g.ci[base + to] = g.ci[base + from];
     };
     for (size_t i = 0; i < first; ++i) copy(i, first);
     for (size_t i = first + 1; i < n; ++i)
@@ -150,6 +163,7 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
             g.u.resize(nb * n);
             g.v.resize(nb * n);
         }
+        if (palette_) g.ci.resize(nb * n);
     }
 
     // Over several ranks (MPI), rank r computes tasks r, r + N, ... of every generation, the
@@ -161,14 +175,14 @@ fp::Image Superfractal::render(fp::RenderContext& ctx, fp::RenderStats& stats) c
     const auto clear = [&](Generation& g) {
         if (ranks == 1) return;
         for (auto* a : {&g.x, &g.y, &g.u, &g.v}) std::fill(a->begin(), a->end(), 0.0);
-        for (auto* a : {&g.r, &g.g, &g.b}) std::fill(a->begin(), a->end(), 0.0f);
+        for (auto* a : {&g.r, &g.g, &g.b, &g.ci}) std::fill(a->begin(), a->end(), 0.0f);
     };
     const auto share = [&](Generation& g) {
         if (ranks == 1) return;
         for (auto* a : {&g.x, &g.y, &g.u, &g.v})
             ctx.combine(a->data(), a->size() * sizeof(double), sizeof(uint64_t), fp::fold::bit_or<uint64_t>,
                         true);
-        for (auto* a : {&g.r, &g.g, &g.b})
+        for (auto* a : {&g.r, &g.g, &g.b, &g.ci})
             ctx.combine(a->data(), a->size() * sizeof(float), sizeof(uint32_t), fp::fold::bit_or<uint32_t>,
                         true);
     };
