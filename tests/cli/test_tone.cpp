@@ -325,6 +325,33 @@ TEST(Quality, KeepsTheHistogramOfItsStopPoint) {
     EXPECT_EQ(read_file(dir + "/t.png"), read_file(dir + "/q.png"));
 }
 
+// A render beyond --memory streams in strips and keeps no histogram to continue: each round
+// renders afresh into temporary files, which take their names only in the round that reaches
+// the level. Its image and histogram are those of the plain render of the points it stopped
+// at; the rounds that fell short leave nothing, and an existing image (--force) is replaced
+// only by the last.
+TEST(Quality, InStripsEachRoundRendersAfresh) {
+    const std::string dir = scratch_dir("quality_strips");
+    write_file(dir + "/s.yaml", chaos_game({"width: 400", "height: 300", "points: 20000", "chains: 64",
+                                            "supersample: 2", "estimator_radius: 2"},
+                                           sierpinski));
+    write_file(dir + "/q.png", "an older image");
+    const auto q = run_cli({"render", dir + "/s.yaml", "-o", dir + "/q.png", "--force", "--quality", "4.5",
+                            "--memory", "6M", "--histogram", dir + "/q.fph"});
+    ASSERT_EQ(q.rc, 0) << q.err;
+    const std::string last = q.err.substr(q.err.rfind("q.png: "));
+    EXPECT_NE(last.find(" strips of "), std::string::npos) << last;
+    EXPECT_NE(q.err.find("going on to"), std::string::npos) << "one round: nothing dropped";
+    const std::string points = points_of(last);
+    ASSERT_FALSE(points.empty()) << q.err;
+    EXPECT_EQ(files_in(dir), (std::vector<std::string>{"q.fph", "q.png", "s.yaml"})) << "a round's file left";
+    const auto plain = run_cli({"render", "--quiet", dir + "/s.yaml", "--set", "renderer.points=" + points,
+                                "-o", dir + "/plain.png", "--histogram", dir + "/plain.fph"});
+    ASSERT_EQ(plain.rc, 0) << plain.err;
+    EXPECT_EQ(read_file(dir + "/q.png"), read_file(dir + "/plain.png"));
+    EXPECT_EQ(read_file(dir + "/q.fph"), read_file(dir + "/plain.fph"));
+}
+
 // The sample level by hand: a 2 x 2 image supersampled 2 x 2; pixel (0, 0) has hits in two of
 // its bins (3 + 1), pixel (1, 1) in one (4): 8 points over 2 lit pixels, log2(4) = 2.
 TEST(Quality, SampleLevelByHand) {

@@ -404,3 +404,26 @@ def test_chaos_game_palette(tmp_path):
     # the ranks' sums the same as one process's.
     same_on_every_rank_count(tmp_path, SOURCE / "configs/palettes/fern.yaml",
                              *sets(width=200, height=200, points=1000000))
+
+
+def test_quality_rounds_on_ranks(tmp_path):
+    # render --quality under mpirun (docs/histograms.md): each round is a job of all the ranks,
+    # rank 0 counts the level and tells the others; whole (the rounds' images kept in memory) and
+    # in strips (each round streamed into temporary files that take their names in the last
+    # round), the image and the kept histogram are one process's, and no round leaves a file.
+    config = SOURCE / "bench/sierpinski.yaml"
+    s = sets(width=400, height=300, points=20000, supersample=2)
+    r = plain("render", config, "-o", tmp_path / "one.png", "--quiet", "--quality", 5, "--histogram",
+              tmp_path / "one.fph", *s)
+    assert r.returncode == 0, r.stderr
+    for n, memory in ((2, []), (3, ["--memory", "20M"])):
+        out = tmp_path / f"np{n}"
+        out.mkdir()
+        r = mpirun(n, "render", config, "-o", out / "q.png", "--quality", 5, "--histogram", out / "q.fph",
+                   *memory, *s)
+        assert r.returncode == 0, f"{n} ranks: {r.stderr}"
+        assert ("strips of" in r.stderr) == bool(memory), r.stderr
+        assert r.stderr.count("after 6 rounds") == 1, r.stderr
+        assert sorted(p.name for p in out.iterdir()) == ["q.fph", "q.png"], f"{n} ranks: a round's file left"
+        assert content(out / "q.png") == content(tmp_path / "one.png"), f"{n} ranks"
+        assert content(out / "q.fph") == content(tmp_path / "one.fph"), f"{n} ranks"

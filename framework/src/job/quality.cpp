@@ -68,10 +68,6 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
     if (!request.checkpoint.empty() || !request.resume.empty())
         throw InputError("--quality: not with --checkpoint or --resume: it continues its rounds through a "
                          "checkpoint of its own");
-    if (ranks::size() > 1)
-        throw InputError(
-            "--quality: its rounds continue through checkpoints, which are kept on one process: not "
-            "under mpirun");
     Pipeline p = q.reload(0);
     const Renderer& R = *p.renderer;
     if (p.points <= 0 || !R.keeps_checkpoints() || R.histogram_shape().width == 0)
@@ -81,11 +77,14 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
     // Every check of the final render (its output above all) before the first round.
     const RenderPlan check = plan_render(p, request, hooks.cancel);
     if (check.vector) throw InputError("--quality: a raster image: not " + quote(check.output, 200));
-    if (check.memory.stream)
-        throw InputError(
-            "--quality: this render is beyond the memory budget and streams in strips; its rounds "
-            "continue through checkpoints, which are kept of a render that fits (see --memory)");
-    // The rounds continue one another through a checkpoint kept in memory.
+    // The rounds continue one another through a checkpoint kept in memory. A render that streams
+    // in strips keeps no whole histogram to continue: each of its rounds renders afresh (twice
+    // the points of the last: at most twice the work of the last round in all), streaming its
+    // image and kept histogram into temporary files that take their names only in the round
+    // that reaches the level.
+    // Under mpirun too (the checkpoint is kept on one process): each round a job of all the
+    // ranks, rank 0 counting the level and telling the others.
+    const bool ranked = ranks::size() > 1, streams = check.memory.stream, afresh = streams || ranked;
     const auto ck = std::make_shared<std::string>();
 
     QualityResult res;
@@ -95,17 +94,20 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
     for (std::int64_t points = p.points;; points *= 2) {
         ++res.rounds;
         if (res.rounds > 1) p = q.reload(points);
-        // Each round renders its image (kept, not written) and counts its level from the
-        // histogram's rows as they are handed over (no copy of the histogram).
+        // Each round renders its image (kept, not written; streamed, into a temporary file) and
+        // counts its level from the histogram's rows as they are handed over (no copy of the
+        // histogram).
         RenderRequest round = request;
-        round.output.clear();
-        round.default_file = false;
-        round.encode.reset();
-        round.keep_image = true;
-        round.checkpoint_memory = ck; // (one at the end of the round)
-        // --histogram: each round keeps its histogram in memory; the last one's is written.
-        round.histogram.clear();
-        round.keep_histogram = !request.histogram.empty();
+        if (!streams) {
+            round.output.clear();
+            round.default_file = false;
+            round.encode.reset();
+            round.keep_image = true;
+            if (!afresh) round.checkpoint_memory = ck; // (one at the end of the round)
+            // --histogram: each round keeps its histogram in memory; the last one's is written.
+            round.histogram.clear();
+            round.keep_histogram = !request.histogram.empty();
+        }
         RenderPlan plan = plan_render(p, round, hooks.cancel);
         const HistogramShape shape = p.renderer->histogram_shape();
         SampleLevel count(std::max(1, shape.height / std::max(1, p.renderer->height())));
@@ -114,12 +116,20 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
         h.histogram_rows = [&count](const Histogram& part, int part_row0, int row0, int rows) {
             count.rows(part, part_row0, row0, rows);
         };
+        h.keep_files = [&count, &q] { return count.level() >= q.target; };
         RenderResult r = run_render(plan, h);
         seconds += r.seconds;
         res.level = count.level();
+        if (ranked) { // (only rank 0 hears the histogram's rows)
+            if (ranks::rank() == 0)
+                for (unsigned k = 1; k < ranks::size(); ++k) ranks::send(k, &res.level, sizeof res.level);
+            else
+                ranks::recv(0, &res.level, sizeof res.level);
+        }
         if (res.level >= q.target) {
             image = std::move(r.image);
             res.result = std::move(r);
+            if (streams) res.plan = std::move(plan);
             break;
         }
         // (A round that drew nothing was refused by the render job: the level is finite here.)
@@ -134,7 +144,13 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
     }
     // The last round's image, written as render writes it, with the recipe of the points it
     // stopped at.
+    if (streams) { // (the last round's files took their names)
+        res.result.seconds = seconds;
+        return res;
+    }
     res.plan = plan_render(p, request, hooks.cancel);
+    res.result.seconds = seconds;
+    if (ranks::rank() != 0) return res; // (rank 0 holds the image and writes)
     if (!request.histogram.empty()) {
         // (The last round's recipe is the final plan's: the same pipeline.)
         if (!res.result.kept) throw InternalError("--quality: the last round kept no histogram");

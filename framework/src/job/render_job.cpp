@@ -479,7 +479,9 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
         if (std::string w = check_drawn(p, res.stats); !w.empty()) res.warnings.push_back(std::move(w));
     // The other ranks are done: rank 0's errors from here on are its own.
     if (rt.ranks() > 1) ranks::set_phase(ranks::Phase::free);
-    if (kept) kept->commit(res.stats);
+    // (A streamed --quality round that falls short: its temporary files are removed.)
+    const bool keep = !streamed || !hooks.keep_files || hooks.keep_files();
+    if (kept && keep) kept->commit(res.stats);
     if (r.shards) { // its histogram is what it makes
         res.wrote = kept != nullptr;
         return res;
@@ -491,8 +493,8 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
 
     if (streamed) {
         if (hooks.partial) hooks.partial("");
-        streamed->finish();
-        res.wrote = true;
+        if (keep) streamed->finish(); // (else its destructor removes the temporary file)
+        res.wrote = keep;
         return res;
     }
     if (r.encode) res.bytes = encode_image(img, plan.format, p.bit_depth, p.recipe, plan.resolution, p.tiled);

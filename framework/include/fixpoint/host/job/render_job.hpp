@@ -156,6 +156,9 @@ struct RenderHooks {
     /// The temporary file a streamed image is written to, when it is opened, and "" once it has
     /// its name (a signal handler removes it: under mpirun no destructor may run).
     std::function<void(const std::string& tmp)> partial;
+    /// Asked once a streamed render (strips) is done, before its image and kept histogram take
+    /// their names: false drops both (a --quality round that falls short). Null: kept.
+    std::function<bool()> keep_files;
 };
 
 /// What a render did and made.
