@@ -233,30 +233,60 @@ void finish_rows(const FinishSpec& spec, const Plan& plan, const Colourer& colou
 
     // The channels in planes (a, a r, a g, a b, coverage), each rows x Ws, so that the estimate's
     // scatter and the filter's sums run along contiguous rows (the compiler's vectors).
-    // Linear: rows [s0, s1).
-    const std::size_t plane_in = rows_in * Ws;
-    std::vector<float> lin(plane_in * C);
-    each(ctx, rows_in, [&](std::size_t r) {
-        std::vector<float> four(4 * Ws);
-        const std::size_t i_row = (std::size_t(s0 - p0) + r) * Ws;
-        colourer.linear(part, p0, whole, scale, i_row, i_row + Ws, four.data());
-        float* o[C];
-        for (int ch = 0; ch < C; ++ch) o[ch] = lin.data() + std::size_t(ch) * plane_in + r * Ws;
+    // Bin row y's channels into o[0..C) (Ws floats each), through `four` (4 Ws floats).
+    const auto linear_row = [&](int y, float* const* o, float* four) {
+        const std::size_t i_row = std::size_t(y - p0) * Ws;
+        colourer.linear(part, p0, whole, scale, i_row, i_row + Ws, four);
         for (std::size_t x = 0; x < Ws; ++x) {
             const bool hit = part.hits_at(i_row + x) != 0;
             const float a = hit ? four[4 * x] : 0.0f;
             o[0][x] = a, o[1][x] = a * four[4 * x + 1], o[2][x] = a * four[4 * x + 2];
             o[3][x] = a * four[4 * x + 3], o[4][x] = hit ? 1.0f : 0.0f;
         }
-    });
+    };
+    // The filter along one row: its channels at in + ch * in_plane (Ws bins) into out + ch *
+    // out_plane (the image's width).
+    const Axis ax = make_axis(taps, N, 0, width, int(Ws));
+    const std::size_t W = std::size_t(width), plane_row = rows_q * W;
+    const auto row_pass = [&](const float* in, std::size_t in_plane, float* out, std::size_t out_plane) {
+        for (int ch = 0; ch < C; ++ch) {
+            const float* i = in + std::size_t(ch) * in_plane;
+            float* o = out + std::size_t(ch) * out_plane;
+            for (std::size_t x = 0; x < W; ++x) {
+                const float* w = ax.w.data() + x * ax.taps;
+                const float* b = i + std::size_t(ax.first[x]);
+                float acc = 0;
+                for (int t = 0; t < ax.count[x]; ++t) acc += w[t] * b[t];
+                o[x] = acc;
+            }
+        }
+    };
+    std::vector<float> rowpass(plane_row * C);
+    if (!spec.estimates()) {
+        // Without the estimate each bin row is filtered as soon as it is made, from a buffer of
+        // one row that stays in cache: the same sums in the same order as through whole planes,
+        // without writing and reading them (rows [q0, q1) = [s0, s1) here).
+        each(ctx, rows_q, [&](std::size_t r) {
+            std::vector<float> four(4 * Ws), row(std::size_t(C) * Ws);
+            float* o[C];
+            for (int ch = 0; ch < C; ++ch) o[ch] = row.data() + std::size_t(ch) * Ws;
+            linear_row(q0 + int(r), o, four.data());
+            row_pass(row.data(), Ws, rowpass.data() + r * W, plane_row);
+        });
+    } else {
+        // Linear: rows [s0, s1).
+        const std::size_t plane_in = rows_in * Ws;
+        std::vector<float> lin(plane_in * C);
+        each(ctx, rows_in, [&](std::size_t r) {
+            std::vector<float> four(4 * Ws);
+            float* o[C];
+            for (int ch = 0; ch < C; ++ch) o[ch] = lin.data() + std::size_t(ch) * plane_in + r * Ws;
+            linear_row(s0 + int(r), o, four.data());
+        });
 
-    // Estimate: the rows [q0, q1), from the sources [s0, s1), in bands of rows.
-    std::vector<float> est;
-    const float* src = lin.data() + std::size_t(q0 - s0) * Ws; // row q0 of plane 0
-    std::size_t plane_src = plane_in;
-    if (spec.estimates()) {
+        // Estimate: the rows [q0, q1), from the sources [s0, s1), in bands of rows.
         const std::size_t plane_q = rows_q * Ws;
-        est.assign(plane_q * C, 0.0f);
+        std::vector<float> est(plane_q * C, 0.0f);
         const std::size_t band = 32, bands = (rows_q + band - 1) / band;
         each(ctx, bands, [&](std::size_t b) {
             const int b0 = q0 + int(b * band), b1 = std::min(q1, b0 + int(band));
@@ -293,29 +323,13 @@ void finish_rows(const FinishSpec& spec, const Plan& plan, const Colourer& colou
                 }
             }
         });
-        src = est.data();
-        plane_src = plane_q;
         lin.clear();
         lin.shrink_to_fit();
+        // The filter along the rows: rows [q0, q1) at the image's width.
+        each(ctx, rows_q, [&](std::size_t r) {
+            row_pass(est.data() + r * Ws, plane_q, rowpass.data() + r * W, plane_row);
+        });
     }
-
-    // The filter along the rows: rows [q0, q1) at the image's width.
-    const Axis ax = make_axis(taps, N, 0, width, int(Ws));
-    const std::size_t W = std::size_t(width), plane_row = rows_q * W;
-    std::vector<float> rowpass(plane_row * C);
-    each(ctx, rows_q, [&](std::size_t r) {
-        for (int ch = 0; ch < C; ++ch) {
-            const float* in = src + std::size_t(ch) * plane_src + r * Ws;
-            float* out = rowpass.data() + std::size_t(ch) * plane_row + r * W;
-            for (std::size_t o = 0; o < W; ++o) {
-                const float* w = ax.w.data() + o * ax.taps;
-                const float* b = in + std::size_t(ax.first[o]);
-                float acc = 0;
-                for (int t = 0; t < ax.count[o]; ++t) acc += w[t] * b[t];
-                out[o] = acc;
-            }
-        }
-    });
     // Down the columns, then the pixels.
     const Axis ay = make_axis(taps, N, o0, on, Hs);
     each(ctx, std::size_t(on), [&](std::size_t o) {
