@@ -181,15 +181,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         float index = k > 1 ? float(double(j) / double(k - 1)) : 0.0f, speed = 0.5f;
         if (items[j].extras) {
             w[j] = items[j].extras->real("weight");
-            if (items[j].extras->has("colour")) c = items[j].extras->colour("colour");
-            if (items[j].extras->has("color")) {
-                if (!palette_)
-                    throw fp::ParamError("maps", "maps[" + std::to_string(j) +
-                                                     "].color: a palette index (flam3's), but the colourer "
-                                                     "takes no palette (flame with palette: ...)");
-                index = float(items[j].extras->real("color"));
-            }
-            speed = float(items[j].extras->real("color_speed"));
+            fp_render::read_item_colour(*items[j].extras, "maps", j, palette_, c, index, speed);
             // flam3's visibility: opacity^(log2 10) (flam3.c's adjust_percentage), the weight of
             // each of its points, drawn as the chance of plotting one (the sums stay integers).
             if (items[j].extras->has("chaos")) {
@@ -233,22 +225,17 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
             throw fp::ParamError("final", "final[" + std::to_string(j) + "]: " + why);
         fp::Rgb c = fp_render::palette_colour(k + j);
         float index = 0.0f, speed = 0.5f;
+        double opacity = 1;
         if (fin[j].extras) {
-            if (fin[j].extras->has("colour")) c = fin[j].extras->colour("colour");
-            if (fin[j].extras->has("color")) {
-                if (!palette_)
-                    throw fp::ParamError("final", "final[" + std::to_string(j) +
-                                                      "].color: a palette index (flam3's), but the colourer "
-                                                      "takes no palette (flame with palette: ...)");
-                index = float(fin[j].extras->real("color"));
-            }
-            speed = float(fin[j].extras->real("color_speed"));
+            fp_render::read_item_colour(*fin[j].extras, "final", j, palette_, c, index, speed);
+            opacity = fin[j].extras->real("opacity");
         }
         random_final_ = random_final_ || m->uses_random();
         final_.push_back(std::move(m));
         final_colours_.push_back(c);
         final_index_.push_back(index);
         final_speed_.push_back(speed);
+        final_opacity_.push_back(opacity);
     }
     const double rot = p.real("rotate");
     rotate_ = rot != 0;
@@ -486,6 +473,11 @@ constexpr fp::ParamSpec final_item_params[] = {
         .opt(),
     fp::param::real("color_speed", "flam3's color_speed of the final xform (the plotted colour only)")
         .def("0.5")
+        .min(0)
+        .max(1),
+    fp::param::real("opacity", "flam3's opacity of the final xform: the chance that a plotted point goes "
+                               "through it (else it is plotted as the maps left it)")
+        .def("1")
         .min(0)
         .max(1),
 };

@@ -1,9 +1,13 @@
-// The colours point-plotting renderers give maps that have no `colour` of their own.
+// The colours point-plotting renderers give maps that have no `colour` of their own, and the
+// reading of a map item's colour parameters.
 #pragma once
 
+#include <fixpoint/errors.hpp>
+#include <fixpoint/params.hpp>
 #include <fixpoint/types.hpp>
 
 #include <cstddef>
+#include <string>
 
 namespace fp_render {
 
@@ -18,6 +22,22 @@ constexpr fp::Rgb palette[] = {
 
 constexpr fp::Rgb palette_colour(std::size_t map) {
     return palette[map % (sizeof(palette) / sizeof(palette[0]))];
+}
+
+/// Item j of the list `list` (maps, final): its `colour` into c, flam3's palette index `color`
+/// into index (refused, with one line, when the colourer takes no palette) and `color_speed`
+/// into speed; each left as given where the item has none.
+inline void read_item_colour(const fp::ParamBag& extras, const std::string& list, std::size_t j, bool palette,
+                             fp::Rgb& c, float& index, float& speed) {
+    if (extras.has("colour")) c = extras.colour("colour");
+    if (extras.has("color")) {
+        if (!palette)
+            throw fp::ParamError(list, list + "[" + std::to_string(j) +
+                                           "].color: a palette index (flam3's), but the colourer takes no "
+                                           "palette (flame with palette: ...)");
+        index = float(extras.real("color"));
+    }
+    if (extras.has("color_speed")) speed = float(extras.real("color_speed"));
 }
 
 } // namespace fp_render

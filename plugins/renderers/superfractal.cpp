@@ -207,15 +207,7 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
         float index = items.size() > 1 ? float(double(j) / double(items.size() - 1)) : 0.0f, speed = 0.5f;
         if (items[j].extras) {
             ifs_of[j] = uint32_t(items[j].extras->integer("ifs"));
-            if (items[j].extras->has("colour")) c = items[j].extras->colour("colour");
-            if (items[j].extras->has("color")) {
-                if (!palette_)
-                    throw fp::ParamError("maps", "maps[" + std::to_string(j) +
-                                                     "].color: a palette index (flam3's), but the colourer "
-                                                     "takes no palette (flame with palette: ...)");
-                index = float(items[j].extras->real("color"));
-            }
-            speed = float(items[j].extras->real("color_speed"));
+            fp_render::read_item_colour(*items[j].extras, "maps", j, palette_, c, index, speed);
             if (items[j].extras->has("colour_map")) {
                 const auto& v = items[j].extras->reals("colour_map");
                 std::copy(v.begin(), v.end(), cm.begin());

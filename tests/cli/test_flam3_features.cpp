@@ -175,4 +175,50 @@ TEST(Flam3Features, ABadPointGoesOnAsInFlam3) {
     EXPECT_NE(bad.err.find("restart_skip: at most skip (20)"), std::string::npos) << bad.err;
 }
 
+// A final xform of opacity 1/2 (flam3_iterate: applied to a plotted point when a random number is
+// below it): half the points of Sierpinski's triangle are plotted as they are, half moved down
+// by 1.2. Imported with its opacity and no warning; the picture is flam3-render's, and further
+// from it without the opacity (every point moved).
+TEST(Flam3Features, AFinalsOpacityIsFlam3s) {
+    if (!have("flam3-render")) GTEST_SKIP() << "flam3-render (Debian's flam3-utils) is not installed";
+    const std::string dir = scratch_dir("flam3_features_final_opacity");
+    const std::string g = R"(<flame name="final-opacity" size="100 100" center="0 0" scale="30" quality="1"
+       palette="3" gamma="3" brightness="3">
+   <xform weight="0.5" color="0" coefs="0.5 0 0 0.5 -0.5 0" linear="1"/>
+   <xform weight="0.5" color="1" coefs="0.5 0 0 0.5 0.5 0" linear="1"/>
+   <xform weight="0.5" color="0.5" coefs="0.5 0 0 0.5 0 0.8" linear="1"/>
+   <finalxform color="0.2" color_speed="0" coefs="1 0 0 1 0 -1.2" linear="1" opacity="0.5"/>
+</flame>
+)";
+    write_file(dir + "/g.flam3", g);
+    const auto a = run_cli({"import", dir + "/g.flam3"});
+    ASSERT_EQ(a.rc, 0) << a.err;
+    EXPECT_EQ(count(a.out, "opacity: 0.5"), 1u) << a.out;
+    EXPECT_EQ(a.err.find("not carried over"), std::string::npos) << a.err;
+    auto flam3 = [&](const std::string& isaac) {
+        const std::string out = dir + "/flam3-" + isaac + ".png";
+        const std::string cmd = "cd " + dir + " && env ss=2 qs=100 nthreads=1 isaac_seed=" + isaac +
+                                " out=" + out + " flam3-render < g.flam3 >/dev/null 2>&1";
+        EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+        return fp::host::read_image(out);
+    };
+    const fp::Image f = flam3("one"), f2 = flam3("two");
+    auto ours = [&](const std::string& name, const std::string& genome) {
+        write_file(dir + "/" + name + ".flam3", genome);
+        const auto r = run_cli({"render", "--quiet", dir + "/" + name + ".flam3", "-o",
+                                dir + "/" + name + ".png", "--set", "renderer.width=200", "--set",
+                                "renderer.height=200", "--set", "renderer.points=4000000"});
+        EXPECT_EQ(r.rc, 0) << r.err;
+        return fp::host::read_image(dir + "/" + name + ".png");
+    };
+    const fp::Image o = ours("ours", g);
+    ASSERT_EQ(o.width, f.width);
+    const double same = ssim(grey(f), grey(o), o.width, o.height),
+                 own = ssim(grey(f), grey(f2), o.width, o.height);
+    EXPECT_GT(same, std::min(0.9, own) - 0.02) << "flam3's own " << own;
+    std::string all = g;
+    all.erase(all.find(" opacity=\"0.5\""), 14);
+    EXPECT_LT(ssim(grey(f), grey(ours("all", all)), o.width, o.height), same - 0.1);
+}
+
 } // namespace

@@ -160,11 +160,7 @@ std::string xform(const Reader& r, const tinyxml2::XMLElement* e, bool final, st
             // (flam3's plotmode "off" is opacity 0.)
             const double o =
                 n == "plotmode" ? (std::string(a->Value()) == "off" ? 0.0 : 1.0) : r.number(a, 0, 1);
-            if (o < 1 && final)
-                warn.push_back(what + ": " + n +
-                               " is not carried over (the final xform applies to every point)");
-            else if (o < 1)
-                opacity = std::min(opacity, o);
+            opacity = std::min(opacity, o); // (a final's: the chance it applies, as in flam3)
         } else if (n == "chaos") {
             const auto c = r.numbers(a, 0, 1u << 16);
             for (double x : c)

@@ -281,6 +281,8 @@ struct Scratch {
     Buf<float> fr, fg, fb, fi;
     Buf<uint32_t> fchosen;
     Buf<uint64_t> fk;
+    Buf<T> ox, oy; // a final map's input, kept for the points it skips (its opacity below 1)
+    Buf<float> orr, og, ob, oi;
     // start points
     Buf<T> sx, sy;
     Buf<uint32_t> pend;
@@ -299,7 +301,7 @@ struct Scratch {
         if (random) gk.alloc(staging(k));
         if (finals) {
             fx.alloc(B), fy.alloc(B), fr.alloc(B), fg.alloc(B), fb.alloc(B), fi.alloc(B), fchosen.alloc(B);
-            fk.alloc(B);
+            fk.alloc(B), ox.alloc(B), oy.alloc(B), orr.alloc(B), og.alloc(B), ob.alloc(B), oi.alloc(B);
         }
         sx.alloc(B), sy.alloc(B), pend.alloc(B), hit.alloc(B), any.alloc(B);
     }

@@ -173,17 +173,42 @@ void ChaosGame::finals(Scratch<T>& s, size_t nb, uint64_t n, bool colour) const 
     }
     unsigned char* moved = s.moved.get();
     for (size_t j = 0; j < final_.size(); ++j) {
-        final_[j]->apply(fp::Points<T>{fx, fy, nb, keys, 0x80000000u + uint32_t(j)}, nullptr);
-        if (!colour) continue;
-        std::fill(s.fchosen.get(), s.fchosen.get() + nb, uint32_t(j));
-        std::fill(moved, moved + nb, static_cast<unsigned char>(1));
-        fp::ColourState cs{s.fr.get(), s.fg.get(), s.fb.get(), nb};
-        if (palette_) {
-            cs.index = s.fi.get();
-            cs.map_index = final_index_.data();
-            cs.map_speed = final_speed_.data();
+        // flam3's final opacity: the points it skips keep their input (a copy, put back after).
+        const double opacity = final_opacity_[j];
+        if (opacity < 1) {
+            std::copy(fx, fx + nb, s.ox.get());
+            std::copy(fy, fy + nb, s.oy.get());
+            if (colour)
+                for (auto [from, to] : {std::pair{s.fr.get(), s.orr.get()}, std::pair{s.fg.get(), s.og.get()},
+                                        std::pair{s.fb.get(), s.ob.get()}, std::pair{s.fi.get(), s.oi.get()}})
+                    std::copy(from, from + nb, to);
         }
-        colourer_->update(s.fchosen.get(), cs, final_colours_.data(), moved);
+        final_[j]->apply(fp::Points<T>{fx, fy, nb, keys, 0x80000000u + uint32_t(j)}, nullptr);
+        if (colour) {
+            std::fill(s.fchosen.get(), s.fchosen.get() + nb, uint32_t(j));
+            std::fill(moved, moved + nb, static_cast<unsigned char>(1));
+            fp::ColourState cs{s.fr.get(), s.fg.get(), s.fb.get(), nb};
+            if (palette_) {
+                cs.index = s.fi.get();
+                cs.map_index = final_index_.data();
+                cs.map_speed = final_speed_.data();
+            }
+            colourer_->update(s.fchosen.get(), cs, final_colours_.data(), moved);
+        }
+        if (opacity < 1) {
+            // (A salt of its own, from 0xE0000000: the maps' randoms take 0 and up, the final
+            // maps' 2^31 + j, the maps' opacity 0xC0000000.)
+            const uint32_t* chain = s.c.chain.get();
+            for (size_t i = 0; i < nb; ++i) {
+                if (fp::map_uniform(fp::map_key(seed_, chain[i], n), 0xE0000000u + uint32_t(j), 0) < opacity)
+                    continue;
+                fx[i] = s.ox.get()[i], fy[i] = s.oy.get()[i];
+                if (colour) {
+                    s.fr.get()[i] = s.orr.get()[i], s.fg.get()[i] = s.og.get()[i];
+                    s.fb.get()[i] = s.ob.get()[i], s.fi.get()[i] = s.oi.get()[i];
+                }
+            }
+        }
     }
     // A chain whose own point is not finite restarts, whatever its final maps made of it (blur
     // ignores its input).

@@ -218,6 +218,9 @@ private:
     std::vector<std::shared_ptr<const fp::Transform>> final_;
     std::vector<fp::Rgb> final_colours_;
     std::vector<float> final_index_, final_speed_;
+    /// flam3's opacity of a final map: the chance that a plotted point goes through it (drawn
+    /// from the chain's key); 1: every point, no draw.
+    std::vector<double> final_opacity_;
     bool random_final_ = false, has_finals_ = false, rotate_ = false, y_down_ = false;
     /// Some map's `opacity` is below 1: visible_[j] the chance that a point of map j is plotted
     /// (k + 1 entries, the last for the chains that did not move).
