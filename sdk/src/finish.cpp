@@ -48,10 +48,14 @@ void each(RenderContext* ctx, std::size_t n, F f) {
 
 // One axis of the filter: output o reads bins [first[o], first[o] + count[o]) with weights
 // w[o * taps + t] (t counted from first[o]); at an edge the taps inside are renormalised.
+// Outputs [inner0, inner1) are inside: all their taps in the bins, unrenormalised (`common`),
+// and output o's first bin is o * N - off.
 struct Axis {
     std::size_t taps = 0;
     std::vector<int> first, count;
     std::vector<float> w;
+    int inner0 = 0, inner1 = 0;
+    std::vector<float> common;
 };
 
 Axis make_axis(const std::vector<double>& taps, int N, int o0, int on, int bins) {
@@ -73,6 +77,14 @@ Axis make_axis(const std::vector<double>& taps, int N, int o0, int on, int bins)
             a.w[std::size_t(o) * a.taps + std::size_t(t - t0)] =
                 float(edge && sum > 0 ? taps[std::size_t(t)] / sum : taps[std::size_t(t)]);
     }
+    // (The inside is one run: an output is at an edge only near the ends.)
+    a.inner0 = on, a.inner1 = on;
+    for (int o = 0; o < on; ++o)
+        if (a.count[std::size_t(o)] == fw) {
+            if (a.inner0 == on) a.inner0 = o;
+            a.inner1 = o + 1;
+        }
+    for (int t = 0; t < fw; ++t) a.common.push_back(float(taps[std::size_t(t)]));
     return a;
 }
 
@@ -248,16 +260,30 @@ void finish_rows(const FinishSpec& spec, const Plan& plan, const Colourer& colou
     // out_plane (the image's width).
     const Axis ax = make_axis(taps, N, 0, width, int(Ws));
     const std::size_t W = std::size_t(width), plane_row = rows_q * W;
+    // Inside, the taps are the same for every output: tap by tap over the row, which the
+    // compiler vectorises (each output's sum still in tap order: the same floats).
     const auto row_pass = [&](const float* in, std::size_t in_plane, float* out, std::size_t out_plane) {
+        const std::size_t x0 = std::size_t(ax.inner0), x1 = std::size_t(ax.inner1), n = x1 - x0;
+        const std::size_t step = std::size_t(N);
         for (int ch = 0; ch < C; ++ch) {
             const float* i = in + std::size_t(ch) * in_plane;
             float* o = out + std::size_t(ch) * out_plane;
             for (std::size_t x = 0; x < W; ++x) {
+                if (x == x0 && n > 0) x = x1; // (the inside below)
+                if (x >= W) break;
                 const float* w = ax.w.data() + x * ax.taps;
                 const float* b = i + std::size_t(ax.first[x]);
                 float acc = 0;
                 for (int t = 0; t < ax.count[x]; ++t) acc += w[t] * b[t];
                 o[x] = acc;
+            }
+            if (n == 0) continue;
+            float* __restrict oi = o + x0;
+            std::fill(oi, oi + n, 0.0f);
+            for (std::size_t t = 0; t < ax.taps; ++t) {
+                const float wt = ax.common[t];
+                const float* __restrict b = i + std::size_t(ax.first[x0]) + t;
+                for (std::size_t k = 0; k < n; ++k) oi[k] += wt * b[k * step];
             }
         }
     };
