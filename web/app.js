@@ -4,7 +4,7 @@
 // edit the server applies to that text (POST /api/edit), whose answer replaces the editor's
 // text; the preview and the parameter panel then follow from the new text.
 'use strict';
-/* global buildPanel */ // panel.js, loaded before this file
+/* global buildPanel, EditHistory */ // panel.js and history.js, loaded before this file
 /* exported setParam */ // (called by panel.js)
 
 const $ = (id) => document.getElementById(id);
@@ -73,11 +73,13 @@ const S = {
   frameH: 0,
   renderer: '',
   regionParam: '',  // 'renderer.view' or 'renderer.area' ('' when none can be moved)
-  configW: 0,       // the config's width, for orbit-trap's pixel-centred area
   entries: [],
   signature: '',
   spans: new Map(), // path -> [lo, hi, step] of its slider, kept while the value stays inside
+  lastText: '',     // the editor's text after the last change (what a burst of typing started from)
+  home: null,       // the view and fit_view the config was opened with ({region, fit}), for reset
 };
+const edits = new EditHistory();
 
 function setStatus(text, kind = '') {
   const s = $('status');
@@ -149,8 +151,10 @@ function offsetOf(text, [line, col]) {
   return off + Math.min(col, lines[l].length);
 }
 
-function setText(text) {
+// The text of an edit (recorded for undo) or of undo and redo themselves (record false).
+function setText(text, record = true) {
   if (text === editor.value) return;
+  if (record) edits.record(editor.value);
   const start = lineCol(editor.value, editor.selectionStart);
   const end = lineCol(editor.value, editor.selectionEnd);
   const top = editor.scrollTop;
@@ -159,11 +163,44 @@ function setText(text) {
   editor.setSelectionRange(offsetOf(text, start), offsetOf(text, end));
   editor.scrollTop = top;
   editor.scrollLeft = left;
+  S.lastText = text;
   renderGutter();
+  showUndo();
 }
 
-let typing = 0;
+// A new document (the page's start, a dropped recipe): nothing to undo, its own home view.
+function openText(text) {
+  editor.value = text;
+  S.lastText = text;
+  S.home = null;
+  edits.clear();
+  renderGutter();
+  showUndo();
+}
+
+function showUndo() {
+  $('undo').disabled = !edits.canUndo();
+  $('redo').disabled = !edits.canRedo();
+}
+
+function undoRedo(back) {
+  const t = back ? edits.undo(editor.value) : edits.redo(editor.value);
+  if (t === null) return;
+  clearTimeout(burst);
+  burst = 0;
+  setText(t, false);
+  showUndo();
+  refresh();
+}
+
+let typing = 0, burst = 0;
 editor.addEventListener('input', () => {
+  // The keystrokes of one pause are one change to undo.
+  if (!burst) edits.record(S.lastText);
+  S.lastText = editor.value;
+  clearTimeout(burst);
+  burst = setTimeout(() => { burst = 0; }, 700);
+  showUndo();
   renderGutter();
   clearTimeout(typing);
   typing = setTimeout(refresh, 250);
@@ -177,9 +214,15 @@ editor.addEventListener('keydown', (e) => {
   }
 });
 document.addEventListener('keydown', (e) => {
-  if ((e.ctrlKey || e.metaKey) && e.key === 's') {
+  if (!(e.ctrlKey || e.metaKey) || e.altKey) return;
+  const k = e.key.toLowerCase();
+  if (k === 's') {
     e.preventDefault();
     save();
+  } else if (k === 'z' || k === 'y') {
+    // The page's own history, in the editor too: the textarea's would not know the page's edits.
+    e.preventDefault();
+    undoRedo(k === 'z' && !e.shiftKey);
   }
 });
 
@@ -199,7 +242,10 @@ async function refresh() {
   previews = preview.catch(() => null);
   const [pv, pr] = await Promise.all([preview, post('/api/params', body)]);
   if (seq !== S.seq || !pv) return;
-  if (pr.ok) buildPanel(pr.params);
+  if (pr.ok) {
+    buildPanel(pr.params);
+    showViewButtons();
+  }
   if (!pv.ok) {
     showError(pv);
     dropPending();
@@ -397,8 +443,34 @@ imgbox.addEventListener('wheel', (e) => {
   zoomTimer = setTimeout(sendRegion, 250); // one edit for a burst of wheel steps
 }, { passive: false });
 
-function real(x) {
-  return String(Number(x.toPrecision(10)));
+// A view's number to a tenth of the image's pixel `px` (plane units): no more digits than the
+// picture can show.
+function real(x, px) {
+  const d = px > 0 ? Math.max(0, Math.min(15, Math.ceil(-Math.log10(px)) + 1)) : 10;
+  return String(Number(x.toFixed(d)));
+}
+
+// Reset: the view (and fit_view) the config was opened with; fit: chaos-game's fit_view.
+// (A view the text does not write, fitted by the renderer, is not written back: fit_view is.)
+function entryValue(path, written = false) {
+  const e = (S.entries || []).find((p) => p.path === path);
+  return e && (e.written || !written) ? e.value.trim() : undefined;
+}
+
+function showViewButtons() {
+  if (S.home === null && S.regionParam)
+    S.home = { region: entryValue(S.regionParam, true), fit: entryValue('renderer.fit_view') };
+  const fit = entryValue('renderer.fit_view');
+  $('fit-view').disabled = fit === undefined || fit === 'true';
+  $('reset-view').disabled = !S.home || (S.home.region === undefined && S.home.fit === undefined);
+}
+
+async function resetView() {
+  const h = S.home;
+  if (!h) return;
+  if (h.fit !== undefined && entryValue('renderer.fit_view') !== h.fit &&
+      !(await edit('set', 'renderer.fit_view', h.fit))) return;
+  if (h.region !== undefined && entryValue(S.regionParam) !== h.region) await edit('set', S.regionParam, h.region);
 }
 
 async function sendRegion() {
@@ -412,7 +484,14 @@ async function sendRegion() {
     if (S.pending === r) dropPending();
     return;
   }
-  const ok = await edit('set', S.regionParam, `[${real(r.xmin)}, ${real(r.xmax)}, ${real(r.ymin)}, ${real(r.ymax)}]`);
+  // (The region pending becomes the one written, so that its image is known for it.)
+  // (The config's width, not a draft stage's.)
+  const width = (S.entries || []).find((p) => p.path === 'renderer.width');
+  const px = Math.abs(r.xmax - r.xmin) / Math.max(1, (width && Number(width.value)) || S.frameW);
+  const v = [r.xmin, r.xmax, r.ymin, r.ymax].map((x) => real(x, px));
+  [r.xmin, r.xmax, r.ymin, r.ymax] = v.map(Number);
+  placeImage();
+  const ok = await edit('set', S.regionParam, `[${v.join(', ')}]`);
   if (!ok && S.pending === r) dropPending();
 }
 
@@ -532,8 +611,7 @@ async function openRecipe(file) {
   S.path = '';
   S.suggest = `${file.name.replace(/\.[^.]*$/, '')}.yaml`;
   showPath();
-  editor.value = a.text;
-  renderGutter();
+  openText(a.text);
   setStatus(`opened the recipe of ${file.name}`, 'good');
   refresh();
 }
@@ -563,6 +641,10 @@ window.addEventListener('drop', (e) => {
 });
 
 $('save').addEventListener('click', save);
+$('undo').addEventListener('click', () => undoRedo(true));
+$('redo').addEventListener('click', () => undoRedo(false));
+$('reset-view').addEventListener('click', resetView);
+$('fit-view').addEventListener('click', () => edit('set', 'renderer.fit_view', 'true'));
 $('show-unset').addEventListener('change', (e) => panel.classList.toggle('all', e.target.checked));
 $('render').addEventListener('click', render);
 
@@ -577,8 +659,7 @@ async function start() {
   showPath();
   document.title = `fixpoint · ${S.path || 'new config'}`;
   if (st.version) $('bar').querySelector('.brand').title = `fixpoint ${st.version}, ${st.threads} threads`;
-  editor.value = st.text || '';
-  renderGutter();
+  openText(st.text || '');
   refresh();
 }
 
