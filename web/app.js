@@ -78,6 +78,8 @@ const S = {
   spans: new Map(), // path -> [lo, hi, step] of its slider, kept while the value stays inside
   lastText: '',     // the editor's text after the last change (what a burst of typing started from)
   home: null,       // the view and fit_view the config was opened with ({region, fit}), for reset
+  waiting: null,    // the AbortController of the frame request in flight
+  after: -1,        // the last stage of S.job shown
 };
 const edits = new EditHistory();
 
@@ -123,12 +125,14 @@ function syncScroll() {
 function showError(e) {
   errorBox.textContent = e.error;
   errorBox.hidden = false;
+  imgbox.classList.add('stale'); // (the image is of the last good text, not of this one)
   errLine = e.line || 0;
   band.hidden = errLine === 0;
   renderGutter();
 }
 
 function clearError() {
+  imgbox.classList.remove('stale');
   errorBox.hidden = true;
   errorBox.textContent = '';
   errLine = 0;
@@ -236,6 +240,9 @@ document.addEventListener('keydown', (e) => {
 let previews = Promise.resolve();
 async function refresh() {
   clearTimeout(typing);
+  // The frames of the job this text replaces are no longer wanted: the wait for them is dropped
+  // before the server cancels the job (its answer would be a 410 in the console).
+  if (S.waiting) S.waiting.abort();
   const seq = ++S.seq;
   const body = { text: editor.value, path: S.path };
   const preview = previews.then(() => (seq === S.seq ? post('/api/preview', body) : null));
@@ -249,6 +256,9 @@ async function refresh() {
   if (!pv.ok) {
     showError(pv);
     dropPending();
+    // A refused text starts no preview: the last good one goes on refining (its wait was dropped).
+    const finished = img.dataset.job === String(S.job) && img.dataset.done === '1';
+    if (S.job && !S.waiting && !finished) follow(S.job, S.after);
     return;
   }
   clearError();
@@ -259,29 +269,45 @@ async function refresh() {
   follow(pv.job);
 }
 
-async function follow(job) {
+// One wait for a job's frames at a time: following a job drops the wait for the one before, and
+// a new text drops it before its preview replaces the job on the server (refresh), so that no
+// request of a replaced job is in flight when the server cancels it (a 410 in the console).
+async function follow(job, after = -1) {
+  if (S.waiting) S.waiting.abort();
+  const waiting = new AbortController();
+  S.waiting = waiting;
   S.job = job;
-  let after = -1;
-  while (S.job === job) {
+  S.after = after;
+  try {
+    await followFrames(job, waiting.signal);
+  } finally {
+    if (S.waiting === waiting) S.waiting = null;
+  }
+}
+
+async function followFrames(job, signal) {
+  const current = () => S.job === job && !signal.aborted;
+  while (current()) {
     let r;
     try {
-      r = await fetch(`/api/frame?job=${encodeURIComponent(job)}&after=${after}`, withToken());
+      r = await fetch(`/api/frame?job=${encodeURIComponent(job)}&after=${S.after}`, withToken({ signal }));
     } catch (e) {
+      if (e.name === 'AbortError') return; // (a newer text's preview replaces this one)
       if (S.job === job) setStatus('the server does not answer (is fixpoint serve still running?)', 'bad');
       return;
     }
-    if (S.job !== job) return;
+    if (!current()) return;
     if (r.status === 204) continue; // nothing new within the server's wait: ask again
     if (r.status === 410) return;   // superseded by a newer preview
     if (r.status !== 200) {
       const e = await answer(r);
-      if (S.job !== job) return;
+      if (!current()) return;
       if (r.status === 422) showError(e);
       else setStatus(e.error, 'bad');
       return;
     }
-    const blob = await r.blob();
-    if (S.job !== job) return;
+    const blob = await r.blob().catch(() => null); // (null: dropped while it came)
+    if (!current() || !blob) return;
     const h = (k) => r.headers.get(k);
     const k = Number(h('X-Stage'));
     const done = h('X-Done') === '1';
@@ -290,7 +316,7 @@ async function follow(job) {
       spp: Number(h('X-Samples-Per-Pixel')), seconds: Number(h('X-Seconds')), done,
       retoned: h('X-Retoned') === '1',
     });
-    after = k;
+    S.after = k;
     if (done) return;
   }
 }

@@ -85,6 +85,7 @@ def browser():
     for a in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1500,900",
               "--force-device-scale-factor=1", "--hide-scrollbars"):
         opts.add_argument(a)
+    opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})  # (the console, for its errors)
     d = webdriver.Chrome(service=Service(CHROMEDRIVER), options=opts)
     d.set_script_timeout(30)
     yield d

@@ -139,12 +139,15 @@ def test_typo_shows_the_cli_error_at_its_line(page, tmp_path):
     assert shown.startswith("fig4a.yaml:30:")
     assert page.js("return [...document.querySelectorAll('#gutter .error')].map((e) => e.textContent)") == ["30"]
     assert page.js("return document.getElementById('error-band').hidden") is False
-    # The last good image stays.
+    # The last good image stays, dimmed: it is not this text's.
     assert page.js("return document.getElementById('frame').src") == src
+    assert page.js("return document.getElementById('imgbox').classList.contains('stale')")
+    assert float(page.js("return getComputedStyle(document.getElementById('frame')).opacity")) < 0.5
     page.shot("typo")
     page.set_text(text)
     page.wait(lambda: page.js("return document.getElementById('error').hidden"), what="the error to clear")
     assert page.js("return document.querySelectorAll('#gutter .error').length") == 0
+    assert not page.js("return document.getElementById('imgbox').classList.contains('stale')")
 
 
 def test_wheel_zooms_about_the_cursor(page):
@@ -490,3 +493,18 @@ def test_reset_view_brings_back_the_view_as_opened(page):
     page.js("document.getElementById('reset-view').click()")
     page.wait(lambda: page.text().split("\n")[VIEW - 1] == text.split("\n")[VIEW - 1], what="the view as opened")
     assert page.text() == text
+
+
+def test_superseded_previews_leave_no_console_errors(page):
+    # Texts typed one after another, each replacing the preview of the one before: the page drops
+    # its wait for the frames of a replaced job before the server cancels it, so the console gets
+    # no 410 (nor any other error), and the last text's preview is shown.
+    first = page.wait_done()
+    page.d.get_log("browser")  # (what came before)
+    text = page.text()
+    for k in range(4):
+        page.set_text(text.replace("points: 40000000", f"points: {2000000 + k * 100000}"))
+        page.js("return refresh()")
+    page.wait_done(other_than=first)
+    errors = [e for e in page.d.get_log("browser") if e["level"] == "SEVERE"]
+    assert errors == [], errors
