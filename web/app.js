@@ -80,6 +80,7 @@ const S = {
   home: null,       // the view and fit_view the config was opened with ({region, fit}), for reset
   waiting: null,    // the AbortController of the frame request in flight
   after: -1,        // the last stage of S.job shown
+  pluginParams: null, // kind -> plugin -> its parameter names (GET /api/plugins?params=1)
 };
 const edits = new EditHistory();
 
@@ -687,6 +688,9 @@ async function start() {
   if (st.version) $('bar').querySelector('.brand').title = `fixpoint ${st.version}, ${st.threads} threads`;
   openText(st.text || '');
   refresh();
+  // Each plugin's parameter names: what a switch of plugin carries over (panel.js).
+  const named = await get('/api/plugins?params=1').catch(() => null);
+  if (named && named.ok !== false) S.pluginParams = named;
 }
 
 start();

@@ -223,16 +223,28 @@ const itemIndex = (path) => {
 };
 
 // An item of a list as flow YAML, from the entries the config writes: the copy "add" appends.
-function flowOf(entries, at) {
+// With `type` and `keep`: as that plugin, with the parameters `keep` takes (a switch of plugin).
+function flowOf(entries, at, type = null, keep = () => true) {
   const top = entries[at];
-  const parts = top.kind === 'plugin' || top.kind === 'list' ? [`type: ${unquote(top.value)}`] : [];
+  const t = type !== null ? type : unquote(top.value);
+  const parts = top.kind === 'plugin' || top.kind === 'list' ? [`type: ${t}`] : [];
   for (let i = at + 1; i < entries.length && entries[i].depth > top.depth; i++) {
     const c = entries[i];
-    if (c.depth !== top.depth + 1 || !c.path.startsWith(top.path + '.')) continue;
+    if (c.depth !== top.depth + 1 || !c.path.startsWith(top.path + '.') || !keep(c.name)) continue;
     if (c.kind === 'plugin' && c.value) parts.push(`${c.name}: ${flowOf(entries, i)}`);
     else if (c.written && c.kind !== 'list') parts.push(`${c.name}: ${c.value}`);
   }
   return `{${parts.join(', ')}}`;
+}
+
+// The value of a slot switched to plugin n: {type: n} with what the slot writes that n declares
+// too (a circle's centre, kept by a star polygon), so that a switch keeps what carries over.
+function switchTo(entries, at) {
+  const e = entries[at];
+  return (n) => {
+    const names = ((S.pluginParams || {})[e.plugin_kind] || {})[n];
+    return names ? flowOf(entries, at, n, (name) => names.includes(name)) : `{type: ${n}}`;
+  };
 }
 
 function listHead(e, entries) {
@@ -251,9 +263,9 @@ function listHead(e, entries) {
   return c;
 }
 
-function itemHead(e, isPlugin, plugins) {
+function itemHead(e, isPlugin, plugins, entries, at) {
   const parts = [];
-  if (isPlugin) parts.push(...selectControl(e, plugins, (n) => `{type: ${n}}`).childNodes);
+  if (isPlugin) parts.push(...selectControl(e, plugins, switchTo(entries, at)).childNodes);
   const rm = el('button', { type: 'button', className: 'small', textContent: 'remove' });
   rm.dataset.path = e.path;
   rm.title = `remove ${e.path}`;
@@ -268,7 +280,7 @@ function itemHead(e, isPlugin, plugins) {
 
 function controlFor(e, entries, at, lists) {
   const parentList = lists.has(e.path.replace(/\[\d+\]$/, '')) && itemIndex(e.path) >= 0;
-  if (parentList) return [itemHead(e, e.kind === 'plugin', e.choices || []), 'item'];
+  if (parentList) return [itemHead(e, e.kind === 'plugin', e.choices || [], entries, at), 'item'];
   switch (e.kind) {
     case 'int':
     case 'real':
@@ -280,7 +292,7 @@ function controlFor(e, entries, at, lists) {
     case 'colour':
       return [colourControl(e), ''];
     case 'plugin':
-      return [selectControl(e, e.choices || [], (n) => `{type: ${n}}`), e.depth > 0 ? 'head sub' : 'head'];
+      return [selectControl(e, e.choices || [], switchTo(entries, at)), e.depth > 0 ? 'head sub' : 'head'];
     case 'list':
       return [listHead(e, entries), 'head'];
     case 'point':

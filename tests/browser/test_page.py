@@ -508,3 +508,20 @@ def test_superseded_previews_leave_no_console_errors(page):
     page.wait_done(other_than=first)
     errors = [e for e in page.d.get_log("browser") if e["level"] == "SEVERE"]
     assert errors == [], errors
+
+
+def test_a_shape_switch_keeps_what_carries_over(page):
+    # maps[0]'s circle becomes a star polygon: its centre stays (star-polygon declares one), its
+    # radius goes (star-polygon has outer and inner radii instead), and the picture renders.
+    first = page.wait_done()
+    page.wait(lambda: page.js("return S.pluginParams !== null"), what="the plugins' parameters")
+    text = page.text()
+    page.js("""const s = document.querySelector('select[data-path="renderer.maps[0].shape"]');
+               s.value = 'star-polygon'; s.dispatchEvent(new Event('change', {bubbles: true}));""")
+    page.wait(lambda: page.text() != text, what="the switched shape")
+    new = page.text()
+    assert changed_lines(text, new) == [MAP0]
+    line = new.split("\n")[MAP0 - 1]
+    assert "shape: {type: star-polygon, centre: [1, 1]}" in line, line
+    page.wait_done(other_than=first)
+    assert page.js("return document.getElementById('error').hidden")

@@ -69,6 +69,11 @@ def test_plugins_by_kind_as_the_cli_lists_them(srv):
         kind, name = line.split()[:2]
         want.setdefault(kind, []).append(name)
     assert srv.api("api/plugins") == want
+    # With params=1, each plugin's parameter names, as describe lists them.
+    named = srv.api("api/plugins?params=1")
+    assert {k: list(v) for k, v in named.items()} == want
+    assert named["shape"]["circle"] == ["centre", "radius"]
+    assert "centre" in named["shape"]["star-polygon"]
 
 
 def test_an_unknown_page_is_404(srv):

@@ -85,11 +85,19 @@ void api_state(const Context& c, const httplib::Request&, httplib::Response& res
     send_json(res, 200, v);
 }
 
-void api_plugins(const Context& c, const httplib::Request&, httplib::Response& res) {
+void api_plugins(const Context& c, const httplib::Request& req, httplib::Response& res) {
+    // With ?params=1 each plugin's parameter names too (what a switch of plugin can carry over).
+    const bool params = req.get_param_value("params") == "1";
     Json v = Json::object();
     for (const PluginEntry* e : c.reg->all()) {
         const std::string kind(kind_name(e->desc->kind));
-        v[kind].push_back(e->desc->name); // a null member becomes a list
+        if (!params) {
+            v[kind].push_back(e->desc->name); // a null member becomes a list
+            continue;
+        }
+        Json names = Json::array();
+        for (std::uint32_t i = 0; i < e->desc->n_params; ++i) names.push_back(e->desc->params[i].name);
+        v[kind][e->desc->name] = std::move(names);
     }
     send_json(res, 200, v);
 }
