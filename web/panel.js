@@ -222,19 +222,38 @@ const itemIndex = (path) => {
   return m ? Number(m[1]) : -1;
 };
 
-// An item of a list as flow YAML, from the entries the config writes: the copy "add" appends.
-// With `type` and `keep`: as that plugin, with the parameters `keep` takes (a switch of plugin).
-function flowOf(entries, at, type = null, keep = () => true) {
+// An item of a list as flow YAML, from the entries the config writes. With `type` and `keep`: as
+// that plugin, with the parameters `keep` takes (a switch of plugin); `value(c, i)` gives each
+// parameter's text, at any depth (the moved copy "add" appends).
+function flowOf(entries, at, type = null, keep = () => true, value = (c) => c.value) {
   const top = entries[at];
   const t = type !== null ? type : unquote(top.value);
   const parts = top.kind === 'plugin' || top.kind === 'list' ? [`type: ${t}`] : [];
   for (let i = at + 1; i < entries.length && entries[i].depth > top.depth; i++) {
     const c = entries[i];
     if (c.depth !== top.depth + 1 || !c.path.startsWith(top.path + '.') || !keep(c.name)) continue;
-    if (c.kind === 'plugin' && c.value) parts.push(`${c.name}: ${flowOf(entries, i)}`);
-    else if (c.written && c.kind !== 'list') parts.push(`${c.name}: ${c.value}`);
+    if (c.kind === 'plugin' && c.value) parts.push(`${c.name}: ${flowOf(entries, i, null, () => true, value)}`);
+    else if (c.written && c.kind !== 'list') parts.push(`${c.name}: ${value(c, i)}`);
   }
   return `{${parts.join(', ')}}`;
+}
+
+// The copy of item `at` that "add" appends, moved so that it shows: a centre (an inversion's
+// circle, a star's) moves right by twice the radius beside it (or 1/4 without one), so the new
+// map is not hidden under the one it copies.
+function movedCopy(entries, at) {
+  const num = (t) => (String(t).match(/[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?/g) || []).map(Number);
+  const radius = (c) => {
+    const parent = c.path.slice(0, c.path.lastIndexOf('.'));
+    const r = entries.find((x) => (x.path === `${parent}.radius` || x.path === `${parent}.outer_radius`) && x.value);
+    const v = r ? num(r.value)[0] : NaN;
+    return isFinite(v) && v > 0 ? v : 0.25;
+  };
+  return flowOf(entries, at, null, () => true, (c) => {
+    const p = num(c.value);
+    if (c.kind !== 'point' || c.name !== 'centre' || p.length !== 2) return c.value;
+    return `[${Number((p[0] + 2 * radius(c)).toPrecision(6))}, ${p[1]}]`;
+  });
 }
 
 // The value of a slot switched to plugin n: {type: n} with what the slot writes that n declares
@@ -250,10 +269,10 @@ function switchTo(entries, at) {
 function listHead(e, entries) {
   const add = el('button', { type: 'button', className: 'small', textContent: 'add' });
   add.dataset.path = e.path;
-  add.title = `append a copy of the last item of ${e.name}`;
+  add.title = `append a copy of the last item of ${e.name}, moved beside it`;
   add.addEventListener('click', () => {
     const last = entries.findIndex((x) => x.path === `${e.path}[${e.count - 1}]`);
-    const value = last >= 0 ? flowOf(entries, last) : '{type: inversion, shape: {type: circle, centre: [0, 0], radius: 0.5}}';
+    const value = last >= 0 ? movedCopy(entries, last) : '{type: inversion, shape: {type: circle, centre: [0, 0], radius: 0.5}}';
     edit('append', e.path, value);
   });
   const c = el('div', { className: 'ctl' }, el('span', { className: 'hex', textContent: `${e.count} items` }), add);

@@ -301,12 +301,13 @@ def test_maps_remove_and_add(page):
     assert removed.split("\n") == lines[:36] + lines[37:]
     page.wait(lambda: page.js("return document.querySelector('button[data-path=\"renderer.maps[7]\"]')") is None,
               what="the panel without maps[7]")
-    # "add" appends a copy of the last item (now maps[6]) from its written values.
+    # "add" appends a copy of the last item (now maps[6]) from its written values, its centre moved
+    # right by twice its radius (-0.30667 + 0.4337), so that the new circle shows.
     page.js("document.querySelector('button[data-path=\"renderer.maps\"]').click()")
     page.wait(lambda: page.text() != removed, what="the item added")
     added = page.text().split("\n")
     assert added[:36] == lines[:36]
-    assert added[36] == ('    - {type: inversion, shape: {type: circle, centre: [-0.30667, 0], radius: 0.21685}, '
+    assert added[36] == ('    - {type: inversion, shape: {type: circle, centre: [0.12703, 0], radius: 0.21685}, '
                          'colour: "#48dbfb"}')
     page.wait(lambda: page.js("return document.querySelector('button[data-path=\"renderer.maps[7]\"]')") is not None,
               what="the panel with maps[7] again")
