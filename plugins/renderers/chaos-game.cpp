@@ -441,17 +441,8 @@ constexpr fp::ParamSpec map_item_params[] = {
     fp::param::colour("colour",
                       "colour of the points the map produces (default: a built-in palette by index)")
         .opt(),
-    fp::param::real("color", "flam3's color: the map's index into the colourer's palette (default: the maps "
-                             "spread evenly from 0 to 1)")
-        .min(0)
-        .max(1)
-        .opt(),
-    fp::param::real("color_speed",
-                    "flam3's color_speed: how far a chain's palette index moves toward the map's color at "
-                    "each step")
-        .def("0.5")
-        .min(0)
-        .max(1),
+    fp_render::map_color_param,
+    fp_render::map_color_speed_param,
     fp::param::reals("chaos",
                      "flam3's xaos: after this map, map j's weight is multiplied by chaos[j] (1 where "
                      "the list ends); with inversion_rules, it replaces the rule 'not the previous map' "

@@ -24,6 +24,22 @@ constexpr fp::Rgb palette_colour(std::size_t map) {
     return palette[map % (sizeof(palette) / sizeof(palette[0]))];
 }
 
+/// A map item's flam3 colour parameters (chaos-game's maps, superfractal's), read by
+/// read_item_colour.
+constexpr fp::ParamSpec map_color_param =
+    fp::param::real("color", "flam3's color: the map's index into the colourer's palette (default: the maps "
+                             "spread evenly from 0 to 1)")
+        .min(0)
+        .max(1)
+        .opt();
+constexpr fp::ParamSpec map_color_speed_param =
+    fp::param::real("color_speed",
+                    "flam3's color_speed: how far the palette index a point carries moves toward "
+                    "the map's color at each step")
+        .def("0.5")
+        .min(0)
+        .max(1);
+
 /// Item j of the list `list` (maps, final): its `colour` into c, flam3's palette index `color`
 /// into index (refused, with one line, when the colourer takes no palette) and `color_speed`
 /// into speed; each left as given where the item has none.

@@ -284,17 +284,8 @@ constexpr fp::ParamSpec map_item_params[] = {
                       "colour of the points the map produces (default: a built-in palette by index; "
                       "not used with a picture)")
         .opt(),
-    fp::param::real("color", "flam3's color: the map's index into the colourer's palette (default: the maps "
-                             "spread evenly from 0 to 1)")
-        .min(0)
-        .max(1)
-        .opt(),
-    fp::param::real("color_speed",
-                    "flam3's color_speed: how far a point's palette index moves toward the map's color at "
-                    "each step")
-        .def("0.5")
-        .min(0)
-        .max(1),
+    fp_render::map_color_param,
+    fp_render::map_color_speed_param,
     fp::param::reals("colour_map",
                      "colour stealing: the map of the colour IFS on the picture square "
                      "run with this map, affine coefficients [a, b, c, d, e, f] (u' = a u + b v "

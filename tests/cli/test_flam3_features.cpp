@@ -30,6 +30,15 @@ std::size_t count(const std::string& s, const std::string& what) {
     return n;
 }
 
+// flam3-render of dir/g.flam3 at supersample 2 and quality 100 with ISAAC seed `isaac`.
+fp::Image flam3_render(const std::string& dir, const std::string& isaac) {
+    const std::string out = dir + "/flam3-" + isaac + ".png";
+    const std::string cmd = "cd " + dir + " && env ss=2 qs=100 nthreads=1 isaac_seed=" + isaac +
+                            " out=" + out + " flam3-render < g.flam3 >/dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    return fp::host::read_image(out);
+}
+
 // A mirror and two turns (kind -3), two xforms of opacity below 1, palette 12 turned by 0.3.
 const char* genome = R"(<flame name="features" size="100 100" center="0 0" scale="30" quality="1" palette="12"
        hue="0.3" gamma="3" brightness="3">
@@ -78,13 +87,7 @@ TEST(Flam3Features, ThePictureIsFlam3Renders) {
     if (!have("flam3-render")) GTEST_SKIP() << "flam3-render (Debian's flam3-utils) is not installed";
     const std::string dir = scratch_dir("flam3_features_render");
     write_file(dir + "/g.flam3", genome);
-    auto flam3 = [&](const std::string& isaac) {
-        const std::string out = dir + "/flam3-" + isaac + ".png";
-        const std::string cmd = "cd " + dir + " && env ss=2 qs=100 nthreads=1 isaac_seed=" + isaac +
-                                " out=" + out + " flam3-render < g.flam3 >/dev/null 2>&1";
-        EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
-        return fp::host::read_image(out);
-    };
+    auto flam3 = [&](const std::string& isaac) { return flam3_render(dir, isaac); };
     const fp::Image f = flam3("one"), f2 = flam3("two");
     const auto r =
         run_cli({"render", "--quiet", dir + "/g.flam3", "-o", dir + "/ours.png", "--set",
@@ -195,13 +198,7 @@ TEST(Flam3Features, AFinalsOpacityIsFlam3s) {
     ASSERT_EQ(a.rc, 0) << a.err;
     EXPECT_EQ(count(a.out, "opacity: 0.5"), 1u) << a.out;
     EXPECT_EQ(a.err.find("not carried over"), std::string::npos) << a.err;
-    auto flam3 = [&](const std::string& isaac) {
-        const std::string out = dir + "/flam3-" + isaac + ".png";
-        const std::string cmd = "cd " + dir + " && env ss=2 qs=100 nthreads=1 isaac_seed=" + isaac +
-                                " out=" + out + " flam3-render < g.flam3 >/dev/null 2>&1";
-        EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
-        return fp::host::read_image(out);
-    };
+    auto flam3 = [&](const std::string& isaac) { return flam3_render(dir, isaac); };
     const fp::Image f = flam3("one"), f2 = flam3("two");
     auto ours = [&](const std::string& name, const std::string& genome) {
         write_file(dir + "/" + name + ".flam3", genome);

@@ -61,7 +61,7 @@ TEST(ParamList, EntriesOfASmallConfig) {
                                       "renderer.maps[0].chaos",
                                       "renderer.maps[0].opacity"};
     const auto got = paths(all);
-    ASSERT_EQ(got.size(), 1 + 12 + 1 + 8 * item0.size() + 3 + 1 + 12 + 14);
+    ASSERT_EQ(got.size(), 1 + 12 + 1 + 8 * item0.size() + 3 + 1 + 12 + 15);
     EXPECT_EQ(
         std::vector<std::string>(got.begin(), got.begin() + 14),
         (std::vector<std::string>{"renderer", "renderer.width", "renderer.height", "renderer.view",
@@ -96,6 +96,7 @@ TEST(ParamList, EntriesOfASmallConfig) {
                                         "renderer.estimator_radius",
                                         "renderer.estimator_minimum",
                                         "renderer.estimator_curve",
+                                        "renderer.estimator_quality",
                                         "renderer.sets",
                                         "renderer.set_view",
                                         "renderer.set_line",
