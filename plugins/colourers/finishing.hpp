@@ -17,35 +17,14 @@ namespace fp_colourers {
 /// a = log2(1 + s h) / log2(1 + s max h), paper 02's eq. (28) before its power 1 / gamma, with
 /// the hits read as s h (s = N^2 for an N-times supersampled histogram: an image pixel's hits),
 /// so that a supersampled render's densities are those of its image's pixels.
-///
-/// The densities of the first `tabled` hit counts come from a table each thread makes once for
-/// (max hits, s), by the same expression, so they are the same floats: most bins of a finished
-/// histogram have few hits, and the log is most of the finishing stage's cost per bin.
 class LinearDensity {
 public:
-    static constexpr std::uint64_t tabled = 4096;
-
     LinearDensity(std::uint64_t max_hits, double scale)
-        : scale_(scale), inv_(max_hits > 0 ? 1.0 / std::log2(1.0 + scale * double(max_hits)) : 0.0) {
-        thread_local Table t;
-        if (!(t.made && t.max_hits == max_hits && t.scale == scale)) {
-            for (std::uint64_t h = 0; h < tabled; ++h) t.a[h] = of(h);
-            t.max_hits = max_hits, t.scale = scale, t.made = true;
-        }
-        table_ = t.a;
-    }
-    float operator()(std::uint64_t h) const { return h < tabled ? table_[h] : of(h); }
+        : scale_(scale), inv_(max_hits > 0 ? 1.0 / std::log2(1.0 + scale * double(max_hits)) : 0.0) {}
+    float operator()(std::uint64_t h) const { return float(std::log2(1.0 + scale_ * double(h)) * inv_); }
 
 private:
-    struct Table {
-        bool made = false;
-        std::uint64_t max_hits = 0;
-        double scale = 0;
-        float a[tabled];
-    };
-    float of(std::uint64_t h) const { return float(std::log2(1.0 + scale_ * double(h)) * inv_); }
     double scale_, inv_;
-    const float* table_ = nullptr;
 };
 
 /// flam3's density of a bin (flam3 3.1.1, rect.c: k1 log(1 + c k2) / PREFILTER_WHITE, c = 255
