@@ -81,9 +81,8 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
     // in strips keeps no whole histogram to continue: each of its rounds renders afresh (twice
     // the points of the last: at most twice the work of the last round in all), streaming its
     // image and kept histogram into temporary files that take their names only in the round
-    // that reaches the level.
-    // Under mpirun too (the checkpoint is kept on one process): each round a job of all the
-    // ranks, rank 0 counting the level and telling the others.
+    // that reaches the level. Under mpirun too (the checkpoint is kept on one process): each
+    // round is a job of all the ranks, rank 0 counting the level and telling the others.
     const bool ranked = ranks::size() > 1, streams = check.memory.stream, afresh = streams || ranked;
     const auto ck = std::make_shared<std::string>();
 
@@ -162,7 +161,6 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
     }
     write_render(res.plan, image, hooks);
     res.result.wrote = true;
-    res.result.seconds = seconds;
     return res;
 }
 
