@@ -292,6 +292,21 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
                     {maps_[j]->region_outline(1024), maps_[j]->region_centre(), colours_[j]});
         if (set_drawings_.empty())
             throw fp::ParamError("sets", "none of the maps has a set to draw (inversions have one)");
+        // The panel of the sets, beside the fractal or alone, shows them whole by default: the
+        // fractal's view, which the sets' inversions fill, cuts off the outer ones in most of
+        // paper 01's figures.
+        if (!set_view_ && (sets_ == Sets::beside || sets_ == Sets::only)) {
+            fp::Box b{HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL};
+            auto take = [&](fp::Vec2 q) {
+                b.xmin = std::min(b.xmin, q.x), b.xmax = std::max(b.xmax, q.x);
+                b.ymin = std::min(b.ymin, q.y), b.ymax = std::max(b.ymax, q.y);
+            };
+            for (const auto& d : set_drawings_) {
+                for (const auto& q : d.outline) take(q);
+                if (d.centre) take(*d.centre);
+            }
+            set_view_ = fp_render::framed(b, frame_.width, frame_.height);
+        }
         if (sets_ == Sets::beside && uint64_t(2 * frame_.width) * uint64_t(frame_.height) >= 0xffffffffull)
             throw fp::ParamError("sets",
                                  "the image with the sets beside it is too large: 2 * width * height must "
@@ -561,7 +576,7 @@ constexpr fp::ParamSpec params[] = {
         .one_of("none|over|beside|only"),
     fp::param::reals("set_view",
                      "the region the sets are drawn in, beside the fractal or alone [xmin, xmax, ymin, ymax] "
-                     "(default: the fractal's view)")
+                     "(default: the sets and their centres whole, with a margin of 5%)")
         .len(4)
         .opt(),
     fp::param::real("set_line", "width of the sets' outlines in pixels").def("2").above(0).max(100),

@@ -30,6 +30,23 @@ struct FitSetup {
     int width = 512, height = 512;
 };
 
+/// The view of a width x height image that shows the box b whole: a 5% margin on each side,
+/// the shorter side widened so that pixels are square (a box of no size: one of 1e-3 of its
+/// larger side, or about 1e-12 of its distance from the origin).
+inline fp::Box framed(fp::Box b, int width, int height) {
+    double w = b.xmax - b.xmin, h = b.ymax - b.ymin;
+    const double size = std::max({w, h, 1e-12 * (1 + std::fabs(b.xmin) + std::fabs(b.ymin))});
+    w = std::max(w, 1e-3 * size), h = std::max(h, 1e-3 * size);
+    const double cx = 0.5 * (b.xmin + b.xmax), cy = 0.5 * (b.ymin + b.ymax);
+    w *= 1.1, h *= 1.1; // 5% margin on each side
+    const double aspect = double(width) / double(height);
+    if (w / h < aspect)
+        w = h * aspect;
+    else
+        h = w / aspect;
+    return {cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2};
+}
+
 /// The fitted view; throws fp::ParamError("fit_view", ...) when the pre-run draws nothing.
 inline fp::Box fit_view(const FitSetup& s) {
     const auto& maps = *s.maps;
@@ -106,18 +123,8 @@ inline fp::Box fit_view(const FitSetup& s) {
         std::nth_element(v.begin(), at, v.end());
         return *at;
     };
-    fp::Box b{quantile(xs, 0.001), quantile(xs, 0.999), quantile(ys, 0.001), quantile(ys, 0.999)};
-    double w = b.xmax - b.xmin, h = b.ymax - b.ymin;
-    const double size = std::max({w, h, 1e-12 * (1 + std::fabs(b.xmin) + std::fabs(b.ymin))});
-    w = std::max(w, 1e-3 * size), h = std::max(h, 1e-3 * size);
-    const double cx = 0.5 * (b.xmin + b.xmax), cy = 0.5 * (b.ymin + b.ymax);
-    w *= 1.1, h *= 1.1; // 5% margin on each side
-    const double aspect = double(s.width) / double(s.height);
-    if (w / h < aspect)
-        w = h * aspect;
-    else
-        h = w / aspect;
-    return {cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2};
+    return framed({quantile(xs, 0.001), quantile(xs, 0.999), quantile(ys, 0.001), quantile(ys, 0.999)},
+                  s.width, s.height);
 }
 
 } // namespace fp_render

@@ -57,21 +57,52 @@ TEST(RenderVersion, TheChangelogIsWellFormed) {
 }
 
 // Version 2's change (the rules' draw) touches renders of chaos-game with inversions only.
+// (Recipes that name no parameter: version 3's change touches only those with sets.)
 TEST(RenderVersion, ChangesTouchTheRendersOfTheirPlugins) {
-    EXPECT_EQ(changes_since(1, {"chaos-game", "circle", "inversion", "picard"}).size(), 1u);
-    EXPECT_TRUE(changes_since(1, {"chaos-game", "gumowski-mira"}).empty());
-    EXPECT_TRUE(changes_since(1, {"orbit-trap", "wallpaper"}).empty());
+    const RecipeParams bare = [](const std::string&) { return std::optional<std::string>(); };
+    EXPECT_EQ(changes_since(1, {"chaos-game", "circle", "inversion", "picard"}, bare).size(), 1u);
+    EXPECT_TRUE(changes_since(1, {"chaos-game", "gumowski-mira"}, bare).empty());
+    EXPECT_TRUE(changes_since(1, {"orbit-trap", "wallpaper"}, bare).empty());
     EXPECT_TRUE(changes_since(render_version(), {"chaos-game", "inversion"}).empty());
-    const std::string d = render_version_difference(1, {"chaos-game", "inversion"});
+    const std::string d = render_version_difference(1, {"chaos-game", "inversion"}, bare);
     EXPECT_EQ(d.rfind("the recipe is of render version 1, this fixpoint renders version " +
                           std::to_string(render_version()) + ": chaos-game draws the maps",
                       0),
               0u)
         << d;
     EXPECT_NE(d.find("; the image may differ (docs/render-versions.md)"), std::string::npos) << d;
-    EXPECT_EQ(render_version_difference(1, {"mfs", "subdivision"}), "");
+    EXPECT_EQ(render_version_difference(1, {"mfs", "subdivision"}, bare), "");
     EXPECT_NE(render_version_difference(render_version() + 1, {}).find("newer than this fixpoint's"),
               std::string::npos);
+}
+
+// Version 3's change (the sets' panel fitted by default) names parameters: it touches the
+// chaos games with sets beside or only that leave set_view out, read from the recipe itself.
+TEST(RenderVersion, AChangeOfADefaultTouchesTheRecipesThatLeaveItOut) {
+    const auto v3 = [](const std::string& yaml) {
+        const CNode root = parse_config(yaml, "r.yaml");
+        const auto cs = changes_since(2, {"chaos-game", "inversion", "circle"}, params_of(root));
+        return std::count_if(cs.begin(), cs.end(), [](const RenderChange& c) { return c.version == 3; });
+    };
+    const std::string head = "renderer:\n  type: chaos-game\n";
+    EXPECT_EQ(v3(head + "  sets: beside\n"), 1);
+    EXPECT_EQ(v3(head + "  sets: \"only\"\n"), 1);
+    EXPECT_EQ(v3(head + "  sets: beside\n  set_view: [-2, 2, -2, 2]\n"), 0);
+    EXPECT_EQ(v3(head + "  sets: over\n"), 0);
+    EXPECT_EQ(v3(head), 0);
+    EXPECT_EQ(v3("renderer: {type: chaos-game, sets: only, set_view: ~}\n"), 1);
+    // Without a recipe to read, every render of its plugins (what may differ is said).
+    EXPECT_EQ(changes_since(2, {"chaos-game"}).size(), 1u);
+    // End to end: a recipe of version 2 with sets beside is told, the same without sets is not.
+    const std::string old = "render_version: 2\n" + circles;
+    EXPECT_TRUE(pipeline(old).warnings.empty());
+    std::string with_sets = old;
+    with_sets.replace(with_sets.find("  maps:"), 0, "  sets: beside\n");
+    const Pipeline told = pipeline(with_sets);
+    ASSERT_EQ(told.may_differ.size(), 1u);
+    EXPECT_NE(told.may_differ[0].find("the sets' panel of `sets` beside or only shows the sets whole"),
+              std::string::npos)
+        << told.may_differ[0];
 }
 
 // Recipes record the version; a config written by hand is of this version; a recipe without

@@ -51,7 +51,8 @@ std::pair<int, int> pixel_of(double x, double y) {
 
 TEST(Sets, BesideKeepsTheFractalBitForBitAndDrawsTheSetsLeft) {
     const fp::Image plain = render("plain", "sets: none").img;
-    const fp::Image both = render("beside", "sets: beside").img;
+    // (In the fractal's view, so that pixel_of finds the sets' pixels on the left too.)
+    const fp::Image both = render("beside", "sets: beside\n  set_view: [-1.6, 1.6, -1.4, 1.4]").img;
     ASSERT_EQ(both.width, 2 * plain.width);
     ASSERT_EQ(both.height, plain.height);
     bool lit = false;
@@ -75,6 +76,34 @@ TEST(Sets, BesideKeepsTheFractalBitForBitAndDrawsTheSetsLeft) {
     // Outside every set: the background.
     auto [oc, orow] = pixel_of(-1.5, 1.3);
     for (int k = 0; k < 3; ++k) EXPECT_EQ(at(both, oc, orow, k), 0.0f);
+}
+
+// Without set_view the panel shows the sets whole. By hand: the circles of radius 0.9 at (1, 0)
+// and (-0.5, +-0.866) span [-1.4, 1.9] x [-1.766, 1.766]; with 5% margins, 3.63 x 3.885, widened
+// to the panel's 96:80, the view is [-2.0811, 2.5811] x [-1.9426, 1.9426], 20.59 pixels a unit.
+TEST(Sets, ThePanelShowsTheSetsWholeByDefault) {
+    const fp::Image only = render("whole", "sets: only").img;
+    ASSERT_EQ(only.width, 96);
+    ASSERT_EQ(only.height, 80);
+    // The first circle's centre, (1, 0): pixel (63.4, 40.0), inside its dot of radius 4.
+    EXPECT_NEAR(at(only, 63, 40, 0), 1.0, 1.0 / 255);
+    EXPECT_NEAR(at(only, 63, 40, 1), 0.4, 1.0 / 255);
+    // The second circle's top, y = 1.766, at row 3.6: the rows above it are the background,
+    // and the margin is no wider than 5% (its outline lights row 4 or 5).
+    auto row_lit = [&](int r) {
+        for (int c = 0; c < 96; ++c)
+            if (at(only, c, r, 0) + at(only, c, r, 1) + at(only, c, r, 2) > 0.05f) return true;
+        return false;
+    };
+    EXPECT_FALSE(row_lit(0));
+    EXPECT_FALSE(row_lit(1));
+    EXPECT_FALSE(row_lit(79));
+    EXPECT_TRUE(row_lit(5));
+    EXPECT_TRUE(row_lit(74));
+    // The first circle's right edge, x = 1.9, at column 81.96: lit; the columns beyond its
+    // stroke are not.
+    EXPECT_GT(at(only, 81, 40, 0), 0.2f);
+    for (int c = 84; c < 96; ++c) EXPECT_EQ(at(only, c, 40, 0), 0.0f) << c;
 }
 
 TEST(Sets, OverBlendsTheSetsOnTheFractal) {
@@ -145,7 +174,8 @@ TEST(Sets, RefusedWhereTheyCannotBeDrawn) {
 }
 
 // Every figure of papers 01 (Figs. 4-6) and 02 (Figs. 3, 6(a), 7(a), 8, 11) whose left half shows
-// the sets: its config with `sets: beside` draws them left of the fractal it renders alone.
+// the sets: its config with `sets: beside` draws them left of the fractal it renders alone,
+// whole.
 TEST(Sets, EveryTwoPanelFigureOfThePapers) {
     const std::string configs[] = {
         "inversion/fig4a", "inversion/fig4b", "inversion/fig4c", "inversion/fig4d",  "inversion/fig5a",
@@ -174,5 +204,10 @@ TEST(Sets, EveryTwoPanelFigureOfThePapers) {
                 set_pixels += at(both, x, r, 0) + at(both, x, r, 1) + at(both, x, r, 2) > 0.1f;
             }
         EXPECT_GT(set_pixels, 64u * 64u / 10) << c << ": the sets cover a tenth of their panel at least";
+        // Whole: nothing of them on the panel's border (the margin is 5%, 3 pixels here).
+        for (int i = 0; i < 64; ++i)
+            for (const auto& [x, r] : {std::pair{i, 0}, std::pair{i, 63}, std::pair{0, i}, std::pair{63, i}})
+                EXPECT_LT(at(both, x, r, 0) + at(both, x, r, 1) + at(both, x, r, 2), 0.1f)
+                    << c << ": a set at the border, pixel " << x << "," << r;
     }
 }

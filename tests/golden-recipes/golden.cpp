@@ -63,11 +63,13 @@ void append(std::vector<unsigned char>& out, const T* p, std::size_t n) {
     out.insert(out.end(), c, c + n * sizeof(T));
 }
 
-/// The recipe's render, and the names of its plugins.
-std::string pixel_hash(const Registry& reg, const fs::path& recipe, std::vector<std::string>& plugins) {
+/// The recipe's render, the names of its plugins and the recipe as recorded (what the
+/// changelog's params read).
+std::string pixel_hash(const Registry& reg, const fs::path& recipe, std::vector<std::string>& plugins,
+                       CNode& rec) {
     // (The corpus is ours: a python-scheme in it may run.)
     const Pipeline p = load_pipeline(reg, recipe.string(), {}, "", true);
-    const CNode rec = parse_config(p.recipe, "recipe");
+    rec = parse_config(p.recipe, "recipe");
     if (const CNode* used = rec.find("plugins"))
         for (const auto& kv : used->keys) plugins.push_back(kv.first);
     RenderRequest r;
@@ -128,9 +130,10 @@ int main(int argc, char** argv) {
         for (const auto& path : recipes) {
             const std::string name = path.filename().string();
             std::vector<std::string> plugins;
+            CNode rec;
             std::string hash;
             try {
-                hash = pixel_hash(host.registry(), path, plugins);
+                hash = pixel_hash(host.registry(), path, plugins, rec);
             } catch (const fp::Error& e) {
                 std::fprintf(stderr, "%s: does not render: %s\n", name.c_str(), e.what());
                 ++failed;
@@ -158,10 +161,11 @@ int main(int argc, char** argv) {
                 why = "its pixels changed, but the render version is still " + std::to_string(now) +
                       ": add a version to framework/render-versions.yaml naming what changed "
                       "(docs/render-versions.md), then record";
-            else if (changes_since(was.version, plugins).empty())
+            else if (changes_since(was.version, plugins, params_of(rec)).empty())
                 why = "its pixels changed, but no change after render version " +
                       std::to_string(was.version) +
-                      " in framework/render-versions.yaml names one of its plugins";
+                      " in framework/render-versions.yaml touches it (names its plugins, and the "
+                      "parameters it has)";
             if (!record || !why.empty()) {
                 std::fprintf(stderr, "%s: pixels %s, recorded %s at render version %d%s%s\n", name.c_str(),
                              hash.c_str(), was.hash.c_str(), was.version, why.empty() ? "" : ": ",

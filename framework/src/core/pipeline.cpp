@@ -205,7 +205,7 @@ Pipeline load_pipeline(const Registry& reg, CNode root) {
     }
     std::vector<std::string> names;
     for (const auto& [name, e] : used) names.push_back(name);
-    if (std::string d = render_version_difference(made_by, names); !d.empty())
+    if (std::string d = render_version_difference(made_by, names, params_of(root)); !d.empty())
         p.may_differ.insert(p.may_differ.begin(), std::move(d));
     p.warnings = p.may_differ;
     p.warnings.insert(p.warnings.end(), other_builds.begin(), other_builds.end());

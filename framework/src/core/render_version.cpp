@@ -1,5 +1,6 @@
 // The render versions' changelog, built in (render_version.hpp).
 #include <fixpoint/errors.hpp>
+#include <fixpoint/host/core/config.hpp>
 #include <fixpoint/host/core/render_version.hpp>
 #include <fixpoint/version.hpp>
 
@@ -29,15 +30,30 @@ std::vector<RenderChange> read_changes() {
                                 std::to_string(expect) + " comes next");
         const std::string date = v["date"].as<std::string>();
         if (n == 1) {
-            out.push_back({1, date, {}, v["what"].as<std::string>()});
+            out.push_back({1, date, {}, {}, v["what"].as<std::string>()});
         } else {
             const YAML::Node changes = v["changes"];
             if (!changes.IsSequence() || changes.size() == 0)
                 throw InternalError("render-versions.yaml: version " + std::to_string(n) +
                                     " names no change");
             for (const auto& c : changes) {
-                RenderChange rc{n, date, {}, c["what"].as<std::string>()};
+                RenderChange rc{n, date, {}, {}, c["what"].as<std::string>()};
                 if (c["plugins"]) rc.plugins = c["plugins"].as<std::vector<std::string>>();
+                if (const YAML::Node ps = c["params"]) {
+                    if (!ps.IsMap())
+                        throw InternalError("render-versions.yaml: version " + std::to_string(n) +
+                                            ": params must map a parameter's path to its values");
+                    for (const auto& kv : ps) {
+                        if (!kv.second.IsSequence() || kv.second.size() == 0)
+                            throw InternalError("render-versions.yaml: version " + std::to_string(n) + ": " +
+                                                kv.first.as<std::string>() + " names no value");
+                        std::vector<std::optional<std::string>> values;
+                        for (const auto& v : kv.second)
+                            values.push_back(v.IsNull() ? std::nullopt
+                                                        : std::optional<std::string>(v.as<std::string>()));
+                        rc.params.emplace_back(kv.first.as<std::string>(), std::move(values));
+                    }
+                }
                 out.push_back(std::move(rc));
             }
         }
@@ -59,7 +75,21 @@ std::string render_version_tag() {
     return std::string(FIXPOINT_VERSION) + " (render version " + std::to_string(render_version()) + ")";
 }
 
-std::vector<RenderChange> changes_since(int since, const std::vector<std::string>& plugins) {
+RecipeParams params_of(const CNode& root) {
+    return [&root](const std::string& path) -> std::optional<std::string> {
+        const CNode* n = &root;
+        for (std::size_t from = 0; n && from <= path.size();) {
+            const std::size_t dot = std::min(path.find('.', from), path.size());
+            n = n->is_map() ? n->find(path.substr(from, dot - from)) : nullptr;
+            from = dot + 1;
+        }
+        if (!n || n->type == CNode::Type::Null) return std::nullopt;
+        return n->is_scalar() ? n->scalar : std::string();
+    };
+}
+
+std::vector<RenderChange> changes_since(int since, const std::vector<std::string>& plugins,
+                                        const RecipeParams& params) {
     std::vector<RenderChange> out;
     for (const auto& c : render_changes()) {
         if (c.version <= since) continue;
@@ -68,17 +98,23 @@ std::vector<RenderChange> changes_since(int since, const std::vector<std::string
         const bool touches = std::all_of(c.plugins.begin(), c.plugins.end(), [&](const auto& n) {
             return std::find(plugins.begin(), plugins.end(), n) != plugins.end();
         });
-        if (touches) out.push_back(c);
+        // (And whose recipe has the change's parameters: a changed default touches only the
+        // recipes that leave it out.)
+        const bool has = !params || std::all_of(c.params.begin(), c.params.end(), [&](const auto& pv) {
+            return std::find(pv.second.begin(), pv.second.end(), params(pv.first)) != pv.second.end();
+        });
+        if (touches && has) out.push_back(c);
     }
     return out;
 }
 
-std::string render_version_difference(int since, const std::vector<std::string>& plugins) {
+std::string render_version_difference(int since, const std::vector<std::string>& plugins,
+                                      const RecipeParams& params) {
     const int now = render_version();
     if (since > now)
         return "the recipe is of render version " + std::to_string(since) + ", newer than this fixpoint's " +
                std::to_string(now) + ": the image may differ";
-    const auto changes = changes_since(since, plugins);
+    const auto changes = changes_since(since, plugins, params);
     if (changes.empty()) return "";
     std::string what;
     for (const auto& c : changes)

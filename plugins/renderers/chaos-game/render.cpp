@@ -27,7 +27,7 @@ namespace fp_chaos {
 void ChaosGame::draw_set_panel(cairo_t* cr) const {
     cairo_set_source_rgb(cr, frame_.background.r, frame_.background.g, frame_.background.b);
     cairo_paint(cr);
-    // (The view once fit_view has fitted it.)
+    // (The sets' own view: set_view, or by default the sets whole; chaos-game.cpp fits it.)
     draw_sets(cr, set_drawings_, set_view_.value_or(frame_.region), frame_.width, frame_.height, set_style_);
 }
 
