@@ -84,7 +84,13 @@ function mark(r, e) {
 }
 
 function row(e, control, cls = '') {
-  const label = el('label', { textContent: e.name, title: e.description || e.name });
+  // (A break opportunity after each underscore: a long name wraps between its words.)
+  const label = el('label', { title: e.description || e.name });
+  const words = e.name.split('_');
+  words.forEach((w, i) => {
+    if (i < words.length - 1) label.append(`${w}_`, el('wbr'));
+    else label.append(w);
+  });
   const r = el('div', { className: 'prow' + (cls ? ' ' + cls : '') }, label, control);
   mark(r, e);
   r.style.paddingLeft = `${e.depth * 12}px`;
@@ -124,6 +130,28 @@ function numberControl(e) {
     setParam(e.path, read());
   });
   slider.addEventListener('change', () => setParam(e.path, read()));
+  // Shift+drag: fine adjustment, the thumb moving a tenth as far as the pointer, from where it
+  // is (no jump to the pointer). A plain drag is the browser's own.
+  slider.addEventListener('pointerdown', (ev) => {
+    if (!ev.shiftKey) return;
+    ev.preventDefault();
+    slider.setPointerCapture(ev.pointerId);
+    const x0 = ev.clientX, v0 = Number(slider.value), w = slider.getBoundingClientRect().width;
+    const lo = Number(slider.min), hi = Number(slider.max);
+    const move = (m) => {
+      slider.value = Math.min(hi, Math.max(lo, v0 + ((m.clientX - x0) * (hi - lo)) / (10 * w)));
+      field.value = read();
+      setParam(e.path, read());
+    };
+    const up = () => {
+      slider.removeEventListener('pointermove', move);
+      slider.removeEventListener('pointerup', up);
+      slider.removeEventListener('pointercancel', up);
+    };
+    slider.addEventListener('pointermove', move);
+    slider.addEventListener('pointerup', up);
+    slider.addEventListener('pointercancel', up);
+  });
   field.addEventListener('change', () => {
     const t = field.value.trim();
     if (t === '' || !isFinite(Number(t))) return;

@@ -526,3 +526,36 @@ def test_a_shape_switch_keeps_what_carries_over(page):
     assert "shape: {type: star-polygon, centre: [1, 1]}" in line, line
     page.wait_done(other_than=first)
     assert page.js("return document.getElementById('error').hidden")
+
+
+def test_labels_show_whole_and_shift_drags_a_slider_finely(page):
+    # Every parameter's name shows whole (a long one wraps after an underscore), and sliders
+    # are wide (issue 47: they were 85 px, names cut at 92 px).
+    page.wait_done()
+    cut = page.js("""return [...document.querySelectorAll('#params .prow > label')]
+        .filter(l => l.offsetParent !== null && l.scrollWidth > l.clientWidth + 1)
+        .map(l => l.textContent)""")
+    assert cut == []
+    path = "renderer.maps[4].shape.radius"
+    sel = f'input[type=range][data-path="{path}"]'
+    lo, hi, w = page.js(f"""const s = document.querySelector('{sel}');
+        return [Number(s.min), Number(s.max), s.getBoundingClientRect().width]""")
+    assert w >= 140, w
+    # A user's Shift+drag of 100 px: the radius moves from where it is by a tenth of what the
+    # pointer covers, 100 (hi - lo) / (10 w) (0.054 here), not to where the pointer went down.
+    from selenium.webdriver.common.action_chains import ActionChains
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+    text = page.text()
+    def radius(t):
+        return float(re.search(r"radius: ([-0-9.e]+)", t.split("\n")[MAP4 - 1]).group(1))
+
+    r0 = radius(text)
+    slider = page.d.find_element(By.CSS_SELECTOR, sel)
+    ActionChains(page.d).key_down(Keys.SHIFT).click_and_hold(slider).move_by_offset(100, 0).release() \
+        .key_up(Keys.SHIFT).perform()
+    page.wait(lambda: page.text() != text, what="the fine drag's edit")
+    r1 = radius(page.text())
+    assert changed_lines(text, page.text()) == [MAP4]
+    assert abs(r1 - (r0 + 100 * (hi - lo) / (10 * w))) <= 0.0025, (r0, r1, lo, hi, w)
+    page.shot("fine-drag")
