@@ -378,6 +378,9 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         for (const auto& m : maps_) kk.push_back(m->kernel());
         setup_fused(kk, crule);
     }
+
+    // fit_view refined by the render's own chains, now that they can run (chaos-game/fit.cpp).
+    if (p.boolean("fit_view") && probe_fits()) fit_by_probe();
 }
 
 // The fused step's tables (chaos-game/fused-inl.hpp): when every map is a known kernel of one
@@ -523,8 +526,8 @@ constexpr fp::ParamSpec params[] = {
         .len(4)
         .opt(),
     fp::param::boolean("fit_view",
-                       "fit the view to the orbits with a short pre-run (0.1%-99.9% quantiles, 5% margin, "
-                       "square pixels); `view` is then ignored")
+                       "fit the view to the orbits: the first points of the render's own chains (at most "
+                       "2^22), their 0.1%-99.9% quantiles, 5% margin, square pixels; `view` is then ignored")
         .def("false"),
     fp::param::integer("chains", "independent chains (fixed whatever the thread count)")
         .def("4096")

@@ -1,4 +1,5 @@
-// Fitting a chaos game's view to its orbits: a short pre-run (paper 03: Gumowski-Mira orbits
+// Fitting a chaos game's view to its orbits, first estimate (chaos-game/fit.cpp refines it by the
+// render's own chains): a short pre-run (paper 03: Gumowski-Mira orbits
 // range widely with mu, so a fixed window either crops them or wastes the image).
 //
 // The pre-run plays the same game as the renderer — the same maps, weights, inversion rules,

@@ -90,9 +90,12 @@ TEST(RenderVersion, AChangeOfADefaultTouchesTheRecipesThatLeaveItOut) {
     EXPECT_EQ(v3(head + "  sets: beside\n  set_view: [-2, 2, -2, 2]\n"), 0);
     EXPECT_EQ(v3(head + "  sets: over\n"), 0);
     EXPECT_EQ(v3(head), 0);
+    EXPECT_EQ(v3(head + "  fit_view: true\n"), 1);
+    EXPECT_EQ(v3(head + "  fit_view: false\n"), 0);
+    EXPECT_EQ(v3(head + "  sets: only\n  fit_view: true\n"), 2);
     EXPECT_EQ(v3("renderer: {type: chaos-game, sets: only, set_view: ~}\n"), 1);
     // Without a recipe to read, every render of its plugins (what may differ is said).
-    EXPECT_EQ(changes_since(2, {"chaos-game"}).size(), 1u);
+    EXPECT_EQ(changes_since(2, {"chaos-game"}).size(), 2u); // the sets' panel, fit_view
     // End to end: a recipe of version 2 with sets beside is told, the same without sets is not.
     const std::string old = "render_version: 2\n" + circles;
     EXPECT_TRUE(pipeline(old).warnings.empty());

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -260,6 +261,38 @@ TEST(GumowskiMira, FitViewHoldsTheOrbits) {
     fp::host::Runtime rt1(1, nullptr);
     fp::RenderStats st1;
     EXPECT_EQ(host().make<fp::Renderer>(yaml)->render(rt1, st1).pixels, a.pixels);
+}
+
+// A single chain choosing between two maps (paper 03's superfractal child, fig4.yaml): the
+// view fits the render's own orbit (the pre-run's streams would give another child, and its
+// 4000 steps a quarter of this one). Seeds 1 to 3: at most 0.2% of the points outside the view,
+// the child spanning at least 85% of the image along its tighter side (5% margins), nothing
+// on the border; the same pixels on 1 and 2 threads.
+TEST(GumowskiMira, FitViewHoldsASingleChildWhole) {
+    for (const char* seed : {"1", "2", "3"}) {
+        const std::string yaml =
+            std::string("{type: chaos-game, width: 320, height: 240, points: 30000, chains: 1, skip: 0, ") +
+            "start: [0, 0.5], precision: double, fit_view: true, seed: " + seed +
+            ", colourer: {type: density}, maps: [{type: gumowski-mira, alpha: 0, mu: -0.7501, weight: 0.5}, "
+            "{type: gumowski-mira, alpha: 0, mu: -0.7509, weight: 0.5}]}";
+        fp::host::Runtime rt(2, nullptr);
+        fp::RenderStats st;
+        const fp::Image a = host().make<fp::Renderer>(yaml)->render(rt, st);
+        EXPECT_GE(double(st.drawn), 0.998 * double(st.samples)) << seed;
+        int x0 = 320, x1 = -1, y0 = 240, y1 = -1;
+        for (int y = 0; y < 240; ++y)
+            for (int x = 0; x < 320; ++x)
+                if (a.pixels[3 * (size_t(y) * 320 + size_t(x))] > 0)
+                    x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+        EXPECT_GT(x0, 0) << seed;
+        EXPECT_LT(x1, 319) << seed;
+        EXPECT_GT(y0, 0) << seed;
+        EXPECT_LT(y1, 239) << seed;
+        EXPECT_GE(std::max((x1 - x0 + 1) / 320.0, (y1 - y0 + 1) / 240.0), 0.85) << seed;
+        fp::host::Runtime rt1(1, nullptr);
+        fp::RenderStats st1;
+        EXPECT_EQ(host().make<fp::Renderer>(yaml)->render(rt1, st1).pixels, a.pixels) << seed;
+    }
 }
 
 TEST(GumowskiMira, BadStartBox) {

@@ -90,6 +90,14 @@ private:
     /// The sets of the maps on the background, as a width x height picture.
     void draw_set_panel(cairo_t* cr) const;
 
+    // ---- chaos-game/fit.cpp
+    /// Whether fit_view may refine the pre-run's view by the render's own chains (not with a
+    /// camera, which turns the points about the view's centre).
+    bool probe_fits() const;
+    /// fit_view by the render's own chains: frame_ and hist_'s view from where the first
+    /// points of each chain land (fit.cpp says how).
+    void fit_by_probe();
+
     // ---- chaos-game/plan.cpp
     /// The render in strips (plan.cpp's "Strips"), each strip's pixels into the sink.
     template <class T>
