@@ -131,7 +131,8 @@ TEST(JuliaInverse, TheChaosGameDrawsTheJuliaSet) {
     for (size_t i = 0; i < points.size(); i += 1000, ++checked) {
         bool near = false;
         for (int k = 0; k < 48 && !near; ++k) {
-            const double a = 2 * M_PI * k / 16, r = 0.01 / double(1 + k / 16); // 0.01, 0.005, 0.0033
+            const int ring = k / 16; // radii 0.01, 0.005, 0.0033
+            const double a = 2 * M_PI * k / 16, r = 0.01 / double(1 + ring);
             near = escapes({points[i].x + r * std::cos(a), points[i].y + r * std::sin(a)}, 500);
         }
         far += !near;
