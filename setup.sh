@@ -68,7 +68,7 @@ sanitize=
 if [ "$mode" = test ] && [ -z "$quick" ]; then
     sanitize=1
     # The sanitizer build: clang 14 with its runtimes (ASan, UBSan, libFuzzer).
-    packages+=(clang libclang-rt-14-dev)
+    packages+=(clang libclang-rt-14-dev lld)
 fi
 missing=()
 for p in "${packages[@]}"; do
