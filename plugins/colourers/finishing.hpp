@@ -124,9 +124,14 @@ struct Flam3Tone {
     /// flam3's background: over (1 - alpha), alpha clamped to [0, 1], rather than over the
     /// uncovered share.
     bool alpha_background = false;
+    /// flam3's 8 bits: it writes (unsigned char) of its 0..255 value (rect.c), a truncation,
+    /// where fixpoint's writers round to the nearest step. Half a step lower makes that rounding
+    /// flam3's truncation; a sparse region's last half step (0.5 to 1 of 255) is dark, as flam3's.
+    bool truncates = false;
 
     bool plain() const {
-        return vibrancy == 1 && highlight_power == -1 && gamma_threshold == 0 && !alpha_background;
+        return vibrancy == 1 && highlight_power == -1 && gamma_threshold == 0 && !alpha_background &&
+               !truncates;
     }
 
     double alpha(double a) const {
@@ -166,7 +171,9 @@ struct Flam3Tone {
                     rgb[k] += (1.0 - vibrancy) * brightness * std::pow(c[k], 1.0 / gamma);
         }
         const double b[3] = {bg.r, bg.g, bg.b};
-        for (int k = 0; k < 3; ++k) out[k] = float(std::clamp(rgb[k] + open * b[k], 0.0, 1.0));
+        const double low = truncates ? 0.5 / 255.0 : 0.0;
+        for (int k = 0; k < 3; ++k)
+            out[k] = float(std::max(0.0, std::clamp(rgb[k] + open * b[k], 0.0, 1.0) - low));
     }
 
     /// Multiplies the HSV saturation of v (channels in [0, 1]) by s.

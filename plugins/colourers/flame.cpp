@@ -110,9 +110,10 @@ public:
             throw fp::ParamError("contrast", "contrast is flam3's: it needs density flam3");
         if (flam3_) {
             // brightness is inside the density (Flam3Density); flam3 scales to 256 where white is
-            // 255, and blends the background by alpha.
+            // 255, blends the background by alpha and truncates to its 8 bits.
             tone_.brightness = 256.0 / 255.0;
             tone_.alpha_background = true;
+            tone_.truncates = true;
         }
         has_palette_ = fp::palette_of(p, palette_);
         // flam3's index blends per point into the mean of a pixel's colours: mode mean alone.

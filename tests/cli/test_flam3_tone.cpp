@@ -3,9 +3,9 @@
 // brightest bin. Checked on the uniform measure of the unit square (four maps of ratio 1/2 onto
 // its quarters), whose density is 1 everywhere: each pixel is flam3's hand-computed value
 // (256/255) (268/256) contrast brightness ln(1 + 1/contrast), whatever the pixel's size and the
-// points drawn; an xform's opacity weighs its points by flam3's opacity^log2(10); in strips
-// and re-toned from a kept histogram it is the same bytes; and
-// `contrast` without density flam3 is refused.
+// points drawn; its 8 bits truncate as flam3's do; an xform's opacity weighs its points by
+// flam3's opacity^log2(10); in strips and re-toned from a kept histogram it is the same bytes;
+// and `contrast` without density flam3 is refused.
 #include "cli.hpp"
 
 #include <fixpoint/host/core/image_io.hpp>
@@ -46,6 +46,10 @@ double red(const fp::Image& im, int x, int y) {
            im.pixels[(std::size_t(y) * std::size_t(im.width) + std::size_t(x)) * std::size_t(im.channels)];
 }
 
+/// The value pixel (x, y)'s red stands for: flam3 truncates to its 8 bits, so a value v is
+/// written floor(v), on average v - 1/2.
+double shown(const fp::Image& im, int x, int y) { return red(im, x, y) + 0.5; }
+
 fp::Image render(const std::string& dir, const std::string& name, const std::string& config) {
     write_file(dir + "/" + name + ".yaml", config);
     const auto r =
@@ -60,24 +64,36 @@ TEST(Flam3Tone, TheSquaresDensityIsFlam3sValue) {
     const fp::Image a = render(dir, "a", square("[0, 1, 0, 1]", 4, 1600000, ""));
     ASSERT_EQ(a.width, 4);
     for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 4; ++x) EXPECT_NEAR(red(a, x, y), expected(1, 1), 1.5) << x << ", " << y;
+        for (int x = 0; x < 4; ++x) EXPECT_NEAR(shown(a, x, y), expected(1, 1), 1.5) << x << ", " << y;
     // Brightness and contrast as flam3 has them.
     const fp::Image b =
         render(dir, "b", square("[0, 1, 0, 1]", 4, 1600000, ", brightness: 0.5, contrast: 2"));
     for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 4; ++x) EXPECT_NEAR(red(b, x, y), expected(0.5, 2), 1.5) << x << ", " << y;
+        for (int x = 0; x < 4; ++x) EXPECT_NEAR(shown(b, x, y), expected(0.5, 2), 1.5) << x << ", " << y;
     // Pixels of 1/2 x 1/2 (four times the hits each) over a view of 3 x 3 (the square in its
     // middle 2 x 2 pixels): the same density, the same value; outside, the background.
     const fp::Image c = render(dir, "c", square("[-1, 2, -1, 2]", 6, 1600000, ""));
     for (int y = 0; y < 6; ++y)
         for (int x = 0; x < 6; ++x) {
             const bool in = x >= 2 && x < 4 && y >= 2 && y < 4;
-            EXPECT_NEAR(red(c, x, y), in ? expected(1, 1) : 0.0, 1.5) << x << ", " << y;
+            EXPECT_NEAR(shown(c, x, y), in ? expected(1, 1) : 0.0, 1.5) << x << ", " << y;
         }
     // A quarter of the points: the same picture (flam3's quality changes the noise, not the tone).
     const fp::Image d = render(dir, "d", square("[0, 1, 0, 1]", 4, 400000, ""));
     for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 4; ++x) EXPECT_NEAR(red(d, x, y), expected(1, 1), 2.0) << x << ", " << y;
+        for (int x = 0; x < 4; ++x) EXPECT_NEAR(shown(d, x, y), expected(1, 1), 2.0) << x << ", " << y;
+}
+
+TEST(Flam3Tone, EightBitsTruncateAsFlam3Does) {
+    // flam3 writes (unsigned char) of its 0..255 value. The square's pixels are worth
+    // 268 ln 2 = 185.76 of 255: flam3 writes 185 where rounding would give 186. 4e6 hits a
+    // pixel keep the value within +-0.07 (1 sigma) of it, so every pixel is 185.
+    const std::string dir = scratch_dir("flam3_tone_truncate");
+    ASSERT_NEAR(expected(1, 1), 185.763, 1e-3);
+    const fp::Image a = render(dir, "a", square("[0, 1, 0, 1]", 4, 64000000, ""));
+    ASSERT_EQ(a.width, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) EXPECT_EQ(std::lround(red(a, x, y)), 185) << x << ", " << y;
 }
 
 TEST(Flam3Tone, OpacityWeighsEachPointAsFlam3Does) {
@@ -88,7 +104,7 @@ TEST(Flam3Tone, OpacityWeighsEachPointAsFlam3Does) {
     const fp::Image a = render(dir, "a", square("[0, 1, 0, 1]", 4, 1600000, "", ", opacity: 0.65881"));
     const double want = 255.0 * (256.0 / 255.0) * (268.0 / 256.0) * std::log1p(0.25);
     for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 4; ++x) EXPECT_NEAR(red(a, x, y), want, 1.5) << x << ", " << y;
+        for (int x = 0; x < 4; ++x) EXPECT_NEAR(shown(a, x, y), want, 1.5) << x << ", " << y;
     // Opacity 0 on three of the maps: only the fourth's images are plotted (its quarter: the
     // bottom-left, rows down).
     std::string c = square("[0, 1, 0, 1]", 4, 400000, "");
