@@ -163,6 +163,18 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     last_ = colourer_->pixel_rule() == fp::PixelRule::last;
     if (last_) colour_ = true;
     palette_ = colourer_->palette_index();
+    if (p.has("picture")) {
+        steal_ = true;
+        if (!colour_)
+            throw fp::ParamError("picture", "colour stealing needs a colourer that shows the points' colours "
+                                            "(map-colour or flame); this one shows only where they fall");
+        if (palette_)
+            throw fp::ParamError("picture",
+                                 "colour stealing takes the points' colours from the picture: not with "
+                                 "a colourer's palette (leave out the picture, or the palette)");
+        const std::string& name = p.string("picture");
+        picture_ = name == "hues" ? fp_render::hues_picture() : fp_render::png_picture(name);
+    }
 
     const auto& items = p.objects("maps");
     if (items.empty()) throw fp::ParamError("maps", "the list of maps is empty");
@@ -179,6 +191,9 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
         fp::Rgb c = fp_render::palette_colour(j);
         // flam3's palette index of the map: its `color`, else the maps spread over the palette.
         float index = k > 1 ? float(double(j) / double(k - 1)) : 0.0f, speed = 0.5f;
+        // Colour stealing's default colour map: ((u + j) / k, v), the chain's address in base k
+        // along u (picture.hpp).
+        colour_maps_.push_back({1.0 / double(k), 0.0, 0.0, 1.0, double(j) / double(k), 0.0});
         if (items[j].extras) {
             w[j] = items[j].extras->real("weight");
             fp_render::read_item_colour(*items[j].extras, "maps", j, palette_, c, index, speed);
@@ -197,6 +212,14 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
                     chaos[j * k + i] = c[i];
                     has_xaos_ = has_xaos_ || c[i] != 1;
                 }
+            }
+            if (items[j].extras->has("colour_map")) {
+                if (!steal_)
+                    throw fp::ParamError("maps", "maps[" + std::to_string(j) +
+                                                     "]: a colour_map is used only by colour stealing: give "
+                                                     "the renderer a picture (hues, or a PNG file)");
+                const auto& v = items[j].extras->reals("colour_map");
+                colour_maps_.back() = {v[0], v[1], v[2], v[3], v[4], v[5]};
             }
             const double o = items[j].extras->real("opacity");
             if (o < 1) {
@@ -245,6 +268,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     has_finals_ = !final_.empty() || rotate_ || y_down_;
     colours_.push_back(fp::Rgb{});
     map_index_.push_back(0.0f), map_speed_.push_back(0.0f); // (the k-th: never used)
+    colour_maps_.push_back({1, 0, 0, 1, 0, 0});
     for (size_t j = 0; j < k; ++j)
         map_q_.push_back({uint16_t(fp::quantise_colour(colours_[j].r)),
                           uint16_t(fp::quantise_colour(colours_[j].g)),
@@ -372,7 +396,7 @@ ChaosGame::ChaosGame(const fp::ParamBag& p) {
     // fused step took (chaos-game/block.cpp). The running colour of Algorithm 2 (flame's `last`) changes
     // only where a chain plots, unlike the fused step's: that mode keeps the generic path.
     if (p.string("kernels") == "auto" && k <= fp_chaos::table_size && !has_finals_ && !has_opacity_ &&
-        !has_xaos_ && escape_ == 0 && (!colour_ || crule != fp::ColourRule::none) &&
+        !has_xaos_ && escape_ == 0 && !steal_ && (!colour_ || crule != fp::ColourRule::none) &&
         (!last_ || crule == fp::ColourRule::map)) {
         std::vector<fp::KnownKernel> kk;
         for (const auto& m : maps_) kk.push_back(m->kernel());
@@ -472,6 +496,12 @@ constexpr fp::ParamSpec map_item_params[] = {
         .def("1")
         .min(0)
         .max(1),
+    fp::param::reals("colour_map",
+                     "colour stealing: the map of the colour IFS on the picture square run with this map, "
+                     "affine coefficients [a, b, c, d, e, f] (u' = a u + b v + e, v' = c u + d v + f); "
+                     "default ((u + j) / k, v) for map j of k")
+        .len(6)
+        .opt(),
 };
 
 constexpr fp::ParamSpec final_item_params[] = {
@@ -553,6 +583,11 @@ constexpr fp::ParamSpec params[] = {
         .def("{type: picard}"),
     fp::param::object("colourer", fp::Kind::Colourer, "how points are coloured and the histogram tone-mapped")
         .def("{type: flame}"),
+    fp::param::string("picture", "colour stealing (Barnsley): each point takes the colour of this picture at "
+                                 "the chain's point of the colour IFS (the maps' colour_map), run with the "
+                                 "chain's own choices; hues (built in) or a PNG file relative to the config")
+        .opt()
+        .reads_file("hues"),
     fp::param::string("inversion_rules",
                       "paper 01's rules (not the previous map, not a map whose set holds the "
                       "point): auto = on when every map has a set")

@@ -51,7 +51,7 @@
 // point's colour into the update, so with flame colours pass from parents to children.
 //
 //
-// Colour stealing (`picture`): superfractal/picture.hpp.
+// Colour stealing (`picture`): picture.hpp.
 //
 // Buffers: point samples, not sets
 // --------------------------------
@@ -119,8 +119,8 @@
 // [1, 65536], got 0"), a colour map of the wrong length ("maps[0].colour_map: expected 6
 // numbers, got 5").
 #include "palette.hpp"
+#include "picture.hpp"
 #include "superfractal/choices.hpp"
-#include "superfractal/picture.hpp"
 #include "superfractal/renderer.hpp"
 
 #include <fixpoint/fixpoint.hpp>
@@ -181,7 +181,7 @@ Superfractal::Superfractal(const fp::ParamBag& p) {
             throw fp::ParamError("picture", "colour stealing needs a colourer that shows the points' colours "
                                             "(map-colour or flame); this one shows only where they fall");
         const std::string& name = p.string("picture");
-        picture_ = name == "hues" ? hues_picture() : png_picture(name);
+        picture_ = name == "hues" ? fp_render::hues_picture() : fp_render::png_picture(name);
     }
     rgb_ = colour_ && !steal_;
     palette_ = colourer_->palette_index();

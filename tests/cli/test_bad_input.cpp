@@ -69,7 +69,7 @@ std::vector<Case> cases() {
              "radius: 0.9}, wieght: 2}\n    - {type: inversion, shape: {type: circle, centre: [-0.5, 0.866]"),
          "bad.yaml:8:77: renderer.maps[0]: unknown key 'wieght': not a parameter of inversion nor a key of "
          "the "
-         "item (weight, colour, color, color_speed, chaos, opacity) (did you mean 'weight'?)"},
+         "item (weight, colour, color, color_speed, chaos, opacity, colour_map) (did you mean 'weight'?)"},
         {"missing_parameter", replace_once(b, "shape: " + circle0, "centre: [0.1, 0]"),
          "bad.yaml:8:7: renderer.maps[0]: missing required parameter 'shape' for inversion"},
         {"ill_typed", replace_once(b, "width: 64", "width: wide"),

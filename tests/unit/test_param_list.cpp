@@ -59,18 +59,19 @@ TEST(ParamList, EntriesOfASmallConfig) {
                                       "renderer.maps[0].color",
                                       "renderer.maps[0].color_speed",
                                       "renderer.maps[0].chaos",
-                                      "renderer.maps[0].opacity"};
+                                      "renderer.maps[0].opacity",
+                                      "renderer.maps[0].colour_map"};
     const auto got = paths(all);
-    ASSERT_EQ(got.size(), 1 + 12 + 1 + 8 * item0.size() + 3 + 1 + 12 + 15);
+    ASSERT_EQ(got.size(), 1 + 12 + 1 + 8 * item0.size() + 3 + 1 + 12 + 16);
     EXPECT_EQ(
         std::vector<std::string>(got.begin(), got.begin() + 14),
         (std::vector<std::string>{"renderer", "renderer.width", "renderer.height", "renderer.view",
                                   "renderer.points", "renderer.seed", "renderer.skip", "renderer.escape",
                                   "renderer.restart_skip", "renderer.start", "renderer.start_box",
                                   "renderer.fit_view", "renderer.chains", "renderer.maps"}));
-    EXPECT_EQ(std::vector<std::string>(got.begin() + 14, got.begin() + 25), item0);
-    EXPECT_EQ(got[14 + 7 * 11], "renderer.maps[7]");
-    EXPECT_EQ(std::vector<std::string>(got.begin() + 14 + 8 * 11, got.end()),
+    EXPECT_EQ(std::vector<std::string>(got.begin() + 14, got.begin() + 26), item0);
+    EXPECT_EQ(got[14 + 7 * 12], "renderer.maps[7]");
+    EXPECT_EQ(std::vector<std::string>(got.begin() + 14 + 8 * 12, got.end()),
               (std::vector<std::string>{"renderer.final",
                                         "renderer.rotate",
                                         "renderer.y_axis",
@@ -87,6 +88,7 @@ TEST(ParamList, EntriesOfASmallConfig) {
                                         "renderer.colourer.palette",
                                         "renderer.colourer.palette_stops",
                                         "renderer.colourer.palette_mode",
+                                        "renderer.picture",
                                         "renderer.inversion_rules",
                                         "renderer.precision",
                                         "renderer.background",
@@ -241,16 +243,16 @@ TEST(ParamList, UnknownPluginsAndWrongValuesAreListedAsWritten) {
     EXPECT_EQ(entry(all, "renderer.iteration").value, "mystery");
     EXPECT_EQ(got[std::size_t(at("renderer.iteration") + 1)], "renderer.colourer");
     EXPECT_EQ(entry(all, "renderer.colourer").value, "circle");
-    EXPECT_EQ(got[std::size_t(at("renderer.colourer") + 1)], "renderer.inversion_rules");
+    EXPECT_EQ(got[std::size_t(at("renderer.colourer") + 1)], "renderer.picture");
     // An item of an unknown transform keeps the item's own keys; an item that is not a
     // mapping has none.
     EXPECT_EQ(
         std::vector<std::string>(got.begin() + at("renderer.maps"), got.begin() + at("renderer.iteration")),
-        (std::vector<std::string>{"renderer.maps", "renderer.maps[0]", "renderer.maps[0].weight",
-                                  "renderer.maps[0].colour", "renderer.maps[0].color",
-                                  "renderer.maps[0].color_speed", "renderer.maps[0].chaos",
-                                  "renderer.maps[0].opacity", "renderer.maps[1]", "renderer.final",
-                                  "renderer.rotate", "renderer.y_axis"}));
+        (std::vector<std::string>{
+            "renderer.maps", "renderer.maps[0]", "renderer.maps[0].weight", "renderer.maps[0].colour",
+            "renderer.maps[0].color", "renderer.maps[0].color_speed", "renderer.maps[0].chaos",
+            "renderer.maps[0].opacity", "renderer.maps[0].colour_map", "renderer.maps[1]", "renderer.final",
+            "renderer.rotate", "renderer.y_axis"}));
     EXPECT_EQ(entry(all, "renderer.maps[0]").value, "nope");
     EXPECT_EQ(entry(all, "renderer.maps[0].weight").value, "2");
     EXPECT_EQ(entry(all, "renderer.maps[1]").value, "5");

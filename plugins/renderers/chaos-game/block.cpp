@@ -82,8 +82,8 @@ private:
     void start() {
         uint32_t* list = s_.perm.get();
         const StartColour colour{
-            g_.last_,   g_.seed_, g_.initial_colour_.r, g_.initial_colour_.g, g_.initial_colour_.b,
-            g_.palette_};
+            g_.last_,    g_.seed_, g_.initial_colour_.r, g_.initial_colour_.g, g_.initial_colour_.b,
+            g_.palette_, g_.steal_};
         for (size_t i = 0; i < nb_; ++i) {
             if (!t_.saved.empty()) {
                 const ChainRec& r = t_.saved[i];
@@ -231,13 +231,17 @@ private:
                 FP_IVDEP
                 for (size_t i = 0; i < nb_; ++i) moved[i] = chosen[i] < none_ ? 1 : 0;
             }
-            fp::ColourState cs{c_.cr.get(), c_.cg.get(), c_.cb.get(), nb_};
-            if (g_.palette_) {
-                cs.index = c_.ci.get();
-                cs.map_index = g_.map_index_.data();
-                cs.map_speed = g_.map_speed_.data();
+            if (g_.steal_) {
+                g_.steal(s_, nb_, moved);
+            } else {
+                fp::ColourState cs{c_.cr.get(), c_.cg.get(), c_.cb.get(), nb_};
+                if (g_.palette_) {
+                    cs.index = c_.ci.get();
+                    cs.map_index = g_.map_index_.data();
+                    cs.map_speed = g_.map_speed_.data();
+                }
+                g_.colourer_->update(chosen, cs, g_.colours_.data(), moved);
             }
-            g_.colourer_->update(chosen, cs, g_.colours_.data(), moved);
             colours_in_range_ = false; // (a colourer's rule: no promise of its range)
         }
         const Counts sc = g_.has_finals_ ? bookkeep_finals(n) : bookkeep(bv_, Colour);

@@ -128,8 +128,8 @@ struct ChainRec {
     uint64_t step; ///< the step it runs next (the iteration scheme's n)
     uint32_t chain, prev, age, idle, active;
     float cr, cg, cb;
-    float ci;     ///< the palette index (Colourer::palette_index; else 0)
-    uint32_t pad; ///< 0 (the record's size a multiple of 8)
+    float ci; ///< the palette index (Colourer::palette_index), or colour stealing's u; else 0
+    float cv; ///< colour stealing's v; else 0 (the record's size a multiple of 8)
 };
 static_assert(sizeof(ChainRec) == 80, "ChainRec is written as it is");
 
@@ -143,6 +143,8 @@ struct StartColour {
     /// A palette index too (Colourer::palette_index): drawn from the same stream, after the
     /// colours where they are random (flam3 starts each chain at a random index).
     bool index = false;
+    /// Colour stealing (picture.hpp): the colour point starts at (1/2, 1/2), drawn from no stream.
+    bool steal = false;
 };
 
 /// A block's chains, lane i the i-th: the one declaration of a chain's state. The kernels see it
@@ -157,7 +159,8 @@ struct Chains {
     Buf<uint32_t> idle;     ///< restarts in a row without a plotted point
     Buf<uint32_t> active;   ///< 0 / 1; 0 past the block's last chain (the kernels read whole vectors)
     Buf<float> cr, cg, cb;  ///< the colour
-    Buf<float> ci;          ///< the palette index (Colourer::palette_index)
+    Buf<float> ci;          ///< the palette index (Colourer::palette_index), or colour stealing's u
+    Buf<float> cv;          ///< colour stealing's v (picture.hpp)
     Buf<uint32_t> chain;    ///< the chain in this lane
     Buf<unsigned char> fin; ///< a checkpointed render: the lane's final state is recorded
 
@@ -165,7 +168,7 @@ struct Chains {
         const size_t B = block_size;
         x.alloc(B), y.alloc(B), rs.alloc(B), ri.alloc(B), left.alloc(B);
         prev.alloc(B), age.alloc(B), idle.alloc(B), cr.alloc(B), cg.alloc(B), cb.alloc(B), ci.alloc(B);
-        active.alloc(B);
+        cv.alloc(B), active.alloc(B);
         chain.alloc(B), fin.alloc(B);
     }
 
@@ -173,7 +176,7 @@ struct Chains {
     ChainRec record(size_t i, uint64_t step) const {
         return ChainRec{double(x.get()[i]), double(y.get()[i]), rs.get()[i],  left.get()[i], step,
                         chain.get()[i],     prev.get()[i],      age.get()[i], idle.get()[i], active.get()[i],
-                        cr.get()[i],        cg.get()[i],        cb.get()[i],  ci.get()[i],   0};
+                        cr.get()[i],        cg.get()[i],        cb.get()[i],  ci.get()[i],   cv.get()[i]};
     }
     /// Lane i continues chain c.chain where a checkpoint left it (its increment follows from the
     /// chain); a lane that finished before the checkpoint has its final state recorded already.
@@ -188,6 +191,7 @@ struct Chains {
         idle.get()[i] = c.idle;
         cr.get()[i] = c.cr, cg.get()[i] = c.cg, cb.get()[i] = c.cb;
         ci.get()[i] = c.ci;
+        cv.get()[i] = c.cv;
         x.get()[i] = T(c.x);
         y.get()[i] = T(c.y);
         fin.get()[i] = c.active ? 0 : 1;
@@ -211,7 +215,8 @@ struct Chains {
         } else {
             cr.get()[i] = c.r, cg.get()[i] = c.g, cb.get()[i] = c.b;
         }
-        ci.get()[i] = c.index ? fp::uniform_float(r) : 0.0f;
+        ci.get()[i] = c.index ? fp::uniform_float(r) : c.steal ? 0.5f : 0.0f;
+        cv.get()[i] = c.steal ? 0.5f : 0.0f;
         x.get()[i] = T(0);
         y.get()[i] = T(0);
     }
@@ -323,7 +328,7 @@ struct Scratch {
     static size_t staging(size_t k) { return k <= max_compress_maps ? k * seg_stride : block_size; }
     static uint64_t bytes(size_t k, bool finals, bool random) {
         const uint64_t B = block_size;
-        return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + 5 + k + 8 * 4 + 16 + 1 + 4 + 2) +
+        return B * (4 * sizeof(T) + 3 * 8 + 3 * 4 + 3 * 4 + 4 + 5 + k + 8 * 4 + 16 + 1 + 4 + 2 + 4 /* cv */) +
                (2 * sizeof(T) + 4) * staging(k) + 12 * (k + 2) + 64 * 40 +
                (random ? 8 * staging(k) + 64 : 0) + (finals ? B * (2 * sizeof(T) + 5 * 4 + 8) + 64 * 8 : 0);
     }

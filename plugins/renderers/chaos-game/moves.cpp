@@ -10,6 +10,7 @@
 #include <fixpoint/fixpoint.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -150,6 +151,26 @@ void ChaosGame::hide(Scratch<T>& s, size_t nb, uint64_t n, uint32_t dummy) const
     }
 }
 
+// ---------------------------------------------------------------- colour stealing
+// (picture.hpp) The colour point in double from its float store, so that every target gives
+// the same bits: a scalar loop of plain products and sums (no contraction: the build's
+// -ffp-contract=off), rounded to float as it is kept.
+template <class T>
+void ChaosGame::steal(Scratch<T>& s, size_t nb, const unsigned char* moved) const {
+    const uint32_t* chosen = s.chosen.get();
+    float* u = s.c.ci.get();
+    float* v = s.c.cv.get();
+    for (size_t i = 0; i < nb; ++i) {
+        if (!moved[i]) continue;
+        const std::array<double, 6>& m = colour_maps_[chosen[i]];
+        const double a = u[i], b = v[i];
+        u[i] = float(m[0] * a + m[1] * b + m[4]);
+        v[i] = float(m[2] * a + m[3] * b + m[5]);
+        const fp::Rgb c = picture_.at(u[i], v[i]);
+        s.c.cr.get()[i] = c.r, s.c.cg.get()[i] = c.g, s.c.cb.get()[i] = c.b;
+    }
+}
+
 // ---------------------------------------------------------------- final maps, camera
 template <class T>
 void ChaosGame::finals(Scratch<T>& s, size_t nb, uint64_t n, bool colour) const {
@@ -184,7 +205,9 @@ void ChaosGame::finals(Scratch<T>& s, size_t nb, uint64_t n, bool colour) const 
                     std::copy(from, from + nb, to);
         }
         final_[j]->apply(fp::Points<T>{fx, fy, nb, keys, 0x80000000u + uint32_t(j)}, nullptr);
-        if (colour) {
+        // (With colour stealing the plotted point keeps its chain's colour: final maps have
+        // no colour maps.)
+        if (colour && !steal_) {
             std::fill(s.fchosen.get(), s.fchosen.get() + nb, uint32_t(j));
             std::fill(moved, moved + nb, static_cast<unsigned char>(1));
             fp::ColourState cs{s.fr.get(), s.fg.get(), s.fb.get(), nb};
@@ -375,6 +398,8 @@ bool ChaosGame::lane_program(uint64_t n, LaneProgram<T>& out) const {
 
 template void ChaosGame::choose_xaos<float>(Scratch<float>&, size_t) const;
 template void ChaosGame::choose_xaos<double>(Scratch<double>&, size_t) const;
+template void ChaosGame::steal<float>(Scratch<float>&, size_t, const unsigned char*) const;
+template void ChaosGame::steal<double>(Scratch<double>&, size_t, const unsigned char*) const;
 template void ChaosGame::hide<float>(Scratch<float>&, size_t, uint64_t, uint32_t) const;
 template void ChaosGame::hide<double>(Scratch<double>&, size_t, uint64_t, uint32_t) const;
 template void ChaosGame::choose_rules<float>(Scratch<float>&, size_t) const;

@@ -66,7 +66,8 @@ uint64_t ChaosGame::memory_bytes(unsigned workers) const {
     // (The sets beside: a second picture of the same size, and the two side by side; and the
     // finishing stage's buffers.)
     const uint64_t image = px * 3 * sizeof(float) * (sets_ == Sets::beside ? 3 : 1) +
-                           (finish_.active() ? finish_.bytes(frame_.width, frame_.height) : 0);
+                           (finish_.active() ? finish_.bytes(frame_.width, frame_.height) : 0) +
+                           picture_.rgb.size();
     // (A whole render's total counted as fp::HistBin bins even where it is hit counts alone: a
     // checkpointed render keeps the bins.)
     return strip_bytes(workers, uint64_t(hist_.height), colour_, false) + image + scratch_bytes(workers);

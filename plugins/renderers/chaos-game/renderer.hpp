@@ -12,6 +12,7 @@
 #include "checkpoint.hpp"
 #include "histogram.hpp"
 #include "kernels.hpp"
+#include "picture.hpp"
 #include "sets.hpp"
 
 #include <fixpoint/fixpoint.hpp>
@@ -208,6 +209,15 @@ private:
     /// map's `color` by its `color_speed` (map_index_, map_speed_: k + 1 entries).
     bool palette_ = false;
     std::vector<float> map_index_, map_speed_;
+    /// Colour stealing (`picture`; picture.hpp): each chain's colour point (Chains::ci, cv) moves
+    /// by its map's colour map (colour_maps_: k + 1 entries, the last the identity), and the
+    /// point takes the picture's colour there; the colourer's update() is not called.
+    bool steal_ = false;
+    fp_render::Picture picture_;
+    std::vector<std::array<double, 6>> colour_maps_;
+    /// The colour stealing step of lanes [0, nb): the moved lanes' colour points and colours.
+    template <class T>
+    void steal(Scratch<T>& s, size_t nb, const unsigned char* moved) const;
     bool fused_ = false; ///< the fused step (fused-inl.hpp's fused_t) runs the block steps
     /// With fused_: the scheme is not Picard, and the fused step runs its program
     /// (IterationScheme::program) at each step where every map gives the same one.

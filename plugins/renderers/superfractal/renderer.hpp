@@ -2,7 +2,7 @@
 // schema; superfractal/steps.cpp: the steps of the V-variable algorithm and the child's plot).
 #pragma once
 
-#include "superfractal/picture.hpp"
+#include "picture.hpp"
 #include "uninitialised.hpp"
 
 #include <fixpoint/fixpoint.hpp>
@@ -65,7 +65,7 @@ private:
     bool palette_ = false;
     std::vector<float> map_index_, map_speed_; ///< per map: its color and color_speed
     fp::Rgb initial_colour_;
-    Picture picture_;
+    fp_render::Picture picture_;
     std::vector<std::array<double, 6>> colour_maps_; ///< per map: [a, b, c, d, e, f] of its colour map
 
     std::vector<std::shared_ptr<const fp::Transform>> maps_;

@@ -1,10 +1,10 @@
-// superfractal's colour stealing: the picture colours are stolen from (the built-in `hues`, or a
-// PNG file read with Cairo), and what stealing does.
+// Colour stealing, superfractal's and chaos-game's: the picture colours are stolen from (the
+// built-in `hues`, or a PNG file read with Cairo), and what stealing does.
 //
 // Colour stealing (Barnsley, "Superfractals", 2006; "Ergodic theory, fractal tops and colour
 // stealing", 2003; paper 03, Sec. V, proposes it for GM superfractals but gives no details)
 // ------------------------------------------------------------------------------------------
-// With `picture`, a second IFS, the colour IFS, runs in lockstep with the fractal: each map
+// superfractal: with `picture`, a second IFS, the colour IFS, runs in lockstep with the fractal: each map
 // f_j has a colour map g_j on the picture square [0, 1]^2 (its `colour_map`, affine
 // [a, b, c, d, e, f]: u' = a u + b v + e, v' = c u + d v + f), and each buffer point carries
 // a colour point (u, v) beside (x, y). When a share of a new buffer is f_j of source points,
@@ -28,6 +28,14 @@
 // through it (the "fractal top"); the histogram gives the mean of the colours of the points
 // that fall in the pixel instead, which differs only where pieces overlap.
 //
+// chaos-game: each chain carries a colour point (u, v) beside its point, from (1/2, 1/2), and
+// when map j moves the chain, map j's colour map moves (u, v); the point is plotted with the
+// picture's colour at the new (u, v). The colour IFS runs in lockstep with the chain's own
+// choices, so (u, v) is the colour IFS's point of the chain's address read backwards (its
+// last maps first): the chaos game's points are the IFS attractor's point of that address
+// (for contractive maps), and the colour is the same function of the point as in the buffer
+// algorithm. The default colour maps and the picture are the superfractal's; the chains'
+// streams, and so the geometry, are those of the render without a picture.
 #pragma once
 
 #include "cairo_out.hpp"
@@ -45,7 +53,7 @@
 #include <system_error>
 #include <vector>
 
-namespace fp_superfractal {
+namespace fp_render {
 
 /// The picture colours are stolen from: 8-bit RGB, top row first. The point (u, v) of the
 /// picture square [0, 1]^2 (v up) reads the pixel of column min(floor(u w), w - 1), row
@@ -146,4 +154,4 @@ inline Picture png_picture(const std::string& file) {
     return pic;
 }
 
-} // namespace fp_superfractal
+} // namespace fp_render
