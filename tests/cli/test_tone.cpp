@@ -265,14 +265,45 @@ TEST(Quality, StopsAtTheFirstDoublingThatReachesItWithThePlainRendersBytes) {
     EXPECT_EQ(read_file(dir + "/half.png"), read_file(dir + "/q.png"));
 }
 
+TEST(Quality, ItsRoundsGoOnThroughACheckpointFileAndResume) {
+    // --checkpoint: the rounds continue one another through the file, with the bytes of the
+    // rounds in memory. A render stopped at a lower level (as a killed one would be, after a
+    // round) and resumed to the higher one starts at the points the file holds and gives the
+    // bytes of the uninterrupted render; the file holds the points it stopped at.
+    const std::string dir = scratch_dir("quality_checkpoint");
+    write_file(dir + "/s.yaml",
+               chaos_game({"width: 64", "height: 48", "points: 3000", "chains: 64"}, sierpinski));
+    const auto q = run_cli({"render", "--quiet", dir + "/s.yaml", "-o", dir + "/q.png", "--quality", "6"});
+    ASSERT_EQ(q.rc, 0) << q.err;
+    const auto c = run_cli({"render", "--quiet", dir + "/s.yaml", "-o", dir + "/c.png", "--quality", "6",
+                            "--checkpoint", dir + "/c.ck"});
+    ASSERT_EQ(c.rc, 0) << c.err;
+    EXPECT_EQ(read_file(dir + "/c.png"), read_file(dir + "/q.png"));
+    const auto low = run_cli({"render", "--quiet", dir + "/s.yaml", "-o", dir + "/low.png", "--quality", "5",
+                              "--checkpoint", dir + "/k.ck"});
+    ASSERT_EQ(low.rc, 0) << low.err;
+    EXPECT_NE(read_file(dir + "/low.png"), read_file(dir + "/q.png"));
+    const auto on = run_cli(
+        {"render", dir + "/s.yaml", "-o", dir + "/on.png", "--quality", "6", "--resume", dir + "/k.ck"});
+    ASSERT_EQ(on.rc, 0) << on.err;
+    // (3000 points reach 4.47, 6000 5.47, 12000 6.47: the file held 6000, two rounds remained.)
+    EXPECT_NE(on.err.find(" after 2 rounds"), std::string::npos) << on.err;
+    EXPECT_EQ(read_file(dir + "/on.png"), read_file(dir + "/q.png"));
+    // The file went on to the stop point: resumed again, one round, the same bytes.
+    const auto again = run_cli(
+        {"render", dir + "/s.yaml", "-o", dir + "/again.png", "--quality", "6", "--resume", dir + "/k.ck"});
+    ASSERT_EQ(again.rc, 0) << again.err;
+    EXPECT_NE(again.err.find(" after 1 round"), std::string::npos) << again.err;
+    EXPECT_EQ(read_file(dir + "/again.png"), read_file(dir + "/q.png"));
+}
+
 TEST(Quality, BadRequestsGetOneLineAndNothingWritten) {
     const Kept k = kept("quality_bad");
     EXPECT_EQ(refused(k, {"render", k.dir + "/s.yaml", "-o", k.dir + "/t.png", "--quality", "0"}),
               "--quality: expected a sample level in (0, 40] (log2 of the points per lit pixel), got 0");
-    EXPECT_EQ(refused(k, {"render", k.dir + "/s.yaml", "-o", k.dir + "/t.png", "--quality", "4",
-                          "--checkpoint", k.dir + "/c.ck"}),
-              "--quality: not with --checkpoint or --resume: it continues its rounds through a checkpoint of "
-              "its own");
+    EXPECT_EQ(refused(k, {"render", k.dir + "/s.yaml", "-o", k.dir + "/t.png", "--quality", "4", "--resume",
+                          k.dir + "/none.ck"}),
+              "cannot read the checkpoint '" + k.dir + "/none.ck': no such file");
     // --histogram's checks come before the first round: an existing file, nothing written.
     write_file(k.dir + "/h.fph", "kept");
     Kept k3 = k;

@@ -1,5 +1,6 @@
 // --quality Q: host/job/quality.hpp says what the sample level is and why the stop point is the
 // recipe's alone.
+#include <fixpoint/host/core/checkpoint.hpp>
 #include <fixpoint/host/core/histogram_file.hpp>
 #include <fixpoint/host/core/image_io.hpp>
 #include <fixpoint/host/core/ranks.hpp>
@@ -65,10 +66,20 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
                 "--quality: expected a sample level in (0, 40] (log2 of the points per lit pixel), got ") +
             got);
     }
-    if (!request.checkpoint.empty() || !request.resume.empty())
-        throw InputError("--quality: not with --checkpoint or --resume: it continues its rounds through a "
-                         "checkpoint of its own");
+    // With --checkpoint or --resume the rounds continue one another through that file (saved
+    // every --checkpoint-every too), so a killed render resumes where it was: `--quality Q
+    // --resume FILE` starts at the first round of as many points as FILE holds, or more.
+    const bool filed = !request.checkpoint.empty() || !request.resume.empty();
+    if (filed && ranks::size() > 1)
+        throw InputError(std::string(request.resume.empty() ? "--checkpoint" : "--resume") +
+                         ": --quality under mpirun renders each round afresh: it keeps no checkpoints");
+    const std::string ck_file = request.checkpoint.empty() ? request.resume : request.checkpoint;
+    std::int64_t start = 0; // (the points the checkpoint resumed holds)
+    if (!request.resume.empty()) start = CheckpointFile(request.resume).header().points;
     Pipeline p = q.reload(0);
+    std::int64_t points = p.points;
+    while (points > 0 && points < start && points <= std::int64_t(5e14)) points *= 2;
+    if (points != p.points) p = q.reload(points);
     const Renderer& R = *p.renderer;
     if (p.points <= 0 || !R.keeps_checkpoints() || R.histogram_shape().width == 0)
         throw InputError(p.renderer_mark.str() + ": renderer: " + p.renderer_type +
@@ -90,7 +101,7 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
     double seconds = 0;
     Image image;
     std::string label = "quality ... of " + level_text(q.target) + " ";
-    for (std::int64_t points = p.points;; points *= 2) {
+    for (;; points *= 2) {
         ++res.rounds;
         if (res.rounds > 1) p = q.reload(points);
         // Each round renders its image (kept, not written; streamed, into a temporary file) and
@@ -102,7 +113,14 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
             round.default_file = false;
             round.encode.reset();
             round.keep_image = true;
-            if (!afresh) round.checkpoint_memory = ck; // (one at the end of the round)
+            if (filed && res.rounds > 1) {
+                // (The first round saves into the file as asked; the later ones resume from it,
+                // which their checkpoints go on in.)
+                round.checkpoint.clear();
+                round.resume = ck_file;
+            } else if (!filed && !afresh) {
+                round.checkpoint_memory = ck; // (one at the end of the round)
+            }
             // --histogram: each round keeps its histogram in memory; the last one's is written.
             round.histogram.clear();
             round.keep_histogram = !request.histogram.empty();
@@ -147,7 +165,10 @@ QualityResult render_to_quality(const QualityRequest& q, const RenderRequest& re
         res.result.seconds = seconds;
         return res;
     }
-    res.plan = plan_render(p, request, hooks.cancel);
+    // (The checkpoint file was the rounds': the image is written as a plain render's.)
+    RenderRequest written = request;
+    written.checkpoint.clear(), written.resume.clear(), written.checkpoint_every.clear();
+    res.plan = plan_render(p, written, hooks.cancel);
     res.result.seconds = seconds;
     if (ranks::rank() != 0) return res; // (rank 0 holds the image and writes)
     if (!request.histogram.empty()) {
