@@ -9,9 +9,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <sstream>
+#include <string>
+#include <utility>
 
 using namespace fp::test;
 namespace fs = std::filesystem;
@@ -247,6 +251,37 @@ TEST(Explore, RandomSearchesAPluginsParameters) {
     // The configs written do not name the original's output: rendered without -o, they do not
     // write over it.
     EXPECT_EQ(read_file(dir + "/out/best-1.yaml").find("original.png"), std::string::npos);
+}
+
+TEST(Explore, RandomSearchesVectorParametersComponentwise) {
+    // Paper 04's S-iteration with vector alpha = [1.1, 0.5] and beta = [0.5, 0] (fig9a): each
+    // component over v +- |v| / 2 (+- 0.5 around 0), written back as a vector, and each
+    // candidate's config renders.
+    const std::string dir = scratch_dir("explore_random_vectors");
+    const auto r =
+        run_cli({"explore", "--quiet", source_dir() + "/configs/orbit-trap/fig9a.yaml", "-o", dir + "/out",
+                 "--random", "renderer.iteration", "--candidates", "4", "--keep", "1", "--draft-size", "16"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto rows = table(dir + "/out/candidates.tsv");
+    ASSERT_EQ(rows.size(), 4u);
+    auto pair = [](const std::string& t) {
+        double a = 0, b = 0;
+        EXPECT_EQ(std::sscanf(t.c_str(), "[%lf, %lf]", &a, &b), 2) << t;
+        return std::pair{a, b};
+    };
+    std::set<std::string> alphas;
+    for (const auto& row : rows) {
+        const auto [a0, a1] = pair(row.at("renderer.iteration.alpha"));
+        const auto [b0, b1] = pair(row.at("renderer.iteration.beta"));
+        EXPECT_TRUE(a0 >= 0.55 && a0 <= 1.65) << a0;
+        EXPECT_TRUE(a1 >= 0.25 && a1 <= 0.75) << a1;
+        EXPECT_TRUE(b0 >= 0.25 && b0 <= 0.75) << b0;
+        EXPECT_TRUE(b1 >= -0.5 && b1 <= 0.5) << b1;
+        alphas.insert(row.at("renderer.iteration.alpha"));
+    }
+    EXPECT_EQ(alphas.size(), 4u);
+    const auto v = run_cli({"validate", dir + "/out/best-1.yaml"});
+    EXPECT_EQ(v.rc, 0) << v.err;
 }
 
 TEST(Explore, SymmetryOfSymmetry) {

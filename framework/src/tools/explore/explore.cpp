@@ -6,7 +6,7 @@
 //   PATH=a+bq..c+dq` (a sequence parameter such as an iteration's alpha, as a q-number drawn
 //   componentwise; a plain A..B on a sequence draws a real), `--param 'PATH=a|b|c'` (choices, any
 //   parameter: each choice is YAML text, checked against the config before the search), or
-//   `--random PLUGIN-PATH` (every real, integer and constant sequence parameter of that
+//   `--random PLUGIN-PATH` (every real, integer, vector [a, b] and constant sequence parameter of that
 //   plugin: over its declared range when both ends are finite and, for an integer, it holds
 //   at most 64 values; else over v +- |v|/2, or +- 0.5 around 0, for the config's value v,
 //   within the declared range: the plugins declare few two-ended ranges). PATH is
@@ -78,7 +78,8 @@ const char* const explore_help = R"(Ranges (--param PATH=RANGE, PATH as in --set
   A..B         a real parameter: uniform in [A, B]; an integer parameter: whole A..B
   a+bq..c+dq   a sequence parameter (an iteration's alpha): a q-number, componentwise
   'a|b|c'      choices, for any parameter (each a YAML value)
-  --random P   every real, integer and constant sequence parameter of the plugin at path P
+  --random P   every real, integer, vector ([a, b], each component) and constant sequence
+               parameter of the plugin at path P
                (renderer.iteration, renderer.maps[0].shape): over its declared range when
                both ends are finite (integers: at most 64 values), else over v +- |v|/2 (+- 0.5
                around 0) for the config's value v, within the declared range; a renderer's

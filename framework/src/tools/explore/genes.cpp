@@ -108,6 +108,7 @@ std::string gene_text(const Dim& d, const Gene& g) {
         const std::string b = real_text(std::fabs(g[1]), d.digits);
         return real_text(g[0], d.digits) + (g[1] < 0 ? "-" : "+") + b + "q";
     }
+    case Dim::Kind::Pair: return "[" + real_text(g[0], d.digits) + ", " + real_text(g[1], d.digits) + "]";
     case Dim::Kind::Choice: return d.choices[std::size_t(g[0])];
     }
     return "";
@@ -117,7 +118,7 @@ namespace {
 
 /// Round to what is written, clamp into the range (nudging off an open end).
 void settle(const Dim& d, Gene& g) {
-    for (int c = 0; c < (d.kind == Dim::Kind::QNum ? 2 : 1); ++c) {
+    for (int c = 0; c < d.components(); ++c) {
         double v = std::clamp(g[c], d.lo[c], d.hi[c]);
         if (d.kind == Dim::Kind::Int || d.kind == Dim::Kind::Choice) {
             v = std::clamp(std::round(v), d.lo[c], d.hi[c]);
@@ -138,6 +139,7 @@ Gene draw(const Dim& d, Rng& r) {
     switch (d.kind) {
     case Dim::Kind::Real:
     case Dim::Kind::QNum:
+    case Dim::Kind::Pair:
         for (int c = 0; c < 2; ++c) g[c] = d.lo[c] + (d.hi[c] - d.lo[c]) * uniform_double(r);
         break;
     case Dim::Kind::Int:
@@ -163,7 +165,7 @@ void mutate(const Dim& d, Gene& g, Rng& r) {
         g = draw(d, r);
         return;
     }
-    for (int c = 0; c < (d.kind == Dim::Kind::QNum ? 2 : 1); ++c) {
+    for (int c = 0; c < d.components(); ++c) {
         const double sigma = 0.1 * (d.hi[c] - d.lo[c]);
         g[c] += (d.kind == Dim::Kind::Int ? std::max(sigma, 0.5) : sigma) * gaussian(r);
     }
@@ -346,8 +348,20 @@ std::vector<Dim> random_dims(const Index& idx, const std::string& path, const st
                 d.lo[0] = std::ceil(d.lo[0]), d.hi[0] = std::floor(d.hi[0]);
             }
         } else if (s.type == ParamType::Sequence) {
-            // A constant: a real, or a q-number (componentwise); periodic lists are left alone.
+            // A constant: a real, or a q-number (componentwise); a vector [a, b] (each component
+            // around its value, within the declared range); periodic lists are left alone.
             const auto& seq = std::get<Sequence>(p.value);
+            if (seq.bare_pair && seq.values.size() == 2) {
+                d.kind = Dim::Kind::Pair;
+                for (int c = 0; c < 2; ++c) {
+                    around(seq.values[std::size_t(c)].x, c);
+                    d.lo[c] = std::max(d.lo[c], s.lo), d.hi[c] = std::min(d.hi[c], s.hi);
+                }
+                d.lo_open = s.lo_open && d.lo[0] == s.lo, d.hi_open = s.hi_open && d.hi[0] == s.hi;
+                d.digits = std::max(digits_for(d.lo[0], d.hi[0]), digits_for(d.lo[1], d.hi[1]));
+                if (d.lo[0] < d.hi[0] && d.lo[1] < d.hi[1]) out.push_back(d);
+                continue;
+            }
             if (seq.values.size() != 1 || seq.bare_pair) continue;
             const Vec2 v = seq.values[0];
             d.kind = v.y != 0 ? Dim::Kind::QNum : Dim::Kind::Real;

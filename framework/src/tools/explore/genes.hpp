@@ -15,7 +15,11 @@
 namespace fp::host::explore_detail {
 
 struct Dim {
-    enum class Kind { Real, Int, QNum, Choice } kind = Kind::Real;
+    /// Pair: a vector parameter of two reals written [a, b] (paper 04's S-iteration alpha and
+    /// beta), each component searched on its own.
+    enum class Kind { Real, Int, QNum, Pair, Choice } kind = Kind::Real;
+    /// The components a gene of this kind has.
+    int components() const { return kind == Kind::QNum || kind == Kind::Pair ? 2 : 1; }
     std::string path;
     std::array<double, 2> lo{}, hi{};
     std::vector<std::string> choices;
