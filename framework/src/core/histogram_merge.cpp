@@ -72,6 +72,18 @@ void add(Histogram& into, const Histogram& in) {
 
 } // namespace
 
+void add_histogram(HistogramFile& into, const HistogramFile& in) {
+    Histogram& h = into.histogram;
+    if (h.width != in.histogram.width || h.height != in.histogram.height ||
+        h.hits.size() != in.histogram.hits.size() || h.bins.size() != in.histogram.bins.size() ||
+        h.last_order.size() != in.histogram.last_order.size())
+        throw InternalError("histograms of other shapes summed");
+    add(h, in.histogram);
+    RenderStats& a = into.stats;
+    const RenderStats& b = in.stats;
+    a.samples += b.samples, a.drawn += b.drawn, a.restarts += b.restarts, a.bad_values += b.bad_values;
+}
+
 HistogramFile merge_histograms(const std::vector<std::string>& paths, std::uint64_t memory, bool whole) {
     if (paths.empty()) throw InputError("merge: name the shards' histogram files (.fph)");
     // Every header first (each file checked whole against its checksum): a bad shard is found
@@ -103,11 +115,7 @@ HistogramFile merge_histograms(const std::vector<std::string>& paths, std::uint6
     const std::uint64_t each = paths.size() > 1 ? memory / 2 : memory;
     HistogramFile out = read_histogram_file(paths.front(), each);
     for (std::size_t i = 1; i < paths.size(); ++i) {
-        HistogramFile next = read_histogram_file(paths[i], each);
-        add(out.histogram, next.histogram);
-        RenderStats& a = out.stats;
-        const RenderStats& b = next.stats;
-        a.samples += b.samples, a.drawn += b.drawn, a.restarts += b.restarts, a.bad_values += b.bad_values;
+        add_histogram(out, read_histogram_file(paths[i], each));
     }
     // Whole: the file a single render keeps (no shards, no order).
     if (have.find('0') == std::string::npos) {

@@ -86,14 +86,16 @@ void Runtime::write_checkpoint(const std::function<void(CheckpointSink&)>& body)
                                                std::chrono::duration<double>(checkpoint_every_));
 }
 
-void Runtime::keep_histogram_in(Histogram* h, const HistogramShape& shape) {
+void Runtime::keep_histogram_in(Histogram* h, const HistogramShape& shape, bool order) {
     kept_ = h;
     kept_shape_ = shape;
+    kept_order_ = order && shape.last;
     const std::size_t n = std::size_t(shape.width) * std::size_t(shape.height);
     h->width = shape.width, h->height = shape.height;
     h->hits.assign(shape.hits_only ? n : 0, 0);
     h->bins.assign(shape.hits_only ? 0 : n, HistBin{});
     h->last.assign(shape.last ? n : 0, LastColour{});
+    h->last_order.assign(kept_order_ ? n : 0, LastOrder{});
 }
 
 void Runtime::keep_histogram(const Histogram& part, int part_row0, int row0, int rows) {
@@ -103,7 +105,8 @@ void Runtime::keep_histogram(const Histogram& part, int part_row0, int row0, int
     // The rows copied in the form the shape gives (the file's: hit counts alone, or bins).
     if (part.width != kept_->width || row0 < part_row0 || row0 + rows > part_row0 + part.height ||
         row0 + rows > kept_->height || (!kept_shape_.hits_only && part.bins.empty()) ||
-        (kept_shape_.last && part.last.size() != part.size()))
+        (kept_shape_.last && part.last.size() != part.size()) ||
+        (kept_order_ && part.last_order.size() != part.size()))
         throw InternalError("kept histogram: rows out of the histogram, or without what its form holds");
     const std::size_t W = std::size_t(part.width), from = std::size_t(row0 - part_row0) * W,
                       to = std::size_t(row0) * W, n = std::size_t(rows) * W;
@@ -113,6 +116,9 @@ void Runtime::keep_histogram(const Histogram& part, int part_row0, int row0, int
         std::copy_n(part.bins.begin() + std::ptrdiff_t(from), n, kept_->bins.begin() + std::ptrdiff_t(to));
     if (kept_shape_.last)
         std::copy_n(part.last.begin() + std::ptrdiff_t(from), n, kept_->last.begin() + std::ptrdiff_t(to));
+    if (kept_order_)
+        std::copy_n(part.last_order.begin() + std::ptrdiff_t(from), n,
+                    kept_->last_order.begin() + std::ptrdiff_t(to));
 }
 
 void Runtime::parallel_for(std::size_t n, const std::function<void(std::size_t, unsigned)>& task) {

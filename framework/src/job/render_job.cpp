@@ -272,10 +272,13 @@ void check_histograms(RenderPlan& plan) {
         return;
     }
     // (The preview keeps one where the renderer has one, and says nothing where it has none.)
-    if (r.keep_histogram && !plan.vector && shape.width > 0)
+    if (r.keep_histogram && !plan.vector && shape.width > 0) {
         plan.histogram =
             HistogramFileHeader{render_version_tag(), p.renderer_type, p.histogram_identity, p.recipe, shape};
-    if (r.histogram.empty() && r.shards)
+        // (A shard kept in memory: the temporal samples of a blurred frame, animate.)
+        if (r.shards) plan.histogram.shards = shard_string(r.shard - 1, r.shards);
+    }
+    if (r.histogram.empty() && r.shards && !r.keep_histogram)
         throw InputError(
             "--shard: name the shard's file with --histogram PART.fph (fixpoint merge sums them)");
     if (r.histogram.empty()) return;
@@ -430,10 +433,10 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
     }
     std::shared_ptr<HistogramFile> in_memory;
     if (hooks.histogram_rows && rt.rank() == 0) rt.keep_histogram_in(hooks.histogram_rows);
-    if (r.keep_histogram && plan.histogram.shape.width > 0 && rt.rank() == 0) {
+    if (r.keep_histogram && plan.histogram.shape.width > 0 && writes) {
         in_memory = std::make_shared<HistogramFile>();
         in_memory->header = plan.histogram;
-        rt.keep_histogram_in(&in_memory->histogram, plan.histogram.shape);
+        rt.keep_histogram_in(&in_memory->histogram, plan.histogram.shape, r.shards != 0);
     }
 
     // A streamed image: rank 0 encodes the rows as they come, into a file that takes the
@@ -482,13 +485,13 @@ RenderResult run_render(RenderPlan& plan, const RenderHooks& hooks) {
     // (A streamed --quality round that falls short: its temporary files are removed.)
     const bool keep = !streamed || !hooks.keep_files || hooks.keep_files();
     if (kept && keep) kept->commit(res.stats);
-    if (r.shards) { // its histogram is what it makes
-        res.wrote = kept != nullptr;
-        return res;
-    }
     if (in_memory) {
         in_memory->stats = res.stats;
         res.kept = std::move(in_memory);
+    }
+    if (r.shards) { // its histogram is what it makes
+        res.wrote = kept != nullptr;
+        return res;
     }
 
     if (streamed) {

@@ -59,6 +59,7 @@
 // same recipe is skipped (said in the log); a file there with another recipe is refused unless
 // --force. Frames are written one by one, each atomically, so an interrupted run is continued
 // by running it again.
+#include "motion_blur.hpp"
 #include "video.hpp"
 
 #include <fixpoint/errors.hpp>
@@ -175,13 +176,15 @@ Animation parse_animation(const CNode& root) {
         fail(s.type == CNode::Type::Null ? at : s.mark, "animation",
              "expected a mapping (frames, fps, interpolation, loop, keys), got " + s.describe());
     Animation a;
-    const std::vector<std::string> known = {"frames", "fps", "interpolation", "loop", "keys"};
+    const std::vector<std::string> known = {
+        "frames", "fps", "interpolation", "loop", "temporal_samples", "temporal_filter_width", "keys"};
     for (std::size_t i = 0; i < s.keys.size(); ++i)
         if (std::find(known.begin(), known.end(), s.keys[i].first) == known.end()) {
             const auto near = suggest(s.keys[i].first, known);
             fail(s.key_marks[i], "animation",
                  "unknown key " + quote(s.keys[i].first) +
-                     (near.empty() ? " (expected frames, fps, interpolation, loop, keys)"
+                     (near.empty() ? " (expected frames, fps, interpolation, loop, temporal_samples, "
+                                     "temporal_filter_width, keys)"
                                    : " (did you mean '" + near[0] + "'?)"));
         }
     const CNode* frames = s.find("frames");
@@ -211,6 +214,20 @@ Animation parse_animation(const CNode& root) {
             fail(lp->type == CNode::Type::Null ? *s.key_mark("loop") : lp->mark, "animation.loop",
                  "expected true or false, got " + lp->describe());
         a.loop = lp->scalar == "true";
+    }
+    if (const CNode* ts = s.find("temporal_samples")) {
+        if (!ts->is_scalar() || ts->quoted || !whole_number(ts->scalar, a.temporal_samples) ||
+            a.temporal_samples < 1 || a.temporal_samples > 1024)
+            fail(ts->type == CNode::Type::Null ? *s.key_mark("temporal_samples") : ts->mark,
+                 "animation.temporal_samples",
+                 "expected a whole number from 1 to 1024, got " + ts->describe());
+    }
+    if (const CNode* tw = s.find("temporal_filter_width")) {
+        if (!number(*tw, a.temporal_filter_width) || !(a.temporal_filter_width > 0) ||
+            a.temporal_filter_width > 16)
+            fail(tw->type == CNode::Type::Null ? *s.key_mark("temporal_filter_width") : tw->mark,
+                 "animation.temporal_filter_width",
+                 "expected a number in (0, 16] (the frames a frame's samples span), got " + tw->describe());
     }
     const CNode* keys = s.find("keys");
     if (!keys) fail(at, "animation", "missing 'keys:' (parameter paths and their keyframes)");
@@ -303,31 +320,34 @@ std::vector<double> slope(const Animation& a, const AnimationKey& k, long i) {
 
 } // namespace
 
-CNode animated_value(const Animation& a, const AnimationKey& k, long frame) {
+CNode animated_value(const Animation& a, const AnimationKey& k, double frame) {
     const auto& fs_ = k.frames;
     const long m = long(fs_.size());
     // A loop's frames repeat with period `frames`: the would-be frame `frames` is frame 0.
-    if (a.loop) frame = ((frame % a.frames) + a.frames) % a.frames;
+    if (a.loop) {
+        const double period = double(a.frames);
+        frame = std::fmod(std::fmod(frame, period) + period, period);
+    }
     for (const auto& [f, v] : fs_)
-        if (f == frame) return v;
+        if (double(f) == frame) return v;
     if (m == 1) return fs_.front().second;
     // The segment [key i, key i + 1] holding the frame (round the loop where it loops).
     long i = 0;
-    if (frame < fs_.front().first) {
+    if (frame < double(fs_.front().first)) {
         if (!a.loop) return fs_.front().second;
         i = -1;
-    } else if (frame > fs_.back().first) {
+    } else if (frame > double(fs_.back().first)) {
         if (!a.loop) return fs_.back().second;
         i = m - 1;
     } else {
-        while (fs_[std::size_t(i + 1)].first < frame) ++i;
+        while (double(fs_[std::size_t(i + 1)].first) < frame) ++i;
     }
     const Near k0 = key_at(a, k, i), k1 = key_at(a, k, i + 1);
     Flat a0, a1;
     flatten(*k0.value, a0);
     flatten(*k1.value, a1);
     const double d = k1.frame - k0.frame;
-    const double t = (double(frame) - k0.frame) / d;
+    const double t = (frame - k0.frame) / d;
     Flat out;
     if (a.interpolation == Interpolation::catmull_rom) {
         const std::vector<double> m0 = slope(a, k, i), m1 = slope(a, k, i + 1);
@@ -343,7 +363,7 @@ CNode animated_value(const Animation& a, const AnimationKey& k, long frame) {
     return rebuild(*k0.value, out, at, k.mark, k.integer);
 }
 
-CNode frame_config(const CNode& root, const Animation& a, long frame) {
+CNode frame_config(const CNode& root, const Animation& a, double frame) {
     CNode c = root;
     for (const auto& k : a.keys)
         override_target(c, k.path, k.mark.str() + ": " + keys_path(k), k.mark) = animated_value(a, k, frame);
@@ -431,11 +451,11 @@ CNode load_animated(const std::string& config, const std::vector<std::string>& s
     return root;
 }
 
-Pipeline frame_pipeline(const Registry& reg, const CNode& root, const Animation& a, long k) {
+Pipeline frame_pipeline(const Registry& reg, const CNode& root, const Animation& a, double k) {
     try {
         return load_pipeline(reg, frame_config(root, a, k));
     } catch (const InputError& e) {
-        throw InputError(std::string(e.what()) + " (animation frame " + std::to_string(k) + ")");
+        throw InputError(std::string(e.what()) + " (animation frame " + number_text(k) + ")");
     }
 }
 
@@ -480,6 +500,8 @@ The animation: section, at the top level of the config beside renderer: and outp
     fps: 30                      # of --video (default 30)
     interpolation: smooth        # linear (default), smooth or catmull-rom
     loop: true                   # periodic: the last key runs on into the first (default false)
+    temporal_samples: 4          # motion blur: samples a frame (default 1: none)
+    temporal_filter_width: 1     # the frames a frame's samples span (default 1)
     keys:                        # a path as --set takes it: {frame: value, ...}
       renderer.iteration.alpha: {0: 0.5, 60: 0.7, 119: 0.9}
       renderer.view: {0: [-2, 2, -2, 2], 119: [-1, 1, -1, 1]}
@@ -505,6 +527,15 @@ interrupted run continues when run again; a file with another recipe is refused 
 --force. Everything is checked before the first render. render and validate of such a config
 render (check) the config as it stands, ignoring the animation; validate also checks every
 frame.
+
+Motion blur (flam3's temporal_samples S and temporal_filter_width w, its box filter): frame f
+sums the histograms of S renders, sample j at time f + w ((j + 1/2) / S - 1/2) (the keys
+interpolated there as at a frame), each of its own share j of S of the chains, and finishes
+the sum with frame f's tone. Each chain runs once, at one time, so a frame that does not
+move is its plain render, pixel for pixel, at the same cost; a moving one holds the whole
+shutter. It needs a renderer that keeps a histogram (chaos-game). A blurred frame's recipe is
+its frame's with a line naming the samples: fixpoint render FRAME.png renders it unblurred
+(the samples' configs are the animation's).
 
   fixpoint animate configs/animation/fig4-centres.yaml -o frames/%04d.png --video fig4.mp4
   fixpoint animate configs/animation/fig4-centres.yaml --list --frames 40..47
@@ -575,10 +606,12 @@ int animate(const Registry& reg, const AnimateOptions& o, const RenderHooks& hoo
     };
     bool warned = false;
     for (long k = 0; k < a.frames; ++k) {
-        const Pipeline p = frame_pipeline(reg, root, a, k);
+        Pipeline p = frame_pipeline(reg, root, a, k);
         if (!warned && o.warn)
             for (const auto& w : p.warnings) o.warn("warning: " + w);
+        if (!warned) check_motion_blur(a, p);
         warned = true;
+        p.recipe = blurred_recipe(a, p);
         if (k < first || k > last) continue;
         const std::string out = pat.path(k);
         std::error_code ec;
@@ -609,8 +642,16 @@ int animate(const Registry& reg, const AnimateOptions& o, const RenderHooks& hoo
             info(out + ": frame " + std::to_string(k) + " is there with this recipe: skipped");
             continue;
         }
-        RenderPlan plan = plan_render(frame_pipeline(reg, root, a, k), request(out));
-        const RenderResult r = run_render(plan, hooks);
+        Pipeline p = frame_pipeline(reg, root, a, k);
+        p.recipe = blurred_recipe(a, p);
+        RenderResult r;
+        if (a.temporal_samples > 1) {
+            r = render_blurred_frame(
+                a, k, [&](double t) { return frame_pipeline(reg, root, a, t); }, p, request(out), hooks);
+        } else {
+            RenderPlan plan = plan_render(p, request(out));
+            r = run_render(plan, hooks);
+        }
         if (o.warn)
             for (const auto& w : r.warnings) o.warn("warning: " + w);
         ++rendered;

@@ -100,6 +100,9 @@ HistogramFile read_histogram_file(const std::string& path, std::uint64_t memory)
 /// `order`, the last colours' order too (a shard's).
 std::uint64_t histogram_bytes(const HistogramShape& shape, bool order = false);
 
+/// Adds `in`'s sums, last colours (by their order, where kept) and stats into `into`, a
+/// histogram of the same shape (fp::InternalError otherwise).
+void add_histogram(HistogramFile& into, const HistogramFile& in);
 /// `fixpoint merge`: the shards' histograms summed into one, checked first (every file whole,
 /// of one render version, renderer, recipe, shape and plan of N shares, no share twice; with
 /// `whole`, every share present), each refusal one fp::InputError line naming the file. The

@@ -67,7 +67,7 @@ public:
     // renderer hands over go to `writer` (rank 0's; null: none kept).
     void keep_histogram_in(HistogramWriter* writer) { histogram_ = writer; }
     /// ... and (too) into `h`, made of `shape` (the preview's kept histogram).
-    void keep_histogram_in(Histogram* h, const HistogramShape& shape);
+    void keep_histogram_in(Histogram* h, const HistogramShape& shape, bool order = false);
     /// ... and (too) to `rows` as they come (RenderHooks::histogram_rows).
     void keep_histogram_in(std::function<void(const Histogram&, int, int, int)> rows) {
         rows_ = std::move(rows);
@@ -95,6 +95,7 @@ private:
     HistogramWriter* histogram_ = nullptr;
     Histogram* kept_ = nullptr;
     HistogramShape kept_shape_;
+    bool kept_order_ = false; ///< a shard's kept histogram: its last colours' order too
     std::function<void(const Histogram&, int, int, int)> rows_;
     std::unique_ptr<Impl> impl_;
 };

@@ -41,6 +41,11 @@ struct Animation {
     /// loop: true: the keys repeat with period `frames`, the last keyframe running on into the
     /// first, so that the would-be frame `frames` is frame 0 and the video loops seamlessly.
     bool loop = false;
+    /// Motion blur (flam3's temporal_samples and temporal_filter_width, box filter): frame f
+    /// sums the histograms of S renders, sample j at time f + w ((j + 1/2) / S - 1/2), each
+    /// of its own share j of S of the chains (motion_blur.hpp). S = 1: none.
+    long temporal_samples = 1;
+    double temporal_filter_width = 1;
     std::vector<AnimationKey> keys;
 };
 
@@ -55,11 +60,12 @@ bool has_animation(const CNode& root);
 
 /// The value of one key at `frame`: a key's value as written at a keyframe, else interpolated.
 /// Any frame of a loop (frame `frames` is frame 0); before 0 or after the last a frame holds.
-CNode animated_value(const Animation& a, const AnimationKey& k, long frame);
+/// A time between frames (motion blur's samples) interpolates as a frame would.
+CNode animated_value(const Animation& a, const AnimationKey& k, double frame);
 
 /// The config of one frame: `root` with every key's value at `frame` set, as --set path=value
 /// would set it.
-CNode frame_config(const CNode& root, const Animation& a, long frame);
+CNode frame_config(const CNode& root, const Animation& a, double frame);
 
 /// A value as `--set path=VALUE` takes it (flow YAML on one line).
 std::string flow_text(const CNode& n);
