@@ -4,11 +4,9 @@
 // same maps, so that every pixel's colour is known; the geometry is that of the render without
 // a picture; the bytes are the same on any threads and strip plan, and after a checkpoint; and
 // the one-line refusals.
-#include <fixpoint/host/core/host.hpp>
-#include <fixpoint/host/core/image_io.hpp>
-#include <fixpoint/host/core/runtime.hpp>
-
 #include "cli.hpp"
+#include "host.hpp"
+#include "picture.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,51 +18,9 @@ using namespace fp::test;
 
 namespace {
 
-fp::host::Host& host() {
-    static fp::host::Host h;
-    return h;
-}
+fp::Image image_of(const std::string& yaml, unsigned threads) { return fp::test::render(yaml, threads).img; }
 
-fp::Image render(const std::string& yaml, unsigned threads = 2) {
-    auto r = host().make<fp::Renderer>(yaml);
-    fp::host::Runtime rt(threads, nullptr);
-    fp::RenderStats stats;
-    return r->render(rt, stats);
-}
-
-std::string error_of(const std::string& yaml) {
-    try {
-        host().make<fp::Renderer>(yaml);
-    } catch (const fp::InputError& e) {
-        const std::string m = e.what();
-        const auto at = m.find(": ");
-        return m.rfind("<string>:1:", 0) == 0 && at != std::string::npos ? m.substr(at + 2) : m;
-    }
-    return "(no error)";
-}
-
-// A 4 x 4 picture: pixel (col, row from the top) has red 10 + 20 col, green 10 + 20 row, blue
-// 255 on the diagonal and 200 off it.
-std::string write_picture(const std::string& dir) {
-    fp::Image img;
-    img.width = img.height = 4;
-    img.channels = 3;
-    for (int row = 0; row < 4; ++row)
-        for (int col = 0; col < 4; ++col) {
-            img.pixels.push_back(float(10 + 20 * col) / 255.0f);
-            img.pixels.push_back(float(10 + 20 * row) / 255.0f);
-            img.pixels.push_back(float(col == row ? 255 : 200) / 255.0f);
-        }
-    std::string path = dir + "/picture.png";
-    fp::host::write_image(img, path, 8, "");
-    return path;
-}
-
-std::vector<int> pixel8(const fp::Image& img, std::size_t k) {
-    std::vector<int> out;
-    for (std::size_t c = 0; c < 3; ++c) out.push_back(int(img.pixels[3 * k + c] * 255.0f + 0.5f));
-    return out;
-}
+std::string error_of(const std::string& yaml) { return fp::test::error_of(fp::Kind::Renderer, yaml); }
 
 std::vector<char> lit(const fp::Image& img) {
     std::vector<char> out(std::size_t(img.width) * std::size_t(img.height), 0);
@@ -93,11 +49,11 @@ TEST(ChaosGameSteal, StolenColoursFollowTheAddresses) {
     const std::string yaml =
         "{type: chaos-game, width: 4, height: 1, view: [0, 1, 0, 1], points: 20000, chains: 16, skip: 0, "
         "start: [0.5, 0.5], picture: \"" +
-        write_picture(dir) +
+        write_picture(dir, 4, 4) +
         "\", colourer: {type: map-colour, density: flat}, maps: ["
         "{type: affine, coefficients: [0.5, 0, 0, 1, 0, 0], colour_map: [0.5, 0, 0, 0.5, 0, 0.5]}, "
         "{type: affine, coefficients: [0.5, 0, 0, 1, 0.5, 0], colour_map: [0.5, 0, 0, 0.5, 0.5, 0]}]}";
-    const fp::Image img = render(yaml, 2);
+    const fp::Image img = image_of(yaml, 2);
     ASSERT_EQ(img.width, 4);
     for (std::size_t p = 0; p < 4; ++p)
         EXPECT_EQ(pixel8(img, p), (std::vector<int>{int(10 + 20 * p), int(10 + 20 * p), 255})) << p;
@@ -107,18 +63,18 @@ TEST(ChaosGameSteal, StolenColoursFollowTheAddresses) {
     for (const char* cm :
          {", colour_map: [0.5, 0, 0, 0.5, 0, 0.5]", ", colour_map: [0.5, 0, 0, 0.5, 0.5, 0]"})
         plain.erase(plain.find(cm), std::string(cm).size());
-    const fp::Image d = render(plain, 2);
+    const fp::Image d = image_of(plain, 2);
     for (std::size_t p = 0; p < 4; ++p)
         EXPECT_EQ(pixel8(d, p), (std::vector<int>{int(10 + 20 * p), 50, p == 2 ? 255 : 200})) << p;
 }
 
 TEST(ChaosGameSteal, TheGeometryIsTheRenderWithoutAndTheBytesAnyThreads) {
-    const fp::Image one = render(triangle, 1), two = render(triangle, 2), three = render(triangle, 3);
+    const fp::Image one = image_of(triangle, 1), two = image_of(triangle, 2), three = image_of(triangle, 3);
     EXPECT_TRUE(one.pixels == two.pixels);
     EXPECT_TRUE(one.pixels == three.pixels);
     std::string plain = triangle;
     plain.erase(plain.find("picture: hues, "), 15);
-    const fp::Image without = render(plain, 2);
+    const fp::Image without = image_of(plain, 2);
     EXPECT_TRUE(lit(without) == lit(one));
     EXPECT_FALSE(without.pixels == one.pixels);
     // The corners' colours: address 000... (bottom left) u = 0, red; 111... (bottom right)

@@ -4,6 +4,7 @@
 #include <fixpoint/host/core/runtime.hpp>
 
 #include "cli.hpp"
+#include "picture.hpp"
 
 #include <gtest/gtest.h>
 
@@ -280,31 +281,6 @@ TEST(Superfractal, BadProbabilitiesStopTheCliWithOneLine) {
 
 // ---------------------------------------------------------------- colour stealing
 
-// A picture of w x h 8-bit colours, written as a PNG: pixel (col, row) has red 10 + 20 col,
-// green 10 + 20 row, blue 200 (off the diagonal) or 255 (on it).
-std::string write_picture(const std::string& dir, int w, int h) {
-    fp::Image img;
-    img.width = w;
-    img.height = h;
-    img.channels = 3;
-    for (int row = 0; row < h; ++row)
-        for (int col = 0; col < w; ++col) {
-            img.pixels.push_back(float(10 + 20 * col) / 255.0f);
-            img.pixels.push_back(float(10 + 20 * row) / 255.0f);
-            img.pixels.push_back(float(col == row ? 255 : 200) / 255.0f);
-        }
-    const std::string path = dir + "/picture.png";
-    fp::host::write_image(img, path, 8, "");
-    return path;
-}
-
-// Pixel k of an image as 8-bit values.
-std::vector<int> pixel8(const fp::Image& img, std::size_t k) {
-    std::vector<int> out;
-    for (std::size_t c = 0; c < 3; ++c) out.push_back(int(img.pixels[3 * k + c] * 255.0f + 0.5f));
-    return out;
-}
-
 TEST(Superfractal, StolenColoursFollowTheAddresses) {
     // One IFS, one buffer of 4 points, 2 steps, every point starting at (1/2, 1/2) in the
     // plane and in the picture square. f0 = (x/2, y), f1 = (x/2 + 1/2, y); the colour IFS
@@ -316,7 +292,7 @@ TEST(Superfractal, StolenColoursFollowTheAddresses) {
     // 2), (3, 3) of a 4 x 4 picture, its diagonal. Point 1 was made by f0 from a parent made
     // by f1: it shows the colour g0 g1, inherited from its parent's g1.
     const std::string dir = fp::test::scratch_dir("superfractal-steal-addresses");
-    const std::string pic = write_picture(dir, 4, 4);
+    const std::string pic = fp::test::write_picture(dir, 4, 4);
     const std::string yaml =
         "{type: superfractal, width: 4, height: 1, view: [0, 1, 0, 1], buffers: 1, points_per_buffer: 4, "
         "steps: 2, start_box: [0.5, 0.5, 0.5, 0.5], picture: \"" +
@@ -326,16 +302,16 @@ TEST(Superfractal, StolenColoursFollowTheAddresses) {
         "{type: affine, coefficients: [0.5, 0, 0, 1, 0.5, 0], colour_map: [0.5, 0, 0, 0.5, 0.5, 0]}]}";
     const auto r = render(yaml, 1);
     ASSERT_EQ(r.stats.drawn, 4u);
-    EXPECT_EQ(pixel8(r.img, 0), (std::vector<int>{10, 10, 255}));
-    EXPECT_EQ(pixel8(r.img, 1), (std::vector<int>{30, 30, 255}));
-    EXPECT_EQ(pixel8(r.img, 2), (std::vector<int>{50, 50, 255}));
-    EXPECT_EQ(pixel8(r.img, 3), (std::vector<int>{70, 70, 255}));
+    EXPECT_EQ(fp::test::pixel8(r.img, 0), (std::vector<int>{10, 10, 255}));
+    EXPECT_EQ(fp::test::pixel8(r.img, 1), (std::vector<int>{30, 30, 255}));
+    EXPECT_EQ(fp::test::pixel8(r.img, 2), (std::vector<int>{50, 50, 255}));
+    EXPECT_EQ(fp::test::pixel8(r.img, 3), (std::vector<int>{70, 70, 255}));
     // One step: points 0, 1 by f0 (x = 1/4: pixel 1), points 2, 3 by f1 (x = 3/4: pixel 3);
     // g0 (1/2, 1/2) = (1/4, 3/4): cell (1, 1); g1: (3/4, 1/4): cell (3, 3). Pixels 0 and 2 empty.
     const auto one = render(fp::test::replace_once(yaml, "steps: 2", "steps: 1"), 1);
-    EXPECT_EQ(pixel8(one.img, 0), (std::vector<int>{0, 0, 0}));
-    EXPECT_EQ(pixel8(one.img, 1), (std::vector<int>{30, 30, 255}));
-    EXPECT_EQ(pixel8(one.img, 3), (std::vector<int>{70, 70, 255}));
+    EXPECT_EQ(fp::test::pixel8(one.img, 0), (std::vector<int>{0, 0, 0}));
+    EXPECT_EQ(fp::test::pixel8(one.img, 1), (std::vector<int>{30, 30, 255}));
+    EXPECT_EQ(fp::test::pixel8(one.img, 3), (std::vector<int>{70, 70, 255}));
     // The built-in picture `hues` by the default colour maps ((u + t) / m, v): after one step
     // map 0's points are at (1/4, 1/2), column 128 and row 256 of its 512 x 512: v = 1 -
     // 256.5/512, value 0.45 + 0.55 v = 0.72446, saturation 1 - 0.45 v = 0.77544, hue sector 1
@@ -347,7 +323,7 @@ TEST(Superfractal, StolenColoursFollowTheAddresses) {
         "flat}, maps: [{type: affine, coefficients: [0.5, 0, 0, 1, 0, 0]}, "
         "{type: affine, coefficients: [0.5, 0, 0, 1, 0.5, 0]}]}",
         1);
-    EXPECT_EQ(pixel8(hues.img, 1), (std::vector<int>{112, 185, 41}));
+    EXPECT_EQ(fp::test::pixel8(hues.img, 1), (std::vector<int>{112, 185, 41}));
 }
 
 TEST(Superfractal, StealingKeepsTheGeometryAndTheBytesOnAnyThreads) {
