@@ -42,6 +42,7 @@
 // small polygon far from the origin keeps its precision in the float path.
 #pragma once
 
+#include "kernel_clip.hpp"
 #include "polygon_kernels.hpp"
 #include "polygon_simple.hpp"
 
@@ -207,25 +208,10 @@ inline std::vector<fp::Vec2> polygon_kernel_clipped(const std::vector<fp::Vec2>&
     using namespace detail;
     const double size = extent(v);
     const auto b = start_box(v, size);
-    std::vector<fp::Vec2> k(b.begin(), b.end());
-    std::vector<fp::Vec2> next;
     const std::size_t n = v.size();
-    for (std::size_t i = 0; i < n && !k.empty(); ++i) {
-        const fp::Vec2 a = v[i], e = sub(v[(i + 1) % n], a);
-        const double len = std::hypot(e.x, e.y);
-        auto dist = [&](fp::Vec2 q) { return cross(e, sub(q, a)) / len; }; // > 0: inner side
-        next.clear();
-        for (std::size_t j = 0, m = k.size(); j < m; ++j) {
-            const fp::Vec2 p = k[j], q = k[(j + 1) % m];
-            const double dp = dist(p), dq = dist(q);
-            if (dp >= 0) next.push_back(p);
-            if ((dp >= 0) != (dq >= 0)) {
-                const double s = dp / (dp - dq);
-                next.push_back({p.x + s * (q.x - p.x), p.y + s * (q.y - p.y)});
-            }
-        }
-        k.swap(next);
-    }
+    std::vector<Line> edges(n);
+    for (std::size_t i = 0; i < n; ++i) edges[i] = {v[i], sub(v[(i + 1) % n], v[i])};
+    const auto k = clip_by_lines(std::vector<fp::Vec2>(b.begin(), b.end()), edges);
     if (k.size() < 3 || signed_area(k) <= 1e-12 * size * size) return {};
     return k;
 }
@@ -235,22 +221,6 @@ inline std::vector<fp::Vec2> polygon_kernel_clipped(const std::vector<fp::Vec2>&
 /// and so default centres, renders depend on to the bit; beyond, by the sorted intersection.
 inline std::vector<fp::Vec2> polygon_kernel(const std::vector<fp::Vec2>& v) {
     return v.size() > 512 ? polygon_kernel_sorted(v) : polygon_kernel_clipped(v);
-}
-
-/// Area centroid of a convex polygon with non-zero area.
-inline fp::Vec2 centroid(const std::vector<fp::Vec2>& k) {
-    using namespace detail;
-    // Relative to the first vertex, to keep the sums small.
-    const fp::Vec2 o = k[0];
-    double a = 0, cx = 0, cy = 0;
-    for (std::size_t i = 1; i + 1 < k.size(); ++i) {
-        const fp::Vec2 p = sub(k[i], o), q = sub(k[i + 1], o);
-        const double c = cross(p, q);
-        a += c;
-        cx += (p.x + q.x) * c;
-        cy += (p.y + q.y) * c;
-    }
-    return {o.x + cx / (3 * a), o.y + cy / (3 * a)};
 }
 
 /// A simple polygon as a Shape. Derived plugins pass the vertices (validated or built valid)

@@ -264,11 +264,11 @@ TEST(Eval, BadInput) {
 TEST(Plugins, ListAndDescribe) {
     auto r = run_cli({"plugins"});
     ASSERT_EQ(r.rc, 0);
-    for (const char* name : {"circle", "polygon", "star-polygon", "superformula", "inversion", "picard",
-                             "map-colour", "flame", "chaos-game"})
+    for (const char* name : {"bezier", "circle", "polygon", "star-polygon", "superformula", "inversion",
+                             "picard", "map-colour", "flame", "chaos-game"})
         EXPECT_NE(r.out.find(std::string(" ") + name + " "), std::string::npos) << name;
     r = run_cli({"plugins", "--kind", "shape"});
-    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 4) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 5) << r.out;
     r = run_cli({"plugins", "--kind", "shapes"});
     EXPECT_EQ(r.rc, 2);
     EXPECT_EQ(r.err, "--kind: unknown kind 'shapes' (did you mean 'shape'?)\n");

@@ -169,7 +169,11 @@ INSTANTIATE_TEST_SUITE_P(
         Case{l_shape, ""}, Case{l_shape, "[0.1, 0.95]"}, Case{"{type: star-polygon}", ""},
         Case{"{type: star-polygon, points: 7, inner_radius: 0.3, rotation: 0.2}", "[0.05, 0.1]"},
         Case{"{type: superformula}", ""}, Case{"{type: superformula}", "[0.05, -0.04]"},
-        Case{"{type: superformula, m: 3, n1: 0.8, n2: 1.5, n3: 1.5, a: 1, b: 0.7, scale: 2}", ""}));
+        Case{"{type: superformula, m: 3, n1: 0.8, n2: 1.5, n3: 1.5, a: 1, b: 0.7, scale: 2}", ""},
+        Case{"{type: bezier, degree: 2, points: [[-1, 0], [0, 2], [1, 0], [0, -2]]}", "[0.3, 0.2]"},
+        Case{"{type: bezier, points: [[-1, -1], [-0.3, -1], [0.3, -1], [1, -1], [1, -0.3], [1, 0.3], [1, 1], "
+             "[0.3, -0.2], [-0.3, -0.2], [-1, 1], [-1, 0.3], [-1, -0.3]]}",
+             ""}));
 
 // ------------------------------------------------------------------ centre and kernel
 

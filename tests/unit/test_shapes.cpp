@@ -2,6 +2,7 @@
 // Sec. 3). Hand-computed ray exits, the inside test's vertex cases, the kernel, and the
 // exact error messages of refused shapes.
 #include "host.hpp"
+#include "shape_probe.hpp"
 
 #include <fixpoint/host/core/host.hpp>
 #include <fixpoint/simd.hpp>
@@ -22,31 +23,6 @@ namespace {
 
 using fp::Shape;
 using fp::Vec2;
-
-double ray(const Shape& s, Vec2 o, Vec2 d) {
-    double t = 0;
-    s.ray_exit(o, fp::Points<const double>{&d.x, &d.y, 1}, &t);
-    return t;
-}
-
-float ray_f(const Shape& s, Vec2 o, Vec2 d) {
-    const float dx = float(d.x), dy = float(d.y);
-    float t = 0;
-    s.ray_exit(o, fp::Points<const float>{&dx, &dy, 1}, &t);
-    return t;
-}
-
-bool inside(const Shape& s, double x, double y) {
-    unsigned char out = 2;
-    s.inside(fp::Points<const double>{&x, &y, 1}, &out);
-    return out == 1;
-}
-
-bool inside_f(const Shape& s, float x, float y) {
-    unsigned char out = 2;
-    s.inside(fp::Points<const float>{&x, &y, 1}, &out);
-    return out == 1;
-}
 
 /// `make` must fail with an fp::InputError whose message contains `text`.
 void expect_refused(const std::string& yaml, const std::string& text) {

@@ -24,7 +24,7 @@ const std::string frame = "type: chaos-game, width: 80, height: 80, view: [-1.2,
 // One recipe per kernel path: the fused circle step (hits only and with colour, float and
 // double), the generic step (grouping, draw with rules, bookkeeping), the alias draw of an
 // affine IFS with the flame colourer, Gumowski-Mira in double, inversions in polygons and
-// stars, superformula sets about their centre and off it, a circle inverted about an
+// stars, superformula and bezier sets about their centre and off it, a circle inverted about an
 // off-centre point (ray exits), another iteration scheme.
 const std::vector<std::string> recipes = {
     frame + "points: 200000, chains: 700, colourer: {type: density}, " + circles,
@@ -62,6 +62,20 @@ const std::vector<std::string> recipes = {
         "{type: inversion, shape: {type: circle, centre: [-0.5, 0.4], radius: 0.4}}, {type: inversion, "
         "shape: "
         "{type: superformula, centre: [0, -0.5], scale: 0.45}}]",
+    // bezier: the pieces' binary search by gathers and the root finders, about the centre and
+    // about another point of the kernel, float and double.
+    frame +
+        "points: 60000, colourer: {type: map-colour}, maps: [{type: inversion, shape: {type: bezier, points: "
+        "[[0.1, -0.1], [0.7, -0.2], [0.8, 0.2], [0.6, 0.5], [0.4, 0.8], [0.1, 0.3]]}}, {type: inversion, "
+        "shape: "
+        "{type: bezier, degree: 2, points: [[-0.9, 0], [-0.5, 0.9], [-0.1, 0], [-0.5, -0.9]]}, centre: "
+        "[-0.45, "
+        "0.1]}, {type: inversion, shape: {type: circle, centre: [0.2, -0.6], radius: 0.4}}]",
+    frame +
+        "points: 40000, precision: double, colourer: {type: density}, maps: [{type: inversion, shape: {type: "
+        "bezier, degree: 2, points: [[-0.9, 0], [-0.5, 0.9], [-0.1, 0], [-0.5, -0.9]]}, centre: [-0.45, "
+        "0.1]}, "
+        "{type: inversion, shape: {type: circle, centre: [0.5, 0.4], radius: 0.4}}]",
     frame +
         "points: 100000, iteration: {type: s-iteration, alpha: 0.7, beta: 0.5}, colourer: {type: flame}, " +
         circles,

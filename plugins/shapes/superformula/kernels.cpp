@@ -7,6 +7,7 @@
 #define HWY_TARGET_INCLUDE "superformula/kernels.cpp"
 #include <hwy/foreach_target.h> // IWYU pragma: keep
 
+#include "shapes/lanes-inl.hpp"
 #include <fixpoint/simd-math-inl.hpp>
 
 HWY_BEFORE_NAMESPACE();
@@ -37,21 +38,7 @@ HWY_INLINE V f_at(D d, const Curve& c, V wx, V wy, V dx, V dy, V t) {
     return hn::Sub(hn::Sqrt(hn::Add(hn::Mul(qx, qx), hn::Mul(qy, qy))), radius(d, c, theta(d, c, qx, qy)));
 }
 
-/// Runs body(x, y, m) on blocks of m <= Lanes(d) points converted to double lanes (a padded
-/// copy: the kernels are dominated by their transcendentals, not by the loads), and writes
-/// back the m results body returns, rounded to the batch's type.
-template <class T, class Out, class F>
-HWY_INLINE void blocks(D d, fp::Points<const T> p, Out* out, F&& body) {
-    const std::size_t N = hn::Lanes(d);
-    alignas(HWY_MAX_BYTES) double bx[HWY_MAX_BYTES / 8] = {}, by[HWY_MAX_BYTES / 8] = {};
-    alignas(HWY_MAX_BYTES) double br[HWY_MAX_BYTES / 8];
-    for (std::size_t i = 0; i < p.n; i += N) {
-        const std::size_t m = std::min(N, p.n - i);
-        for (std::size_t k = 0; k < m; ++k) bx[k] = double(p.x[i + k]), by[k] = double(p.y[i + k]);
-        hn::Store(body(hn::Load(d, bx), hn::Load(d, by)), d, br);
-        for (std::size_t k = 0; k < m; ++k) out[i + k] = Out(br[k]);
-    }
-}
+using fp_shapes::HWY_NAMESPACE::blocks;
 
 /// The bounds' answers for N points (x, y): inside (the mask returned), outside, or `open`
 /// where they cannot tell (between the bounds of the point's sector, or a NaN). The sector
@@ -162,9 +149,7 @@ HWY_INLINE V from_centre(D d, const Curve& c, V dx, V dy) {
 }
 
 /// The exit from w != 0: the root of f on a bracket, by safeguarded Illinois (the comment at
-/// the top of this file), stopping within 4 ulps of T. Each lane takes exactly the steps the
-/// scalar method would; a lane that has stopped is frozen (masks), and the loop ends when
-/// every lane has.
+/// the top of superformula.cpp; shapes/lanes-inl.hpp), stopping within 4 ulps of T.
 template <class T>
 HWY_INLINE V from_point(D d, const Curve& c, const Origin& o, V dx, V dy) {
     const auto zero = hn::Zero(d), two = hn::Set(d, 2.0);
@@ -192,49 +177,11 @@ HWY_INLINE V from_point(D d, const Curve& c, const Origin& o, V dx, V dy) {
         flo = hn::IfThenElse(take, fl, flo);
     }
     const auto rel = hn::Set(d, 4 * double(std::numeric_limits<T>::epsilon()));
-    const auto one = hn::Set(d, 1.0), minus_one = hn::Set(d, -1.0);
-    auto side = zero;                 // -1: lo moved last, 1: hi moved last, 0: neither yet
-    auto bisect = hn::Lt(zero, zero); // all false
-    auto width_before = hn::Sub(hi, lo);
-    auto active = ok, found = bisect;
-    auto root = zero;
-    for (int k = 0; k < 4 * std::numeric_limits<T>::digits; ++k) {
-        const auto width = hn::Sub(hi, lo);
-        active = hn::And(active, hn::Gt(width, hn::Mul(rel, hi)));
-        const auto half = hn::Add(lo, hn::Div(width, two));
-        auto x = hn::IfThenElse(bisect, half, hn::Add(lo, hn::Mul(width, hn::Div(flo, hn::Sub(flo, fhi)))));
-        // At least half the tolerance away from both ends (std::clamp's semantics).
-        const auto delta = hn::Div(hn::Mul(rel, hi), two);
-        const auto a = hn::Add(lo, delta), b = hn::Sub(hi, delta);
-        const auto clamped = hn::IfThenElse(hn::Lt(x, a), a, hn::IfThenElse(hn::Lt(b, x), b, x));
-        const auto within = hn::And(hn::Gt(x, a), hn::Lt(x, b));
-        x = hn::IfThenElse(within, x, hn::IfThenElse(fs::is_nan(x), half, clamped));
-        active = hn::And(active, hn::And(hn::Gt(x, lo), hn::Lt(x, hi))); // else lo, hi adjacent
-        if (hn::AllFalse(d, active)) break;
-        const auto fx = f(x);
-        const auto hit = hn::And(active, hn::Eq(fx, zero));
-        root = hn::IfThenElse(hit, x, root);
-        found = hn::Or(found, hit);
-        active = hn::AndNot(hit, active);
-        const auto below = hn::Lt(fx, zero);
-        const auto neg = hn::And(active, below), pos = hn::AndNot(below, active);
-        const auto halve_hi = hn::And(neg, hn::Lt(side, zero)), halve_lo = hn::And(pos, hn::Gt(side, zero));
-        lo = hn::IfThenElse(neg, x, lo);
-        hi = hn::IfThenElse(pos, x, hi);
-        flo = hn::IfThenElse(neg, fx, hn::IfThenElse(halve_lo, hn::Div(flo, two), flo));
-        fhi = hn::IfThenElse(pos, fx, hn::IfThenElse(halve_hi, hn::Div(fhi, two), fhi));
-        side = hn::IfThenElse(neg, minus_one, hn::IfThenElse(pos, one, side));
-        if (k % 2 == 1) {
-            const auto w = hn::Sub(hi, lo);
-            bisect =
-                hn::Or(hn::And(active, hn::Gt(w, hn::Div(width_before, two))), hn::AndNot(active, bisect));
-            width_before = hn::IfThenElse(active, w, width_before);
-        } else {
-            bisect = hn::AndNot(active, bisect);
-        }
-    }
+    hn::Mask<D> found;
+    const auto root = fp_shapes::HWY_NAMESPACE::illinois(d, lo, hi, flo, fhi, ok, rel,
+                                                         4 * std::numeric_limits<T>::digits, f, found);
     const auto inf = hn::Set(d, std::numeric_limits<double>::infinity());
-    return hn::IfThenElse(found, root, hn::IfThenElse(ok, hi, inf));
+    return hn::IfThenElse(ok, root, inf);
 }
 
 template <class T>
