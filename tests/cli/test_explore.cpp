@@ -140,32 +140,7 @@ std::vector<std::string> explore_args(const std::string& dir, const std::string&
     return a;
 }
 
-/// candidates.tsv as rows of named columns.
-std::vector<std::map<std::string, std::string>> table(const std::string& path) {
-    std::istringstream in(read_file(path));
-    std::string line;
-    std::vector<std::string> head;
-    std::vector<std::map<std::string, std::string>> rows;
-    auto split = [](const std::string& l) {
-        std::vector<std::string> f;
-        std::size_t a = 0;
-        for (;;) {
-            const auto b = l.find('\t', a);
-            f.push_back(l.substr(a, b == std::string::npos ? b : b - a));
-            if (b == std::string::npos) return f;
-            a = b + 1;
-        }
-    };
-    std::getline(in, line);
-    head = split(line);
-    while (std::getline(in, line)) {
-        const auto f = split(line);
-        std::map<std::string, std::string> r;
-        for (std::size_t i = 0; i < head.size() && i < f.size(); ++i) r[head[i]] = f[i];
-        rows.push_back(r);
-    }
-    return rows;
-}
+std::vector<std::map<std::string, std::string>> table(const std::string& path) { return read_tsv(path); }
 
 TEST(Explore, SameSeedSameFilesOnAnyThreadCount) {
     const std::string dir = scratch_dir("explore_same");
@@ -353,7 +328,7 @@ TEST(Explore, ErrorLines) {
               "search\n");
     EXPECT_EQ(err({"--param", "renderer.maps[0].shape.radius=0.3..0.9", "--weights", "coverage=1,beauty=2"}),
               "--weights coverage=1,beauty=2: unknown measure 'beauty' (the measures: coverage, entropy, "
-              "dimension, lyapunov, symmetry)\n");
+              "dimension, lyapunov, symmetry, colour_entropy, edge_entropy, spectrum, group, contrast)\n");
     EXPECT_EQ(err({}),
               "explore: name the parameters to search with --param PATH=RANGE or --random PLUGIN-PATH\n");
 }

@@ -185,6 +185,31 @@ std::string read_file(const std::string& path) {
     return s.str();
 }
 
+std::vector<std::map<std::string, std::string>> read_tsv(const std::string& path) {
+    std::istringstream in(read_file(path));
+    auto split = [](const std::string& l) {
+        std::vector<std::string> f;
+        std::size_t a = 0;
+        for (;;) {
+            const auto b = l.find('\t', a);
+            f.push_back(l.substr(a, b == std::string::npos ? b : b - a));
+            if (b == std::string::npos) return f;
+            a = b + 1;
+        }
+    };
+    std::string line;
+    std::getline(in, line);
+    const auto head = split(line);
+    std::vector<std::map<std::string, std::string>> rows;
+    while (std::getline(in, line)) {
+        const auto f = split(line);
+        std::map<std::string, std::string> r;
+        for (std::size_t i = 0; i < head.size() && i < f.size(); ++i) r[head[i]] = f[i];
+        rows.push_back(r);
+    }
+    return rows;
+}
+
 std::string source_dir() { return FIXPOINT_SOURCE_DIR; }
 
 std::string fixpoint_bin() { return FIXPOINT_BIN; }

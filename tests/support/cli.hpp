@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,9 @@ std::string scratch_dir(const std::string& name);
 /// Write `text` to `path`.
 void write_file(const std::string& path, const std::string& text);
 std::string read_file(const std::string& path);
+/// A table of tab-separated columns with a header line (explore's candidates.tsv) as rows
+/// of named fields.
+std::vector<std::map<std::string, std::string>> read_tsv(const std::string& path);
 /// `args` with `more` after them: a command line built of its parts.
 inline std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
     args.insert(args.end(), more.begin(), more.end());

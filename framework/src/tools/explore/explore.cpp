@@ -22,7 +22,9 @@
 //   box-counting dimension of the draft, and the largest Lyapunov exponent of the map for the
 //   chaos-game renderer (Gumowski–Mira maps, inversions, affine IFS; absent for other renderers,
 //   and its weight then ignored). The total is the weighted mean of the scores of the measures
-//   present (--weights, default coverage=1,entropy=1,dimension=2,lyapunov=1,symmetry=0). The
+//   present (--weights, default coverage=1,entropy=1,dimension=2,lyapunov=1,symmetry=0; for
+//   orbit-trap, whose patterns fill the image, colour_entropy, edge_entropy, spectrum, group and
+//   contrast 1 and the others 0: measures.hpp, wallpaper_measures.cpp). The
 //   symmetry measure is `fixpoint symmetry`'s (symmetry.hpp): the best score of a rotation or
 //   mirror about the origin, computed only when weighted. Adding a measure is one entry of
 //   measure_table().
@@ -100,6 +102,18 @@ Measures, each scored in [0, 1] on a draft (--draft-size, --draft-points):
              and the mirrors in the axes and the diagonal; score: 0 at 0.5, linear to 1 at 1;
              weight 0 by default (the background agrees with itself: on a sparse picture
              everything scores high, so weight it beside coverage); absent with fit_view
+  For patterns that fill the image (orbit-trap's wallpapers, where every candidate's coverage is 1
+  and dimension 2) these five, each weighted 1 by default there and 0 elsewhere, calibrated on
+  paper 04's Figs. 5 to 9 against random coefficients of their groups (scores linear between
+  the two values given):
+  colour_entropy  entropy of the colours (16 levels a channel), 0..12 bits; score 2 .. 6.5
+  edge_entropy    entropy of the gradient's size (Sobel, 32 bins), 0..5 bits; score 2 .. 4.9
+  spectrum        spread of the spatial spectrum: entropy of the power in 32 rings of radial
+                  frequency over its largest (smooth: near 0, noise: near 1); score 0.6 .. 1
+  group           the declared group's rotations and mirrors about the origin (their lowest
+                  symmetry score) against the others (their highest): accidental extra
+                  symmetry, or a flat picture, gives near 0; score 0 .. 0.8
+  contrast        standard deviation of the grey level, 0..0.5; score 0.05 .. 0.3
   The score of a candidate is the weighted mean over the measures present (--weights).
 Search: --candidates random ones (candidate i from chain_stream(seed, i)), then --generations
   of as many children of the best --keep (uniform crossover, Gaussian mutation of a tenth of
@@ -111,6 +125,15 @@ Writes to -o DIR: best-1.yaml ... (the configs, their scores in a comment), best
 namespace {
 
 using namespace explore_detail;
+
+/// The wallpaper group of an orbit-trap recipe's mapping (paper 04), or "".
+std::string declared_group(const TObject& r) {
+    const TParam* m = param_of(r, "mapping");
+    if (!m || !m->object) return "";
+    const TParam* g = param_of(*m->object, "group");
+    const auto* name = g ? std::get_if<std::string>(&g->value) : nullptr;
+    return name ? *name : "";
+}
 
 // ---- candidates --------------------------------------------------------------------------
 
@@ -130,6 +153,7 @@ struct Candidate {
     std::unique_ptr<TObject> typed;
     Rgb background;
     std::optional<PixelFrame> frame;
+    std::string group; ///< the wallpaper group its recipe declares (the group measure)
 };
 
 struct Search {
@@ -177,6 +201,7 @@ struct Search {
                                                     "draft");
                     } catch (const InputError&) {
                     }
+                c.group = declared_group(*c.typed);
                 if (const TParam* bg = param_of(*c.typed, "background"))
                     if (const auto* rgb = std::get_if<Rgb>(&bg->value)) c.background = *rgb;
                 c.valid = true;
@@ -199,8 +224,13 @@ struct Search {
                     RenderHooks hooks;
                     hooks.cancel = o.cancel;
                     const Image img = run_render(*c.plan, hooks).image;
-                    Draft d{&img, c.background, chaos_game_lyapunov(reg, *c.typed, o.seed, c.id),
-                            c.frame ? &*c.frame : nullptr, weights[symmetry_index()] > 0};
+                    Draft d{&img,
+                            c.background,
+                            chaos_game_lyapunov(reg, *c.typed, o.seed, c.id),
+                            c.frame ? &*c.frame : nullptr,
+                            weights[symmetry_index()] > 0,
+                            c.group,
+                            weights[measure_index("group")] > 0};
                     double sw = 0, s = 0;
                     for (std::size_t k = 0; k < measure_table().size(); ++k) {
                         const auto& md = measure_table()[k];
@@ -270,7 +300,7 @@ int run_explore(const Registry& reg, const ExploreOptions& o) {
     if (o.params.empty() && o.random.empty())
         throw InputError(
             "explore: name the parameters to search with --param PATH=RANGE or --random PLUGIN-PATH");
-    Search S{reg, o, {}, {}, {}, parse_weights(o.weights), {}, {}, 1};
+    Search S{reg, o, {}, {}, {}, {}, {}, {}, 1};
     S.threads = o.threads ? o.threads : hardware_threads();
 
     // The config with --set, validated as a whole first.
@@ -287,6 +317,9 @@ int run_explore(const Registry& reg, const ExploreOptions& o) {
     for (const auto& s : o.sets) apply_override(S.base, s);
     const Pipeline base_pipe = load_pipeline(reg, S.base);
     const auto typed = validate(reg, Kind::Renderer, *S.base.find("renderer"), "renderer");
+    // Patterns that fill the image are ranked by the wallpaper measures by default.
+    const bool wallpaper = std::string(typed->plugin->desc->name) == "orbit-trap";
+    S.weights = parse_weights(o.weights, wallpaper);
     Index idx;
     idx.add(*typed);
 

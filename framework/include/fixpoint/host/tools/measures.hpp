@@ -38,6 +38,22 @@ double grey_entropy(const Image& img);
 double box_dimension(const std::vector<unsigned char>& lit, int width, int height);
 double box_dimension(const Image& img, Rgb background);
 
+// Measures of patterns that fill the image (paper 04's wallpapers, where every candidate's
+// coverage is 1 and its dimension 2; wallpaper_measures.cpp):
+
+/// Shannon entropy in bits (0 to 12) of the colours, each channel in 16 levels.
+double colour_entropy(const Image& img);
+/// Entropy in bits (0 to 5) of the size of the grey level's gradient (Sobel, |g| in 32 bins
+/// of 1/16 over [0, 2), larger ones in the last): 0 for a flat picture, low where a few sharp
+/// edges cross flat areas, high where edges of every strength mix.
+double edge_entropy(const Image& img);
+/// The spread of the spatial spectrum: the entropy of the grey level's power in rings of
+/// radial frequency 1 to 32 (the central square box-averaged to 64 x 64, mean removed),
+/// divided by its largest value, log2 32: near 0 for one smooth wave, near 1 for noise.
+double spectral_spread(const Image& img);
+/// RMS contrast: the standard deviation of the grey level (0 to 0.5).
+double rms_contrast(const Image& img);
+
 // Scores in [0, 1] (the mappings documented in `fixpoint explore --help`):
 
 /// Coverage c: dust below 2% and blobs above 60% are penalised: log-linear from 0 at c <=
@@ -53,5 +69,11 @@ double dimension_score(double d);
 /// chaos (L > 0, an orbit that spreads into a band) near 1, a regular orbit (L = 0: closed
 /// curves, periodic points) 0.5, a strongly contracting one near 0.
 double lyapunov_score(double l);
+/// The wallpaper measures' scores (calibrated on paper 04's figures: explore --help).
+double colour_entropy_score(double bits);
+double edge_entropy_score(double bits);
+double spectrum_score(double spread);
+double group_score(double strength);
+double contrast_score(double c);
 
 } // namespace fp::host
