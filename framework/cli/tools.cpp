@@ -107,33 +107,37 @@ int cmd_eval(const Options& o) {
     return 0;
 }
 
-// Paper 05's converse construction: affine maps to subdivision maps on a triangle, printed as
-// the YAML items an mfs config's IFS takes.
+// Paper 05's converse construction: affine maps to subdivision maps on a triangle or a lifted
+// quad (host/converse.hpp), printed as the YAML items an mfs config's IFS takes.
 int cmd_to_subdivision(const Options& o) {
     const CNode pts = parse_yaml(o.points, "--points");
-    std::array<Vec2, 3> p;
-    bool ok = pts.is_seq() && pts.items.size() == 3;
-    for (std::size_t j = 0; ok && j < 3; ++j) {
+    std::vector<Vec2> p;
+    bool ok = pts.is_seq() && (pts.items.size() == 3 || pts.items.size() == 4);
+    for (std::size_t j = 0; ok && j < pts.items.size(); ++j) {
         const CNode& q = pts.items[j];
         ok = q.is_seq() && q.items.size() == 2 && q.items[0].is_scalar() && q.items[1].is_scalar();
         char* e0 = nullptr;
         char* e1 = nullptr;
         if (ok) {
-            p[j] = {std::strtod(q.items[0].scalar.c_str(), &e0), std::strtod(q.items[1].scalar.c_str(), &e1)};
+            p.push_back(
+                {std::strtod(q.items[0].scalar.c_str(), &e0), std::strtod(q.items[1].scalar.c_str(), &e1)});
             ok = !*e0 && !*e1 && !q.items[0].scalar.empty() && !q.items[1].scalar.empty() &&
                  std::isfinite(p[j].x) && std::isfinite(p[j].y);
         }
     }
-    if (!ok) throw InputError("--points: expected three points [[x1, y1], [x2, y2], [x3, y3]] (a triangle)");
+    if (!ok)
+        throw InputError(
+            "--points: expected three points [[x1, y1], [x2, y2], [x3, y3]] (a triangle) or four "
+            "(a quad, lifted with z = x y)");
     const Registry reg = make_registry(o);
     const auto mats = subdivision_matrices(reg, p, o.maps);
     std::string pts_text = "[";
-    for (std::size_t j = 0; j < 3; ++j)
+    for (std::size_t j = 0; j < p.size(); ++j)
         pts_text += std::string(j ? ", " : "") + "[" + number_text(p[j].x) + ", " + number_text(p[j].y) + "]";
     pts_text += "]";
     for (const auto& s : mats) {
         std::string m;
-        for (std::size_t k = 0; k < 9; ++k) m += std::string(k ? ", " : "") + number_text(s[k]);
+        for (std::size_t k = 0; k < s.size(); ++k) m += std::string(k ? ", " : "") + number_text(s[k]);
         std::printf("- {type: subdivision, points: %s, S: [%s]}\n", pts_text.c_str(), m.c_str());
     }
     return 0;
@@ -333,12 +337,16 @@ void add_tool_commands(CLI::App& app, Options& o, std::vector<Command>& table) {
                      "Steps per point (default 1, at most 10^12); step index n counts from 0");
 
     auto* to_sub = app.add_subcommand(
-        "to-subdivision", "Paper 05's converse construction: affine maps as subdivision maps on a triangle");
+        "to-subdivision",
+        "Paper 05's converse construction: affine maps as subdivision maps on a triangle or a quad");
     to_sub
         ->add_option("maps", o.maps,
                      "Affine maps as YAML flow mappings, e.g. '{type: affine, coefficients: [...]}'")
         ->required();
-    to_sub->add_option("--points", o.points, "The control points [[x1, y1], [x2, y2], [x3, y3]]")->required();
+    to_sub
+        ->add_option("--points", o.points,
+                     "The control points: [[x1, y1], [x2, y2], [x3, y3]], or four (lifted with z = x y)")
+        ->required();
 
     auto* imp = app.add_subcommand("import", "Make a config of a flam3 genome (.flam3): docs/flam3.md");
     imp->add_option("genome", o.config, "flam3 genome file (.flam3, .flame)")->required();
