@@ -22,8 +22,9 @@
 // be one full turn (a curve that winds twice round o crosses itself). A centre that fails
 // either is refused, naming the segment and t where the tangent passes on its wrong side.
 // The default centre is the centroid of the kernel of the tangent lines sampled 33 times per
-// segment (a polygon holding the true kernel, whose centroid is checked exactly like any
-// centre, and refused, asking for `centre`, in the rare set where it falls outside).
+// segment (fewer past 128 segments), a polygon holding the true kernel, whose centroid is
+// checked exactly like any centre, and refused, asking for `centre`, in the rare set where it
+// falls outside.
 //
 // Ray exit from o, by exact root isolation: the curve is cut, as seen from o, into pieces
 // whose control points lie in the sector between the rays to their two ends, of less than a
@@ -245,12 +246,14 @@ private:
         }
     }
 
-    /// The centroid of the kernel of the tangent lines at 33 points of each segment.
+    /// The centroid of the kernel of the tangent lines at 33 points of each segment (fewer, down
+    /// to 3, past 128 segments: the clipping costs the lines times the kernel's vertices).
     fp::Vec2 sampled_kernel_centroid() const {
         std::vector<fp_shapes::Line> lines;
+        const int steps = int(std::clamp<std::size_t>(4096 / polys_.size(), 2, 32));
         for (const auto& q : polys_)
-            for (int j = 0; j <= 32; ++j) {
-                const double t = j / 32.0;
+            for (int j = 0; j <= steps; ++j) {
+                const double t = double(j) / steps;
                 const fp::Vec2 a = fp_bezier::at(q, t), e = fp_bezier::tangent(q, t);
                 if (e.x != 0 || e.y != 0) lines.push_back({{a.x + ref_.x, a.y + ref_.y}, e});
             }

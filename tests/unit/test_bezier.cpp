@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -172,6 +173,34 @@ TEST(Bezier, ACentreOutsideTheKernelIsRefused) {
             std::string(e.what()).find("inversion centre (0.9, 0.5) is outside the kernel of the shape"),
             std::string::npos)
             << e.what();
+    }
+}
+
+TEST(Bezier, ACircleOfManyArcs) {
+    // The unit circle as 600 cubic arcs (handles 4/3 tan(theta / 4) long): past 128 segments
+    // the default centre samples fewer tangents per segment; it is still the circle's centre,
+    // and the exits its radius (the arcs' error is below 1e-13 at this size).
+    const int m = 600;
+    const double th = 2 * M_PI / m, k = 4.0 / 3 * std::tan(th / 4);
+    std::string pts;
+    for (int i = 0; i < m; ++i) {
+        const double a = th * i, b = a + th;
+        const auto pt = [&](double x, double y) {
+            char buf[80];
+            std::snprintf(buf, sizeof buf, "[%.17g, %.17g], ", x, y);
+            return std::string(buf);
+        };
+        pts += pt(std::cos(a), std::sin(a)) +
+               pt(std::cos(a) - k * std::sin(a), std::sin(a) + k * std::cos(a)) +
+               pt(std::cos(b) + k * std::sin(b), std::sin(b) - k * std::cos(b));
+    }
+    auto s = make<Shape>("{type: bezier, points: [" + pts.substr(0, pts.size() - 2) + "]}");
+    EXPECT_NEAR(s->centre().x, 0, 1e-6);
+    EXPECT_NEAR(s->centre().y, 0, 1e-6);
+    const auto line = s->outline(60000);
+    for (int i = 0; i < 50; ++i) {
+        const Vec2 d{std::cos(0.37 * i), std::sin(0.37 * i)};
+        EXPECT_NEAR(ray(*s, {0.2, -0.1}, d), polyline_exit(line, {0.2, -0.1}, d), 1e-8) << i;
     }
 }
 
