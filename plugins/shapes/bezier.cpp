@@ -45,9 +45,10 @@
 // the piece. Points outside the control points' box are outside without a piece, and bounds
 // answer first for most others: each ray piece about the centre lies in its control hull, so
 // the distance from the centre to the curve over the piece's sector lies between the hull's
-// nearest edge and farthest corner (widened to the neighbouring pieces', and by 1e-9, for
-// rounding); a point nearer than that is inside, one farther is outside, and only the points
-// between count crossings (the same answers).
+// nearest edge and farthest corner. Each of 256 equal sectors of the pseudo-angle about the
+// centre takes the widest bounds of the pieces it overlaps (its ends widened by 1e-9, so that a
+// point's rounded pseudo-angle never escapes them); a point nearer than them is inside, one
+// farther is outside, and only the points between count crossings (the same answers).
 //
 // Batches run per SIMD target, one point or direction per lane (bezier/kernels.cpp), in
 // double for either type; a lane takes the scalar method's steps, so the bits do not depend

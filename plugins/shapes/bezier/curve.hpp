@@ -32,9 +32,8 @@ struct RayPieces {
     std::vector<double> t0, t1;
     std::array<std::vector<double>, 4> cx, cy; ///< segment coefficients relative to o
     /// Squared bounds of the distance from o to the curve over each piece's sector, from its
-    /// control hull, widened to the piece's neighbours' (so that a direction's pseudo-angle
-    /// rounded into the next sector still gets bounds that hold): a point of the sector nearer
-    /// than sqrt(in2) is inside, one at sqrt(out2) or beyond is outside.
+    /// control hull (the nearest edge and the farthest corner, by 1e-9 apart for rounding): the
+    /// inside test's sectors take them (Bezier::set_sectors).
     std::vector<double> in2, out2;
 };
 

@@ -217,12 +217,8 @@ inline std::optional<RayPieces> ray_pieces(const std::vector<Seg>& segs, const s
         for (int c = 0; c < 4; ++c) r.cx[c][i] = q.x[c], r.cy[c][i] = q.y[c];
         r.cx[0][i] -= o.x;
         r.cy[0][i] -= o.y;
-        r.in2[i] = r.out2[i] = 0;
-        for (std::size_t m : {s + n - 1, s, s + 1}) { // the piece and its neighbours
-            const Piece& q2 = out[m % n];
-            r.in2[i] = m == s + n - 1 ? q2.in2 : std::min(r.in2[i], q2.in2);
-            r.out2[i] = std::max(r.out2[i], q2.out2);
-        }
+        r.in2[i] = out[s].in2;
+        r.out2[i] = out[s].out2;
     }
     return r;
 }
